@@ -1,0 +1,22 @@
+"""brdf-rs: evaluate, integrate and tabulate reflectance models (BRDFs), fast and accurately.
+
+Conventions: directions point away from the surface (``wi`` toward the light, ``wo``
+toward the viewer), ``n`` defaults to +z; family-A models return ``f(wi, wo)`` in 1/sr
+without the cosine factor, family-B shading terms include the light's cosine. See
+``brdf_rs.models()`` and the docs for every model's formula and source.
+"""
+
+from . import reference
+from ._api import Model, eval, isa, models, num_threads, set_num_threads
+from ._brdf_rs import __version__
+
+__all__ = [
+    "Model",
+    "__version__",
+    "eval",
+    "isa",
+    "models",
+    "num_threads",
+    "reference",
+    "set_num_threads",
+]

@@ -1,0 +1,153 @@
+"""The public evaluation API: ``eval``, ``Model``, ``models``, thread control."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from . import _arrays
+from . import _brdf_rs as _core
+
+__all__ = ["Model", "eval", "isa", "models", "num_threads", "set_num_threads"]
+
+
+def eval(  # noqa: A001 - the public name is fixed
+    model: str,
+    wi: Any,
+    wo: Any,
+    n: Any = None,
+    *,
+    tangent: Any = None,
+    normalized: bool = False,
+    check: bool = True,
+    out: np.ndarray | None = None,
+    **params: Any,
+) -> np.ndarray:
+    """Evaluates ``model`` for every pair of directions.
+
+    Directions point away from the surface: ``wi`` toward the light, ``wo`` toward the
+    viewer; ``n`` is the surface normal (default +z). Family-A models return the BRDF
+    ``f(wi, wo)`` in 1/sr **without** the cosine factor (0 unless both directions are
+    above the surface); family-B models return the shading term ``s(l, v)``, which
+    **includes** the light's cosine. ``brdf_rs.models()`` lists every model.
+
+    Args:
+        model: a model name, e.g. ``"torrance_sparrow"``.
+        wi, wo, n, tangent: array-likes of shape ``(..., 3)`` broadcasting against each
+            other (NumPy rules); any memory layout. Not necessarily unit length unless
+            ``normalized=True``.
+        normalized: promise that the inputs are unit vectors (skips normalization).
+        check: raise ``ValueError`` naming the argument and first bad index for NaN,
+            infinite or zero-length vectors; with ``check=False`` such rows give NaN.
+        out: optional C-contiguous array of the result's shape and dtype to write into.
+        **params: the model's parameters (MODELS.md names). Scalars, RGB triples for
+            colours, or arrays broadcasting against the batch (colours with a trailing
+            axis of 3) for spatially varying parameters.
+
+    Returns:
+        An array of shape ``broadcast(...) + (3,)`` (RGB): float32 if every direction
+        input is float32 (computed by float32 kernels), float64 otherwise.
+    """
+    dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
+    p = _arrays.parameters(params, dtype)
+    kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
+    return kernel(
+        model, v["wi"], v["wo"], v["n"], v["tangent"], p, normalized, check, True, out
+    )
+
+
+class Model:
+    """A model with fixed parameters, checked once, for many evaluations.
+
+    >>> m = Model("torrance_sparrow", ks=0.8, p=50, eta=1.5)
+    >>> m.eval([0, 0, 1], [0, 0, 1]).shape
+    (3,)
+    """
+
+    __slots__ = ("_params", "name")
+
+    def __init__(self, name: str, **params: Any) -> None:
+        p64 = _arrays.parameters(params, np.float64)
+        _core.check_params(name, p64)
+        self.name = name
+        self._params = {np.float64: p64}
+
+    @property
+    def params(self) -> dict[str, np.ndarray]:
+        """The parameters given (defaults are not listed)."""
+        return dict(self._params[np.float64])
+
+    def _params_for(self, dtype: type[np.floating]) -> dict[str, np.ndarray]:
+        if dtype not in self._params:
+            with np.errstate(over="ignore"):
+                self._params[dtype] = {
+                    k: v.astype(dtype) for k, v in self._params[np.float64].items()
+                }
+        return self._params[dtype]
+
+    def eval(
+        self,
+        wi: Any,
+        wo: Any,
+        n: Any = None,
+        *,
+        tangent: Any = None,
+        normalized: bool = False,
+        check: bool = True,
+        out: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """Evaluates the model; arguments as :func:`brdf_rs.eval`."""
+        dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
+        kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
+        # Values were range-checked in __init__ (a float32 cast can only overflow to
+        # inf for values beyond float32's range: check those again).
+        recheck = dtype == np.float32
+        return kernel(
+            self.name,
+            v["wi"],
+            v["wo"],
+            v["n"],
+            v["tangent"],
+            self._params_for(dtype),
+            normalized,
+            check,
+            recheck,
+            out,
+        )
+
+    __call__ = eval
+
+    def __repr__(self) -> str:
+        args = "".join(f", {k}={v.tolist()!r}" for k, v in self._params[np.float64].items())
+        return f"Model({self.name!r}{args})"
+
+
+def models() -> dict[str, dict[str, Any]]:
+    """Returns every model's spec, by name, in a stable order.
+
+    Each entry has ``family`` ("A": BRDF without cosine, "B": shading term with the
+    light cosine), ``summary``, ``formula``, ``source``, ``reciprocal``, ``tangent``
+    (whether ``tangent=`` is required) and ``params``: a list of dicts with ``name``,
+    ``kind`` (scalar, colour, scalar list, colour list), ``default`` (None: required),
+    ``range`` (as text, plus ``min``/``max``/``min_open``/``max_open``), ``doc`` and
+    ``varies`` (whether it may be an array over the batch).
+    """
+    return {m["name"]: m for m in _core.models()}
+
+
+def set_num_threads(n: int) -> None:
+    """Sets the number of worker threads (default: ``BRDF_RS_NUM_THREADS``, else CPUs)."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n: expected a positive integer thread count, got {n!r}")
+    _core.set_num_threads(int(n))
+
+
+def num_threads() -> int:
+    """Returns the number of worker threads."""
+    return _core.num_threads()
+
+
+def isa() -> str:
+    """Returns the instruction set the kernels use here: avx512, avx2 or baseline."""
+    return _core.isa()

@@ -1,0 +1,587 @@
+"""Pure-Python reference implementation of the brdf-rs models (families A and B).
+
+This module is deliberately slow and readable: one function per model, each written
+formula by formula after ``MODELS.md`` (same symbols: ``mu_i``, ``mu_o``, ``r``,
+``cos_ar``, ``h``, ``cos_th``, ``cos_b``), so a reader can check it against the page.
+The Rust kernels are tested against it. It uses only :mod:`math` (no NumPy).
+
+Conventions (the same as in ``MODELS.md``):
+
+- ``wi`` points toward the light and ``wo`` toward the viewer; both point *away* from
+  the surface. ``n`` is the surface normal. Vectors need not be unit length: every input
+  is normalized here, in a way that survives lengths from 1e-300 to 1e300 and subnormal
+  components. Zero-length or non-finite vectors raise :class:`ValueError`.
+- Family A (``lambert`` ... ``torrance_sparrow``) returns the radiometric BRDF
+  ``f(wi, wo)`` in 1/sr, *without* the cosine of the light; it is exactly 0 unless
+  ``mu_i > 0`` and ``mu_o > 0``.
+- Family B (``lambert_shading`` ... ``kajiya_kay``) returns the scan-line shading term
+  ``s(l, v)`` (``l = wi``, ``v = wo``), which *includes* the light's cosine; every
+  specular term is 0 when ``n·l <= 0``.
+- Colours (``kd``, ``ks``, ``high``, ``low``, the entries of ``colors``) are a float
+  (grey) or a 3-sequence (RGB). Every model returns an RGB tuple of three floats.
+- ``x**p`` with ``x = 0`` and ``p = 0`` is 1.
+- ``wi + wo = 0`` leaves ``h`` undefined; a model that uses ``h`` then returns 0 for its
+  whole value (``MODELS.md``: "every model that uses h returns 0 there"). In family A
+  this cannot happen (``mu_i, mu_o > 0`` give ``n·(wi + wo) > 0``), so in practice it
+  concerns ``blinn_specular`` alone; the family-A checks are kept for the rule's sake.
+
+Entry point: :func:`eval` (``eval("phong", wi, wo, p=10.0)``); :data:`MODELS` maps each
+name to its function and :data:`DEFAULTS` holds each model's default parameters.
+"""
+
+import math
+import sys
+from collections.abc import Callable, Sequence
+
+__all__ = ["DEFAULTS", "MODELS", "eval"]
+
+Vector = tuple[float, float, float]
+RGB = tuple[float, float, float]
+
+BLACK: RGB = (0.0, 0.0, 0.0)
+
+
+# ---------------------------------------------------------------------------------------
+# Small helpers: vectors, colours, powers, a product that does not overflow midway
+# ---------------------------------------------------------------------------------------
+
+
+def _normalize(v: Sequence[float]) -> Vector:
+    """Returns ``v / |v|``, safe for tiny, huge and subnormal components.
+
+    The vector is first divided by its largest absolute component (exact scaling, so
+    subnormal components keep their ratios), then by ``math.hypot`` of the result,
+    which lies in [1, sqrt(3)].
+    """
+    x, y, z = (float(c) for c in v)
+    largest = max(abs(x), abs(y), abs(z))
+    if not math.isfinite(largest) or largest == 0.0:
+        raise ValueError(f"vector must be finite and nonzero, got {tuple(v)!r}")
+    x, y, z = x / largest, y / largest, z / largest
+    length = math.hypot(x, y, z)
+    return (x / length, y / length, z / length)
+
+
+def _dot(a: Vector, b: Vector) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cos(a: Vector, b: Vector) -> float:
+    """Returns the cosine between two unit vectors, clamped to [-1, 1].
+
+    Rounding can push a dot product of unit vectors just past 1; the clamp keeps
+    ``acos`` in its domain and ``x**p`` at most 1.
+    """
+    return min(1.0, max(-1.0, _dot(a, b)))
+
+
+def _mirror(wi: Vector, n: Vector, mu_i: float) -> Vector:
+    """Returns ``r = 2 mu_i n - wi``, the mirror of ``wi`` about ``n``."""
+    return (
+        2.0 * mu_i * n[0] - wi[0],
+        2.0 * mu_i * n[1] - wi[1],
+        2.0 * mu_i * n[2] - wi[2],
+    )
+
+
+def _half_vector(wi: Vector, wo: Vector) -> Vector | None:
+    """Returns ``h = (wi + wo) / |wi + wo|``, or None where ``wi + wo = 0``."""
+    s = (wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2])
+    if s == (0.0, 0.0, 0.0):
+        return None
+    return _normalize(s)
+
+
+def _cos_b(wi: Vector, wo: Vector) -> float:
+    """Returns ``cos_b = wi·h`` (= ``wo·h``) as ``|wi + wo| / 2``.
+
+    The two are equal for unit ``wi``, ``wo`` (``wi·(wi + wo) = 1 + wi·wo = |wi + wo|²/2``),
+    and ``|wi + wo| / 2 = (wi·h + wo·h) / 2`` holds for any vectors. The dot product
+    cancels catastrophically where ``wi`` is close to ``-wo`` (grazing light and view on
+    opposite sides) and can even round to 0 or below; the length of the sum keeps full
+    relative accuracy there.
+    """
+    return min(1.0, math.hypot(wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]) / 2.0)
+
+
+def _tangent_projection(w: Vector, n: Vector, mu: float) -> Vector | None:
+    """Returns ``w - mu n`` normalized (``w`` projected on the tangent plane), or None
+    where that projection has zero length."""
+    p = (w[0] - mu * n[0], w[1] - mu * n[1], w[2] - mu * n[2])
+    if p == (0.0, 0.0, 0.0):
+        return None
+    return _normalize(p)
+
+
+def _cos_phi_difference(wi: Vector, wo: Vector, n: Vector, mu_i: float, mu_o: float) -> float:
+    """Returns ``cos(phi_i - phi_o)``: the cosine between the tangent-plane projections
+    of ``wi`` and ``wo``; 0 when either projection has zero length (``MODELS.md``)."""
+    projected_i = _tangent_projection(wi, n, mu_i)
+    projected_o = _tangent_projection(wo, n, mu_o)
+    if projected_i is None or projected_o is None:
+        return 0.0
+    return _cos(projected_i, projected_o)
+
+
+def _rgb(colour: float | Sequence[float]) -> RGB:
+    """Returns a colour as an RGB triple: a number means grey."""
+    try:
+        grey = float(colour)
+    except TypeError:  # not a number: a 3-sequence
+        r, g, b = (float(c) for c in colour)
+        return (r, g, b)
+    return (grey, grey, grey)
+
+
+def _pow(x: float, p: float) -> float:
+    """Returns ``x**p`` for ``0 <= x <= 1`` and ``p >= 0``, with ``0**0 = 1``.
+
+    The base never exceeds 1, so the power cannot overflow; it may underflow to 0.
+    """
+    if x == 0.0 and p == 0.0:
+        return 1.0  # MODELS.md: x^p with x = 0, p = 0 is 1
+    return x**p
+
+
+def _frexp_power(x: float, p: float) -> tuple[float, int]:
+    """Returns ``(m, e)`` with ``x**p = m·2**e``, for ``0 < x <= 1`` and ``p >= 0``.
+
+    Where ``x**p`` is a normal float it is split exactly; where it underflows (below
+    ~2.2e-308) it is taken in the log domain, ``p·log2(x)``, with an integer exponent,
+    so a later division by a tiny ``mu`` can still bring it back into range.
+    """
+    y = x**p
+    if y >= sys.float_info.min:
+        return math.frexp(y)
+    log2_y = p * math.log2(x)
+    e = math.floor(log2_y)
+    m, e2 = math.frexp(2.0 ** (log2_y - e))
+    return m, e + e2
+
+
+def _product_quotient(
+    numerators: Sequence[float],
+    denominators: Sequence[float],
+    power: tuple[float, float] = (1.0, 1.0),
+) -> float:
+    """Returns ``prod(numerators)·x**p / prod(denominators)``, ``(x, p) = power``, for
+    finite factors >= 0, ``0 <= x <= 1`` and ``p >= 0`` (``0**0 = 1``).
+
+    Each factor is split into mantissa and exponent (``math.frexp``) and the exponents
+    are summed as integers, so no intermediate product overflows or underflows: the
+    result is 0 if a numerator is 0, and inf only if the exact value is beyond the float
+    range (or a denominator is 0 with all numerators nonzero). Never 0*inf or inf/inf.
+    """
+    x, p = power
+    if x == 0.0:
+        if p != 0.0:
+            return 0.0
+        x = 1.0  # MODELS.md: x^p with x = 0, p = 0 is 1
+    if any(factor == 0.0 for factor in numerators):
+        return 0.0
+    if any(factor == 0.0 for factor in denominators):
+        return math.inf
+    mantissa, exponent = _frexp_power(x, p)
+    for factor in numerators:
+        m, e = math.frexp(factor)
+        mantissa, e2 = math.frexp(mantissa * m)
+        exponent += e + e2
+    for factor in denominators:
+        m, e = math.frexp(factor)
+        mantissa, e2 = math.frexp(mantissa / m)
+        exponent += e2 - e
+    try:
+        return math.ldexp(mantissa, exponent)
+    except OverflowError:
+        return math.inf
+
+
+def _oren_nayar_factor(sigma: float, mu_i: float, mu_o: float, cos_phi: float) -> float:
+    """Returns ``A + B·max(0, cos(phi_i - phi_o))·sin a·tan b`` (``MODELS.md``).
+
+    ``a = max(theta_i, theta_o)``, ``b = min(theta_i, theta_o)``,
+    ``A = 1 - 0.5 sigma²/(sigma² + 0.33)``, ``B = 0.45 sigma²/(sigma² + 0.09)``.
+    """
+    sigma2 = sigma * sigma
+    big_a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33)
+    big_b = 0.45 * sigma2 / (sigma2 + 0.09)
+    g = max(0.0, cos_phi)
+    if big_b == 0.0 or g == 0.0:
+        # The second term is 0 whatever tan b is: never form 0 * tan(b).
+        return big_a
+    theta_i = math.acos(mu_i)
+    theta_o = math.acos(mu_o)
+    a = max(theta_i, theta_o)
+    b = min(theta_i, theta_o)
+    # Callers guarantee mu_i > 0, so b < pi/2 and tan b is finite (pi/2 itself is not
+    # a float: tan of the nearest float is about 1.6e16).
+    return big_a + big_b * g * math.sin(a) * math.tan(b)
+
+
+def _frame(wi, wo, n) -> tuple[Vector, Vector, Vector]:
+    """Returns ``wi``, ``wo``, ``n`` normalized."""
+    return _normalize(wi), _normalize(wo), _normalize(n)
+
+
+# ---------------------------------------------------------------------------------------
+# Family A: radiometric BRDFs f(wi, wo), units 1/sr, 0 unless mu_i > 0 and mu_o > 0
+# ---------------------------------------------------------------------------------------
+
+
+def lambert(wi, wo, n, *, kd) -> RGB:
+    """Lambert: ``f = kd/π``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    return tuple(kd_c / math.pi for kd_c in _rgb(kd))
+
+
+def oren_nayar(wi, wo, n, *, kd, sigma) -> RGB:
+    """Oren-Nayar (qualitative model): ``f = (kd/π)·(A + B·max(0, cos(φi-φo))·sin a·tan b)``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    cos_phi = _cos_phi_difference(wi, wo, n, mu_i, mu_o)
+    factor = _oren_nayar_factor(sigma, mu_i, mu_o, cos_phi)
+    return tuple(kd_c / math.pi * factor for kd_c in _rgb(kd))
+
+
+def phong(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Phong (BRDF Summary eq. 2): ``f = kd + ks·cos_ar^p / mu_i``.
+
+    Infinite only where the exact value is (mu_i -> 0+): the lobe is formed by
+    :func:`_product_quotient`, so a zero numerator gives 0, never 0/0 or 0*inf, and a
+    ``cos_ar^p`` below the float range still counts when ``mu_i`` is tiny.
+    """
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    r = _mirror(wi, n, mu_i)
+    cos_ar = max(0.0, _cos(r, wo))
+    return tuple(
+        kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_ar, p))
+        for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def modified_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Modified Phong (BRDF Summary eq. 3): ``f = kd + ks·cos_ar^p``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    r = _mirror(wi, n, mu_i)
+    cos_ar = max(0.0, _cos(r, wo))
+    lobe = _pow(cos_ar, p)
+    return tuple(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
+
+
+def normalized_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Normalized Phong (BRDF Summary eq. 5, RTR 7.47): ``f = kd/π + ks·(p+2)/(2π)·cos_ar^p``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    r = _mirror(wi, n, mu_i)
+    cos_ar = max(0.0, _cos(r, wo))
+    lobe = (p + 2.0) / (2.0 * math.pi) * _pow(cos_ar, p)
+    return tuple(
+        kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Blinn-Phong (BRDF Summary eq. 7): ``f = kd + ks·cos_th^p / mu_i``.
+
+    Infinite only where the exact value is (mu_i -> 0+), as in :func:`phong`.
+    """
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
+    cos_th = max(0.0, _cos(n, h))
+    return tuple(
+        kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_th, p))
+        for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def modified_blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Modified Blinn-Phong (BRDF Summary eq. 8): ``f = kd + ks·cos_th^p``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
+    cos_th = max(0.0, _cos(n, h))
+    lobe = _pow(cos_th, p)
+    return tuple(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
+
+
+def normalized_blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Normalized Blinn-Phong (Summary eq. 9 with cos_th, RTR 7.48):
+    ``f = kd/π + ks·(p+8)/(8π)·cos_th^p``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
+    cos_th = max(0.0, _cos(n, h))
+    lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p)
+    return tuple(
+        kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def blinn_phong_fresnel(wi, wo, n, *, kd, ks, p) -> RGB:
+    """Blinn-Phong with Schlick Fresnel (RTR 7.49):
+    ``f = kd/π + (p+8)/(8π)·F·cos_th^p``, ``F = ks + (1-ks)(1-cos_b)^5`` per channel
+    (``ks`` is F0)."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
+    cos_th = max(0.0, _cos(n, h))
+    cos_b = _cos_b(wi, wo)
+    lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p)
+    schlick = (1.0 - cos_b) ** 5
+    return tuple(
+        kd_c / math.pi + (f0_c + (1.0 - f0_c) * schlick) * lobe
+        for kd_c, f0_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def torrance_sparrow(wi, wo, n, *, kd, ks, p, eta) -> RGB:
+    """Torrance-Sparrow (BRDF Summary eqs. 10-14, RTR 7.51):
+    ``f = kd/π + ks·D·F·G / (4·mu_i·mu_o)`` with
+    ``D = (p+2)/(2π)·cos_th^p``, ``F = R0 + (1-R0)(1-cos_b)^5``, ``R0 = ((eta-1)/(eta+1))²``,
+    ``G = min(1, 2·cos_th·mu_o/cos_b, 2·cos_th·mu_i/cos_b)``.
+    """
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
+    cos_th = max(0.0, _cos(n, h))
+    cos_b = _cos_b(wi, wo)
+    d_scale = (p + 2.0) / (2.0 * math.pi)  # D = d_scale·cos_th^p
+    r0 = ((eta - 1.0) / (eta + 1.0)) ** 2
+    f = r0 + (1.0 - r0) * (1.0 - cos_b) ** 5
+
+    # G / (4 mu_i mu_o) is distributed over the min of G:
+    #     min(1/(4 mu_i mu_o), cos_th/(2 cos_b mu_i), cos_th/(2 cos_b mu_o)).
+    # For grazing directions 4·mu_i·mu_o underflows to 0 (and 2·cos_th·mu/cos_b too), so
+    # forming G first and dividing afterwards would give 0/0 or 0*inf. Each candidate is
+    # instead the whole product ks·D·F·(...) computed by _product_quotient (cos_th^p
+    # passed as its power, as it may underflow where the quotient does not), which gives
+    # 0 for a zero factor and inf only for a value beyond the float range.
+    def specular(ks_c: float) -> float:
+        d_power = (cos_th, p)
+        return min(
+            _product_quotient((ks_c, d_scale, f), (4.0, mu_i, mu_o), power=d_power),
+            _product_quotient((ks_c, d_scale, f, cos_th), (2.0, cos_b, mu_i), power=d_power),
+            _product_quotient((ks_c, d_scale, f, cos_th), (2.0, cos_b, mu_o), power=d_power),
+        )
+
+    return tuple(
+        kd_c / math.pi + specular(ks_c) for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# Family B: scan-line shading terms s(l, v), including the light's cosine
+# ---------------------------------------------------------------------------------------
+
+
+def lambert_shading(wi, wo, n, *, kd) -> RGB:
+    """Lambert shading: ``s = kd·max(n·l, 0)``."""
+    l, _v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    n_dot_l = _cos(n, l)
+    return tuple(kd_c * max(n_dot_l, 0.0) for kd_c in _rgb(kd))
+
+
+def oren_nayar_shading(wi, wo, n, *, kd, sigma) -> RGB:
+    """Oren-Nayar shading: ``s = kd·clamp(n·l, 0, 1)·(A + B·G·sin a·tan b)``,
+    ``G = max(0, cos(φi-φo))``; 0 for a light at ``n·l <= 0``."""
+    l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    mu_i, mu_o = _cos(n, l), _cos(n, v)
+    if mu_i <= 0.0:
+        return BLACK  # clamp(n·l, 0, 1) = 0; skip tan b, which grows as n·l -> 0
+    cos_phi = _cos_phi_difference(l, v, n, mu_i, mu_o)
+    factor = _oren_nayar_factor(sigma, mu_i, mu_o, cos_phi)
+    return tuple(kd_c * mu_i * factor for kd_c in _rgb(kd))
+
+
+def toon_diffuse(wi, wo, n, *, thresholds, colors) -> RGB:
+    """Toon diffuse: colour ``c_j`` with ``j`` = how many thresholds are ``<= n·l``
+    (signed ``n·l``; thresholds ascending, ``len(colors) = len(thresholds) + 1``)."""
+    l, _v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    thresholds = [float(t) for t in thresholds]
+    colors = list(colors)
+    if len(colors) != len(thresholds) + 1:
+        raise ValueError("toon_diffuse needs len(colors) == len(thresholds) + 1")
+    n_dot_l = _cos(n, l)
+    j = sum(1 for t in thresholds if t <= n_dot_l)
+    return _rgb(colors[j])
+
+
+def phong_specular(wi, wo, n, *, ks, p) -> RGB:
+    """Phong specular: ``s = ks·clamp(v·r, 0, 1)^p``; 0 when ``n·l <= 0``."""
+    l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    n_dot_l = _cos(n, l)
+    if n_dot_l <= 0.0:
+        return BLACK
+    r = _mirror(l, n, n_dot_l)
+    lobe = _pow(max(0.0, _cos(v, r)), p)
+    return tuple(ks_c * lobe for ks_c in _rgb(ks))
+
+
+def blinn_specular(wi, wo, n, *, ks, p) -> RGB:
+    """Blinn specular: ``s = ks·clamp(n·h, 0, 1)^p``; 0 when ``n·l <= 0`` or ``h`` is
+    undefined (``l + v = 0``)."""
+    l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    n_dot_l = _cos(n, l)
+    if n_dot_l <= 0.0:
+        return BLACK
+    h = _half_vector(l, v)
+    if h is None:
+        return BLACK  # l = -v: h undefined, the model returns 0 (MODELS.md)
+    lobe = _pow(max(0.0, _cos(n, h)), p)
+    return tuple(ks_c * lobe for ks_c in _rgb(ks))
+
+
+def toon_specular(wi, wo, n, *, high, low, threshold) -> RGB:
+    """Toon specular: ``high`` if ``v·r >= threshold`` else ``low``; 0 when ``n·l <= 0``."""
+    l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    n_dot_l = _cos(n, l)
+    if n_dot_l <= 0.0:
+        return BLACK
+    r = _mirror(l, n, n_dot_l)
+    return _rgb(high) if _cos(v, r) >= threshold else _rgb(low)
+
+
+def kajiya_kay(wi, wo, n, tangent, *, kd, ks, p) -> RGB:
+    """Kajiya-Kay hair (RTR 7.50): ``s = kd·sin_l + ks·max(0, sin_l·sin_v - (l·t)(v·t))^p``,
+    ``sin_l = sqrt(max(0, 1 - (l·t)²))``, ``sin_v`` likewise; 0 when ``n·l <= 0``.
+
+    ``t`` is the fibre tangent, normalized but not projected onto the tangent plane.
+    """
+    l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
+    t = _normalize(tangent)
+    if _cos(n, l) <= 0.0:
+        return BLACK
+    l_dot_t, v_dot_t = _cos(l, t), _cos(v, t)
+    sin_l = math.sqrt(max(0.0, 1.0 - l_dot_t * l_dot_t))
+    sin_v = math.sqrt(max(0.0, 1.0 - v_dot_t * v_dot_t))
+    # sin_l·sin_v - (l·t)(v·t) is the cosine of an angle difference: at most 1 exactly.
+    lobe = _pow(min(1.0, max(0.0, sin_l * sin_v - l_dot_t * v_dot_t)), p)
+    return tuple(kd_c * sin_l + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
+
+
+# ---------------------------------------------------------------------------------------
+# Registry and entry point
+# ---------------------------------------------------------------------------------------
+
+MODELS: dict[str, Callable[..., RGB]] = {
+    f.__name__: f
+    for f in (
+        lambert,
+        oren_nayar,
+        phong,
+        modified_phong,
+        normalized_phong,
+        blinn_phong,
+        modified_blinn_phong,
+        normalized_blinn_phong,
+        blinn_phong_fresnel,
+        torrance_sparrow,
+        lambert_shading,
+        oren_nayar_shading,
+        toon_diffuse,
+        phong_specular,
+        blinn_specular,
+        toon_specular,
+        kajiya_kay,
+    )
+}
+
+_PHONG_DEFAULTS = {"kd": 0.0, "ks": 1.0, "p": 32.0}
+
+DEFAULTS: dict[str, dict[str, object]] = {
+    "lambert": {"kd": 0.5},
+    "oren_nayar": {"kd": 0.5, "sigma": 0.5},
+    "phong": dict(_PHONG_DEFAULTS),
+    "modified_phong": dict(_PHONG_DEFAULTS),
+    "normalized_phong": dict(_PHONG_DEFAULTS),
+    "blinn_phong": dict(_PHONG_DEFAULTS),
+    "modified_blinn_phong": dict(_PHONG_DEFAULTS),
+    "normalized_blinn_phong": dict(_PHONG_DEFAULTS),
+    "blinn_phong_fresnel": {"kd": 0.0, "ks": 0.04, "p": 32.0},
+    "torrance_sparrow": {"kd": 0.0, "ks": 1.0, "p": 32.0, "eta": 1.5},
+    "lambert_shading": {"kd": 0.5},
+    "oren_nayar_shading": {"kd": 0.5, "sigma": 0.5},
+    "toon_diffuse": {},
+    "phong_specular": {"ks": 1.0, "p": 32.0},
+    "blinn_specular": {"ks": 1.0, "p": 32.0},
+    "toon_specular": {"high": 1.0, "low": 0.0},
+    "kajiya_kay": {"kd": 0.5, "ks": 0.5, "p": 32.0},
+}
+
+# Parameters without a default: the caller must give them.
+_REQUIRED: dict[str, tuple[str, ...]] = {
+    "toon_diffuse": ("thresholds", "colors"),
+    "toon_specular": ("threshold",),
+}
+
+# Models that take the fibre tangent as a fourth positional argument.
+_NEEDS_TANGENT = frozenset({"kajiya_kay"})
+
+
+def eval(
+    model: str,
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float] = (0.0, 0.0, 1.0),
+    tangent: Sequence[float] | None = None,
+    **params: object,
+) -> RGB:
+    """Returns the RGB value of ``model`` for light direction ``wi`` and view ``wo``.
+
+    Family A gives ``f(wi, wo)`` in 1/sr (no cosine); family B gives the shading term
+    (with the light's cosine). ``tangent`` is used only by ``kajiya_kay`` (where it is
+    required) and ignored otherwise. Parameters not given take :data:`DEFAULTS`.
+
+    Raises ValueError for an unknown model, TypeError for an unknown or missing
+    parameter (or a missing tangent for ``kajiya_kay``).
+    """
+    if model not in MODELS:
+        raise ValueError(f"unknown model {model!r}; known: {', '.join(MODELS)}")
+    required = _REQUIRED.get(model, ())
+    unknown = sorted(set(params) - set(DEFAULTS[model]) - set(required))
+    if unknown:
+        raise TypeError(f"{model}: unknown parameter(s) {', '.join(unknown)}")
+    missing = [name for name in required if name not in params]
+    if missing:
+        raise TypeError(f"{model}: missing required parameter(s) {', '.join(missing)}")
+    kwargs = {**DEFAULTS[model], **params}
+    function = MODELS[model]
+    if model in _NEEDS_TANGENT:
+        if tangent is None:
+            raise TypeError(f"{model}: missing required argument 'tangent'")
+        return function(wi, wo, n, tangent, **kwargs)
+    return function(wi, wo, n, **kwargs)

@@ -1,0 +1,265 @@
+//! The batch engine: evaluate a model over broadcast arrays of directions and parameters.
+//!
+//! [`plan`] checks everything (names, shapes, parameter ranges) and classifies each input
+//! (constant / contiguous / strided); [`Plan::execute`] then runs the model in parallel
+//! over blocks of rows, writing into a preallocated C-ordered output of shape
+//! `batch + (3,)`. Inputs are read in place; nothing is copied except one block of rows
+//! at a time into structure-of-arrays scratch, where the model's loop vectorizes.
+//!
+//! Results are bitwise identical for any thread count: every element is computed by the
+//! same instructions whatever block or thread it falls in.
+
+pub mod engine;
+pub mod params;
+pub mod rows;
+
+use ndarray::{ArrayViewD, ArrayViewMutD};
+
+use crate::error::{BrdfError, format_shape};
+use crate::math::{Real, Vector3};
+use crate::models::{ModelKind, ModelSpec, TangentUse};
+use params::{BatchParam, GivenParam, VaryingParam};
+use rows::{Rows, broadcast_shapes, own_index};
+
+/// The arrays of one evaluation: directions of shape `(..., 3)` and parameters by name.
+pub struct EvalInputs<'a, F> {
+    pub wi: ArrayViewD<'a, F>,
+    pub wo: ArrayViewD<'a, F>,
+    /// The surface normal; `None` means +z.
+    pub n: Option<ArrayViewD<'a, F>>,
+    pub tangent: Option<ArrayViewD<'a, F>>,
+    pub params: Vec<(&'a str, ArrayViewD<'a, F>)>,
+}
+
+/// How to treat the inputs.
+#[derive(Clone, Copy, Debug)]
+pub struct EvalOptions {
+    /// The caller promises unit-length directions: skip normalization.
+    pub normalized: bool,
+    /// Raise an error for NaN, infinite or zero-length input vectors (otherwise such rows
+    /// give NaN).
+    pub check: bool,
+    /// Check parameter values against their ranges (off only when already checked).
+    pub check_params: bool,
+}
+
+impl Default for EvalOptions {
+    fn default() -> Self {
+        EvalOptions {
+            normalized: false,
+            check: true,
+            check_params: true,
+        }
+    }
+}
+
+/// The direction arguments, in the order errors report them.
+pub const VECTOR_NAMES: [&str; 4] = ["wi", "wo", "n", "tangent"];
+
+/// A checked evaluation, ready to run.
+pub struct Plan<'a, F: Real> {
+    pub kind: ModelKind,
+    /// The broadcast batch shape; the output is `batch + (3,)`.
+    pub batch: Vec<usize>,
+    pub rows: usize,
+    /// `wi`, `wo`, `n`, `tangent` as rows of 3.
+    pub vectors: [Rows<'a, F>; 4],
+    /// The given direction arrays (for error messages), in `VECTOR_NAMES` order.
+    originals: [Option<ArrayViewD<'a, F>>; 4],
+    pub uniform: Vec<F>,
+    pub varying: Vec<VaryingParam<'a, F>>,
+    pub options: EvalOptions,
+}
+
+fn check_vector_shape<F>(name: &str, view: &ArrayViewD<'_, F>) -> Result<Vec<usize>, BrdfError> {
+    let shape = view.shape();
+    match shape.last() {
+        Some(3) => Ok(shape[..shape.len() - 1].to_vec()),
+        _ => Err(BrdfError::Shape(format!(
+            "{name}: expected an array of shape (..., 3) (x, y, z components); got shape {}",
+            format_shape(shape)
+        ))),
+    }
+}
+
+/// Checks an evaluation request and prepares it.
+pub fn plan<'a, F: Real>(
+    kind: ModelKind,
+    inputs: EvalInputs<'a, F>,
+    options: EvalOptions,
+) -> Result<Plan<'a, F>, BrdfError> {
+    let spec: &'static ModelSpec = kind.spec();
+    let matched = params::match_names(spec, inputs.params.iter().map(|(name, _)| *name))?;
+    match (spec.tangent, &inputs.tangent) {
+        (TangentUse::Required, None) => {
+            return Err(BrdfError::MissingParameter {
+                model: spec.name,
+                name: "tangent",
+            });
+        }
+        (TangentUse::None, Some(_)) => {
+            return Err(BrdfError::UnknownParameter {
+                model: spec.name,
+                name: "tangent".to_string(),
+                suggestion: None,
+                known: spec.param_names(),
+            });
+        }
+        _ => {}
+    }
+    let originals = [Some(inputs.wi), Some(inputs.wo), inputs.n, inputs.tangent];
+    let mut named_shapes: Vec<(&str, Vec<usize>)> = Vec::new();
+    for (name, view) in VECTOR_NAMES.iter().zip(&originals) {
+        if let Some(v) = view {
+            named_shapes.push((name, check_vector_shape(name, v)?));
+        }
+    }
+    let given: Vec<GivenParam<'a, F>> = matched
+        .into_iter()
+        .zip(inputs.params)
+        .map(|(spec, (_, view))| GivenParam { spec, view })
+        .collect();
+    let resolved = params::resolve(spec, given, options.check_params)?;
+    for p in &resolved.batch {
+        named_shapes.push((p.spec.name, p.own_batch.clone()));
+    }
+    let batch = broadcast_shapes(&named_shapes)?;
+    let rows: usize = batch.iter().product();
+
+    let default_rows = [
+        Rows::Constant([F::ZERO; 3]),
+        Rows::Constant([F::ZERO; 3]),
+        Rows::Constant([F::ZERO, F::ZERO, F::ONE]),
+        Rows::Constant([F::ONE, F::ZERO, F::ZERO]),
+    ];
+    let vectors = std::array::from_fn(|i| match &originals[i] {
+        Some(view) => Rows::new(view.clone(), true, 3, &batch),
+        None => default_rows[i].clone(),
+    });
+
+    let mut uniform = resolved.uniform;
+    let mut varying = Vec::new();
+    for BatchParam {
+        spec: p,
+        view,
+        has_component_axis,
+        ..
+    } in resolved.batch
+    {
+        let comps = p.kind.slots();
+        let rows_of = Rows::new(view, has_component_axis, comps, &batch);
+        match rows_of.constant() {
+            Some(row) => uniform[p.slot..p.slot + comps].copy_from_slice(&row[..comps]),
+            None => varying.push(VaryingParam {
+                slot: p.slot,
+                comps,
+                rows: rows_of,
+            }),
+        }
+    }
+    Ok(Plan {
+        kind,
+        batch,
+        rows,
+        vectors,
+        originals,
+        uniform,
+        varying,
+        options,
+    })
+}
+
+impl<F: Real> Plan<'_, F> {
+    /// Returns the output shape, `batch + (3,)`.
+    pub fn output_shape(&self) -> Vec<usize> {
+        let mut shape = self.batch.clone();
+        shape.push(3);
+        shape
+    }
+
+    /// Runs the plan into `out` (shape `batch + (3,)`, C order).
+    ///
+    /// # Errors
+    /// An error naming the first bad input vector (NaN, infinite or zero-length) when
+    /// `check` is on; `out` then holds NaN in the bad rows and results elsewhere.
+    pub fn execute(&self, out: ArrayViewMutD<'_, F>) -> Result<(), BrdfError> {
+        if out.shape() != self.output_shape().as_slice() {
+            return Err(BrdfError::Shape(format!(
+                "out: expected shape {}; got {}",
+                format_shape(&self.output_shape()),
+                format_shape(out.shape())
+            )));
+        }
+        let Some(out) = out.into_slice() else {
+            return Err(BrdfError::InvalidArgument(
+                "out: must be C-contiguous (a fresh numpy.empty array is)".into(),
+            ));
+        };
+        let any_bad = engine::run(self, out);
+        if any_bad && self.options.check {
+            return Err(self.first_bad_vector());
+        }
+        Ok(())
+    }
+
+    /// Finds the first bad input vector, in row order then argument order.
+    fn first_bad_vector(&self) -> BrdfError {
+        let mut row_buf = [F::ZERO; 3];
+        for row in 0..self.rows {
+            for (i, original) in self.originals.iter().enumerate() {
+                let Some(view) = original else { continue };
+                engine::read_row(&self.vectors[i], &self.batch, row, &mut row_buf);
+                let v = F::V3::new(row_buf[0], row_buf[1], row_buf[2]);
+                if F::usable(v) {
+                    continue;
+                }
+                let problem = if row_buf.iter().any(|x| x.is_nan()) {
+                    "NaN"
+                } else if row_buf.iter().any(|x| !x.is_finite()) {
+                    "infinite"
+                } else {
+                    "a zero-length vector"
+                };
+                let shape = view.shape();
+                let index = own_index(row, &self.batch, &shape[..shape.len() - 1]);
+                return BrdfError::BadVector {
+                    argument: VECTOR_NAMES[i],
+                    index,
+                    problem,
+                };
+            }
+        }
+        BrdfError::InvalidArgument("a bad input vector was seen but not found again".into())
+    }
+}
+
+/// Plans and runs an evaluation into a new array.
+pub fn eval_to_vec<F: Real>(
+    kind: ModelKind,
+    inputs: EvalInputs<'_, F>,
+    options: EvalOptions,
+) -> Result<(Vec<usize>, Vec<F>), BrdfError> {
+    let plan = plan(kind, inputs, options)?;
+    let shape = plan.output_shape();
+    let mut out = vec![F::ZERO; plan.rows * 3];
+    let view = ArrayViewMutD::from_shape(ndarray::IxDyn(&shape), &mut out)
+        .map_err(|e| BrdfError::Shape(e.to_string()))?;
+    plan.execute(view)?;
+    Ok((shape, out))
+}
+
+/// Checks parameter names, list rules and values for a model without evaluating it
+/// (shapes against a batch are checked at evaluation).
+pub fn check_params<F: Real>(
+    kind: ModelKind,
+    params: Vec<(&str, ArrayViewD<'_, F>)>,
+) -> Result<(), BrdfError> {
+    let spec = kind.spec();
+    let matched = params::match_names(spec, params.iter().map(|(name, _)| *name))?;
+    let given = matched
+        .into_iter()
+        .zip(params)
+        .map(|(spec, (_, view))| GivenParam { spec, view })
+        .collect();
+    params::resolve(spec, given, true).map(|_| ())
+}

@@ -1,0 +1,38 @@
+//! brdf-rs: evaluate, integrate and tabulate reflectance models (BRDFs), fast and
+//! accurately, from Rust or from Python on NumPy arrays.
+//!
+//! # Conventions
+//!
+//! - Directions are unit vectors pointing **away** from the surface: `wi` toward the
+//!   light, `wo` toward the viewer; `n` is the unit surface normal (+z by default).
+//!   `mu_i = n·wi`, `mu_o = n·wo`.
+//! - Family-A models return the BRDF `f(wi, wo)` in 1/sr, **excluding** the cosine
+//!   factor; they are 0 unless both directions are above the surface. Directional albedo
+//!   is `R(wi) = ∫ f(wi, wo)·mu_o dωo`.
+//! - Family-B models return the scan-line shading term `s(l, v)` with `l = wi`,
+//!   `v = wo`, which already **includes** the light's cosine.
+//! - `../shared/MODELS.md` (shipped as the docs' model pages) defines every model
+//!   exactly; each model's file in [`models`] cites its source equation.
+//!
+//! # Layout
+//!
+//! - [`math`]: float widths ([`math::Real`] ties `f64`/`f32` to glam's `DVec3`/`Vec3`),
+//!   robust normalization, accurate angle complements, vectorizable `pow`.
+//! - [`models`]: one model per file, the [`models::Kernel`] trait, the spec table.
+//! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, SIMD dispatch).
+//! - `py` (feature `python`): the only place that touches PyO3 / NumPy.
+
+pub mod error;
+pub mod eval;
+pub mod math;
+pub mod models;
+pub mod parallel;
+
+#[cfg(feature = "python")]
+mod py;
+
+pub use error::BrdfError;
+pub use models::ModelKind;
+
+/// The library version (the crate's, which is also the Python package's).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,309 @@
+//! Float widths, vectors and the numerically careful helpers every model shares.
+//!
+//! The crate computes in two widths chosen on purpose: `f64` with [`glam::DVec3`] (the
+//! reference precision) and `f32` with [`glam::Vec3`] (the fast path). [`Real`] ties a
+//! float to its glam vector so a model is written once; there is no other generic float
+//! machinery. `Vec3` (not the SIMD `Vec3A`) is used for `f32` on purpose: the batch loops
+//! vectorize *across* elements (8 or 16 lanes), which needs the plain three-float layout.
+//!
+//! All helpers here are `#[inline(always)]` and branch-free (selects, not jumps) so the
+//! loops that call them auto-vectorize.
+
+pub mod fastmath;
+pub mod geometry;
+
+use glam::{DVec3, Vec3};
+use std::fmt::Debug;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The operations the models need from a 3-vector; implemented by `DVec3` and `Vec3`.
+pub trait Vector3<F>:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<F, Output = Self> + Neg<Output = Self>
+{
+    /// Returns the vector `(x, y, z)`.
+    fn new(x: F, y: F, z: F) -> Self;
+    /// Returns the x component.
+    fn x(self) -> F;
+    /// Returns the y component.
+    fn y(self) -> F;
+    /// Returns the z component.
+    fn z(self) -> F;
+    /// Returns the dot product.
+    fn dot(self, other: Self) -> F;
+    /// Returns the cross product.
+    fn cross(self, other: Self) -> Self;
+    /// Returns the squared Euclidean length.
+    fn length_squared(self) -> F;
+}
+
+macro_rules! impl_vector3 {
+    ($v:ty, $f:ty) => {
+        impl Vector3<$f> for $v {
+            #[inline(always)]
+            fn new(x: $f, y: $f, z: $f) -> Self {
+                <$v>::new(x, y, z)
+            }
+            #[inline(always)]
+            fn x(self) -> $f {
+                self.x
+            }
+            #[inline(always)]
+            fn y(self) -> $f {
+                self.y
+            }
+            #[inline(always)]
+            fn z(self) -> $f {
+                self.z
+            }
+            #[inline(always)]
+            fn dot(self, other: Self) -> $f {
+                <$v>::dot(self, other)
+            }
+            #[inline(always)]
+            fn cross(self, other: Self) -> Self {
+                <$v>::cross(self, other)
+            }
+            #[inline(always)]
+            fn length_squared(self) -> $f {
+                <$v>::length_squared(self)
+            }
+        }
+    };
+}
+impl_vector3!(DVec3, f64);
+impl_vector3!(Vec3, f32);
+
+/// A float width the kernels run in (`f64` or `f32`), tied to its glam vector type.
+pub trait Real:
+    Copy
+    + Send
+    + Sync
+    + Default
+    + PartialOrd
+    + Debug
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// The glam vector of this width.
+    type V3: Vector3<Self>;
+    const ZERO: Self;
+    const ONE: Self;
+    const TWO: Self;
+    const HALF: Self;
+    const PI: Self;
+    const FRAC_1_PI: Self;
+    const NAN: Self;
+    const INFINITY: Self;
+    /// Name of the width as NumPy spells it.
+    const DTYPE: &'static str;
+
+    /// Converts from `f64` (rounding for `f32`).
+    fn from_f64(x: f64) -> Self;
+    /// Converts to `f64` (exact).
+    fn to_f64(self) -> f64;
+    /// Returns the square root.
+    fn sqrt(self) -> Self;
+    /// Returns `|self|`.
+    fn abs(self) -> Self;
+    /// Returns `self * a + b` with one rounding.
+    fn mul_add(self, a: Self, b: Self) -> Self;
+    /// Returns true unless NaN or infinite.
+    fn is_finite(self) -> bool;
+    /// Returns true for NaN.
+    fn is_nan(self) -> bool;
+    /// Returns `x^p` for `x` in [0, 1] given `x` and `1 - x` separately (both accurate),
+    /// with `0^0 = 1`; see [`fastmath`].
+    fn pow_unit(x: Self, one_minus_x: Self, p: Self) -> Self;
+    /// Returns `e^x`.
+    fn exp(self) -> Self;
+    /// Returns the natural logarithm.
+    fn ln(self) -> Self;
+    /// Returns `v / |v|` computed without overflow or underflow for any finite nonzero
+    /// `v` (tiny 1e-300 and huge 1e300 vectors included), and whether `v` was usable
+    /// (finite and nonzero). Unusable inputs give a non-finite vector.
+    fn normalize(v: Self::V3) -> (Self::V3, bool);
+    /// Returns whether `v` is finite and nonzero, without normalizing it.
+    fn usable(v: Self::V3) -> bool;
+}
+
+/// Returns the larger of `a` and `b` (the second if they compare unordered).
+///
+/// Written as a comparison so it compiles to one `max` instruction when vectorized.
+#[inline(always)]
+pub fn max<F: Real>(a: F, b: F) -> F {
+    if a > b { a } else { b }
+}
+
+/// Returns the smaller of `a` and `b` (the second if they compare unordered).
+#[inline(always)]
+pub fn min<F: Real>(a: F, b: F) -> F {
+    if a < b { a } else { b }
+}
+
+/// Returns `x` clamped to `[lo, hi]`.
+#[inline(always)]
+pub fn clamp<F: Real>(x: F, lo: F, hi: F) -> F {
+    min(max(x, lo), hi)
+}
+
+/// Returns the largest absolute component of `v`.
+#[inline(always)]
+pub fn max_abs<F: Real>(v: F::V3) -> F {
+    max(max(v.x().abs(), v.y().abs()), v.z().abs())
+}
+
+/// Returns whether every component of `v` is finite and at least one is nonzero.
+#[inline(always)]
+fn finite_nonzero<F: Real>(v: F::V3) -> bool {
+    let (x, y, z) = (v.x().abs(), v.y().abs(), v.z().abs());
+    // NaN fails every comparison, so it fails `< INFINITY`.
+    let finite = x < F::INFINITY && y < F::INFINITY && z < F::INFINITY;
+    finite && (x > F::ZERO || y > F::ZERO || z > F::ZERO)
+}
+
+macro_rules! impl_real {
+    ($f:ident, $v:ty, $pow:ident, $exp:ident, $log:ident,
+     small = $small:expr, big = $big:expr, up = $up:expr, down = $down:expr) => {
+        impl Real for $f {
+            type V3 = $v;
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const TWO: Self = 2.0;
+            const HALF: Self = 0.5;
+            const PI: Self = std::$f::consts::PI;
+            const FRAC_1_PI: Self = std::$f::consts::FRAC_1_PI;
+            const NAN: Self = $f::NAN;
+            const INFINITY: Self = $f::INFINITY;
+            const DTYPE: &'static str = stringify!($f);
+
+            #[inline(always)]
+            fn from_f64(x: f64) -> Self {
+                x as $f
+            }
+            #[inline(always)]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $f::sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                $f::abs(self)
+            }
+            #[inline(always)]
+            fn mul_add(self, a: Self, b: Self) -> Self {
+                $f::mul_add(self, a, b)
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                $f::is_finite(self)
+            }
+            #[inline(always)]
+            fn is_nan(self) -> bool {
+                $f::is_nan(self)
+            }
+            #[inline(always)]
+            fn pow_unit(x: Self, one_minus_x: Self, p: Self) -> Self {
+                fastmath::$pow(x, one_minus_x, p)
+            }
+            #[inline(always)]
+            fn exp(self) -> Self {
+                fastmath::$exp(self)
+            }
+            #[inline(always)]
+            fn ln(self) -> Self {
+                fastmath::$log(self)
+            }
+            #[inline(always)]
+            fn usable(v: Self::V3) -> bool {
+                finite_nonzero::<$f>(v)
+            }
+            #[inline(always)]
+            fn normalize(v: Self::V3) -> (Self::V3, bool) {
+                // Scale by an exact power of two so that squaring neither overflows nor
+                // underflows, then divide by the length. Both selects are exact.
+                let s = max_abs::<$f>(v);
+                let v = if s < $small { v * $up } else { v };
+                let v = if s > $big { v * $down } else { v };
+                let len = v.length_squared().sqrt();
+                (v * (1.0 / len), finite_nonzero::<$f>(v))
+            }
+        }
+    };
+}
+
+// f64: |v| in [2^-500, 2^500] squares safely; outside, rescale by 2^(+-600).
+impl_real!(
+    f64,
+    DVec3,
+    pow_unit_f64,
+    exp_f64,
+    log_f64,
+    small = 3.054936363499605e-151, // 2^-500
+    big = 3.273390607896142e150,    // 2^500
+    up = 4.149515568880993e180,     // 2^600
+    down = 2.409919865102884e-181   // 2^-600
+);
+// f32: |v| in [2^-40, 2^40] squares safely; outside, rescale by 2^(+-100).
+impl_real!(
+    f32,
+    Vec3,
+    pow_unit_f32,
+    exp_f32,
+    log_f32,
+    small = 9.094947e-13, // 2^-40
+    big = 1.0995116e12,   // 2^40
+    up = 1.2676506e30,    // 2^100
+    down = 7.888609e-31   // 2^-100
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scale_constants_are_exact_powers_of_two() {
+        assert_eq!(3.054936363499605e-151_f64, 2f64.powi(-500));
+        assert_eq!(3.273390607896142e150_f64, 2f64.powi(500));
+        assert_eq!(4.149515568880993e180_f64, 2f64.powi(600));
+        assert_eq!(2.409919865102884e-181_f64, 2f64.powi(-600));
+        assert_eq!(9.094947e-13_f32, 2f32.powi(-40));
+        assert_eq!(1.0995116e12_f32, 2f32.powi(40));
+        assert_eq!(1.2676506e30_f32, 2f32.powi(100));
+        assert_eq!(7.888609e-31_f32, 2f32.powi(-100));
+    }
+
+    #[test]
+    fn normalize_survives_extreme_lengths() {
+        for scale in [1e-305, 1e-300, 1e-200, 1.0, 1e200, 1e300, 1.7e308] {
+            let v = DVec3::new(3.0, -4.0, 12.0) * (scale / 13.0);
+            let (u, ok) = f64::normalize(v);
+            assert!(ok, "{scale}");
+            assert!((u.length() - 1.0).abs() < 1e-15, "{scale}: {u}");
+            assert!(u.x > 0.0 && u.y < 0.0 && u.z > 0.0);
+        }
+        for scale in [1e-44_f32, 1e-38, 1e-20, 1.0, 1e20, 3e38] {
+            let v = Vec3::new(0.0, scale, -scale);
+            let (u, ok) = f32::normalize(v);
+            assert!(ok);
+            assert!((u.length() - 1.0).abs() < 1e-6, "{scale}: {u}");
+        }
+    }
+
+    #[test]
+    fn unusable_vectors_are_flagged() {
+        assert!(!f64::normalize(DVec3::ZERO).1);
+        assert!(!f64::normalize(DVec3::new(f64::NAN, 0.0, 1.0)).1);
+        assert!(!f64::normalize(DVec3::new(f64::INFINITY, 0.0, 1.0)).1);
+        assert!(!f64::usable(DVec3::new(0.0, -0.0, 0.0)));
+        assert!(f64::usable(DVec3::new(0.0, 5e-324, 0.0)));
+        let (u, ok) = f64::normalize(DVec3::new(0.0, -5e-324, 0.0));
+        assert!(ok && u == DVec3::new(0.0, -1.0, 0.0));
+    }
+}

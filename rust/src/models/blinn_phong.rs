@@ -1,0 +1,47 @@
+//! `blinn_phong`: the Blinn-Phong BRDF as the BRDF Summary writes it (eq. 7).
+//!
+//! `f = kd + ks·cos_th^p / mu_i`, `cos_th = n·h`. Not reciprocal (the `1/mu_i`); `kd`
+//! without `1/π` (the Summary's convention). 0 where the half vector is undefined.
+
+use super::lobes::{DiffuseSpecular, half_cosine};
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The Blinn-Phong kernel.
+pub struct BlinnPhong;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "blinn_phong",
+    family: Family::A,
+    summary: "Blinn-Phong: diffuse plus a cosine-power lobe of the half vector, over mu_i",
+    formula: "f = kd + ks·cos_th^p / mu_i",
+    source: "BRDF Summary eq. 7",
+    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    tangent: TangentUse::None,
+    reciprocal: false,
+};
+
+impl Kernel for BlinnPhong {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> DiffuseSpecular<F> {
+        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let (cos_th, defined) = half_cosine(d);
+        let lobe = cos_th.powf(pp.p) / mu_i;
+        let rgb = pp.combine(if defined { lobe } else { F::ZERO });
+        above_both(mu_i, mu_o, rgb)
+    }
+}

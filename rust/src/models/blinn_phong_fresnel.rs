@@ -1,0 +1,69 @@
+//! `blinn_phong_fresnel`: normalized Blinn-Phong with Schlick's Fresnel term (RTR eq. 7.49).
+//!
+//! `f = kd/π + (p+8)/(8π)·F·cos_th^p`, `F = ks + (1−ks)(1−cos_b)^5` per channel, where
+//! `ks` is the normal-incidence reflectance F0 and `cos_b = wi·h`. `(1 − cos_b)` comes
+//! from a vector difference, so Schlick's weight has no cancellation near normal incidence.
+
+use super::lobes::DiffuseSpecular;
+use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
+use crate::math::{Real, Vector3};
+
+/// The Blinn-Phong-with-Fresnel kernel.
+pub struct BlinnPhongFresnel;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "blinn_phong_fresnel",
+    family: Family::A,
+    summary: "normalized Blinn-Phong lobe weighted by Schlick's Fresnel term, plus Lambert",
+    formula: "f = kd/π + (p+8)/(8π)·F·cos_th^p, F = ks + (1−ks)(1−cos_b)^5 (ks is F0)",
+    source: "RTR 3rd ed. eq. 7.49",
+    params: &[
+        spec::kd(0.0, 0),
+        ParamSpec {
+            name: "ks",
+            kind: ParamKind::Colour,
+            default: Some(0.04),
+            range: ValidRange::UNIT,
+            doc: "F0: specular reflectance at normal incidence (RGB, in [0, 1])",
+            slot: 3,
+        },
+        spec::exponent(6),
+    ],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+impl Kernel for BlinnPhongFresnel {
+    /// `kd/π`, `F0` (as given) and `p`, with the lobe normalization `(p+8)/(8π)`.
+    type Prepared<F: Real> = (DiffuseSpecular<F>, F);
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> (DiffuseSpecular<F>, F) {
+        let lobe = DiffuseSpecular::read(p, F::FRAC_1_PI, |_| F::ONE);
+        let norm = (lobe.p * F::from_f64(0.125) + F::ONE) * F::FRAC_1_PI;
+        (lobe, norm)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &(DiffuseSpecular<F>, F), d: &Directions<F>) -> [F; 3] {
+        let (lobe, norm) = pp;
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let hv = half_vector::<F>(d.wi, d.wo);
+        let cos_th = clamped_cosine::<F>(d.n, hv.h);
+        let w = schlick_weight(hv.cos_b);
+        let spec = *norm * cos_th.powf(lobe.p);
+        let spec = if hv.defined { spec } else { F::ZERO };
+        let rgb = [0, 1, 2].map(|c| {
+            let fresnel = lobe.ks[c] + (F::ONE - lobe.ks[c]) * w;
+            fresnel * spec + lobe.kd[c]
+        });
+        above_both(mu_i, mu_o, rgb)
+    }
+}

@@ -1,0 +1,45 @@
+//! `blinn_specular`: the shading assignment's Blinn specular term.
+//!
+//! `s(l, v) = ks·clamp(n·h, 0, 1)^p`, 0 when `n·l <= 0` or when `h` is undefined
+//! (`l = −v`); `= mu_i·blinn_phong(kd=0)` for mu_i, mu_o > 0.
+
+use super::lobes::half_cosine;
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::{Real, Vector3};
+
+/// The Blinn specular kernel.
+pub struct BlinnSpecular;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "blinn_specular",
+    family: Family::B,
+    summary: "Blinn specular shading term: cosine power of the half vector",
+    formula: "s = ks·clamp(n·h, 0, 1)^p, 0 when n·l <= 0",
+    source: "scan-line shading assignment (Blinn specular)",
+    params: &[spec::ks(1.0, 0), spec::exponent(3)],
+    tangent: TangentUse::None,
+    reciprocal: false,
+};
+
+impl Kernel for BlinnSpecular {
+    type Prepared<F: Real> = ([F; 3], F);
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {
+        (p.colour(0), p.scalar(3))
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
+        let (ks, p) = *pp;
+        let (cos_th, defined) = half_cosine(d);
+        let lobe = cos_th.powf(p);
+        let lit = d.n.dot(d.wi) > F::ZERO && defined;
+        ks.map(|c| if lit { c * lobe } else { F::ZERO })
+    }
+}

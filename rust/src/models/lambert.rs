@@ -1,0 +1,43 @@
+//! `lambert`: the perfectly diffuse BRDF.
+//!
+//! `f(wi, wo) = kd / π` (RTR §7.6; BRDF Summary, diffuse term). Its directional albedo is
+//! exactly `kd` for every incidence, so the integrator uses that closed form.
+
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::Real;
+use crate::math::Vector3;
+use crate::math::geometry::above_both;
+
+/// The Lambert kernel.
+pub struct Lambert;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "lambert",
+    family: Family::A,
+    summary: "perfectly diffuse reflection",
+    formula: "f = kd/π",
+    source: "RTR 3rd ed. §7.6; BRDF Summary (diffuse term)",
+    params: &[spec::kd(0.5, 0)],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+impl Kernel for Lambert {
+    /// `kd / π`.
+    type Prepared<F: Real> = [F; 3];
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {
+        p.colour(0).map(|kd| kd * F::FRAC_1_PI)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(kd_over_pi: &[F; 3], d: &Directions<F>) -> [F; 3] {
+        above_both(d.n.dot(d.wi), d.n.dot(d.wo), *kd_over_pi)
+    }
+}

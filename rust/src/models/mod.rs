@@ -1,0 +1,184 @@
+//! The closed set of models: one file per model, the [`Kernel`] trait they implement, the
+//! [`ModelKind`] enum that names them and the parameter specs that drive validation,
+//! `brdf_rs.models()`, the CLI and the docs.
+//!
+//! A model file holds the model's whole definition: its spec (parameters, ranges,
+//! defaults, source), the derived constants it prepares once per parameter set, and its
+//! evaluation. The batch engine calls [`Kernel::eval`] per element inside loops that are
+//! compiled per instruction set; models therefore write straight-line, branch-free code
+//! (selects, not early returns).
+
+pub mod lobes;
+pub mod spec;
+
+pub mod blinn_phong;
+pub mod blinn_phong_fresnel;
+pub mod blinn_specular;
+pub mod kajiya_kay;
+pub mod lambert;
+pub mod lambert_shading;
+pub mod modified_blinn_phong;
+pub mod modified_phong;
+pub mod normalized_blinn_phong;
+pub mod normalized_phong;
+pub mod oren_nayar;
+pub mod oren_nayar_shading;
+pub mod phong;
+pub mod phong_specular;
+pub mod toon_diffuse;
+pub mod toon_specular;
+pub mod torrance_sparrow;
+
+pub use spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+
+use crate::error::{BrdfError, closest};
+use crate::math::Real;
+
+/// The unit directions one evaluation sees. `wi` points toward the light, `wo` toward the
+/// viewer, both away from the surface; `n` is the unit normal; `t` the unit tangent (for
+/// models that take one, otherwise unspecified).
+#[derive(Clone, Copy, Debug)]
+pub struct Directions<F: Real> {
+    pub wi: F::V3,
+    pub wo: F::V3,
+    pub n: F::V3,
+    pub t: F::V3,
+}
+
+/// Where a kernel reads its raw parameter values: the spec's slots, one float each
+/// (a colour takes three consecutive slots).
+pub trait ParamSource<F: Real> {
+    /// Returns the value in `slot`.
+    fn scalar(&self, slot: usize) -> F;
+    /// Returns the colour starting at `slot`.
+    #[inline(always)]
+    fn colour(&self, slot: usize) -> [F; 3] {
+        [
+            self.scalar(slot),
+            self.scalar(slot + 1),
+            self.scalar(slot + 2),
+        ]
+    }
+}
+
+impl<F: Real> ParamSource<F> for [F] {
+    #[inline(always)]
+    fn scalar(&self, slot: usize) -> F {
+        self[slot]
+    }
+}
+
+/// A reflectance model the batch engine can evaluate.
+pub trait Kernel: 'static {
+    /// Constants derived once per parameter set (normalizations, Fresnel R0, ...).
+    type Prepared<F: Real>: Copy + Send + Sync;
+    /// Returns the model's spec.
+    fn spec() -> &'static ModelSpec;
+    /// Returns the derived constants for the parameters in `p`.
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F>;
+    /// Returns the model's RGB value for one set of unit directions: `f(wi, wo)` in 1/sr
+    /// for family A (cosine excluded), the shading term `s(l, v)` for family B.
+    fn eval<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
+}
+
+/// Something done with a kernel type chosen at run time: `ModelKind::visit` calls
+/// `visit::<K>()` for the model's kernel, giving static dispatch once per batch.
+pub trait KernelVisitor {
+    type Output;
+    fn visit<K: Kernel>(self) -> Self::Output;
+}
+
+macro_rules! declare_models {
+    ($($variant:ident => $module:ident :: $ty:ident),* $(,)?) => {
+        /// Every model brdf-rs knows, in the order `brdf_rs.models()` lists them.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum ModelKind { $($variant),* }
+
+        impl ModelKind {
+            /// All models.
+            pub const ALL: &'static [ModelKind] = &[$(ModelKind::$variant),*];
+
+            /// Returns the model's spec.
+            pub fn spec(self) -> &'static ModelSpec {
+                match self { $(ModelKind::$variant => &$module::SPEC),* }
+            }
+
+            /// Calls the visitor with the model's kernel type.
+            pub fn visit<V: KernelVisitor>(self, visitor: V) -> V::Output {
+                match self { $(ModelKind::$variant => visitor.visit::<$module::$ty>()),* }
+            }
+        }
+    };
+}
+
+declare_models! {
+    Lambert => lambert::Lambert,
+    OrenNayar => oren_nayar::OrenNayar,
+    Phong => phong::Phong,
+    ModifiedPhong => modified_phong::ModifiedPhong,
+    NormalizedPhong => normalized_phong::NormalizedPhong,
+    BlinnPhong => blinn_phong::BlinnPhong,
+    ModifiedBlinnPhong => modified_blinn_phong::ModifiedBlinnPhong,
+    NormalizedBlinnPhong => normalized_blinn_phong::NormalizedBlinnPhong,
+    BlinnPhongFresnel => blinn_phong_fresnel::BlinnPhongFresnel,
+    TorranceSparrow => torrance_sparrow::TorranceSparrow,
+    LambertShading => lambert_shading::LambertShading,
+    OrenNayarShading => oren_nayar_shading::OrenNayarShading,
+    ToonDiffuse => toon_diffuse::ToonDiffuse,
+    PhongSpecular => phong_specular::PhongSpecular,
+    BlinnSpecular => blinn_specular::BlinnSpecular,
+    ToonSpecular => toon_specular::ToonSpecular,
+    KajiyaKay => kajiya_kay::KajiyaKay,
+}
+
+impl ModelKind {
+    /// Returns the model called `name`, or an error listing the known names with a
+    /// close-match suggestion.
+    pub fn from_name(name: &str) -> Result<ModelKind, BrdfError> {
+        if let Some(kind) = ModelKind::ALL.iter().find(|k| k.spec().name == name) {
+            return Ok(*kind);
+        }
+        let known: Vec<&'static str> = ModelKind::ALL.iter().map(|k| k.spec().name).collect();
+        Err(BrdfError::UnknownModel {
+            name: name.to_string(),
+            suggestion: closest(name, &known).map(str::to_string),
+            known,
+        })
+    }
+
+    /// Returns the model's name.
+    pub fn name(self) -> &'static str {
+        self.spec().name
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_resolve() {
+        for kind in ModelKind::ALL {
+            assert_eq!(ModelKind::from_name(kind.name()).unwrap(), *kind);
+        }
+        let err = ModelKind::from_name("torrance_sparow").unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("did you mean \"torrance_sparrow\""),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn param_slots_are_laid_out_in_order() {
+        for kind in ModelKind::ALL {
+            let spec = kind.spec();
+            let mut next = 0;
+            for p in spec.params {
+                assert_eq!(p.slot, next, "{}.{}", spec.name, p.name);
+                next += p.kind.slots();
+            }
+            assert_eq!(spec.slot_count(), next);
+        }
+    }
+}

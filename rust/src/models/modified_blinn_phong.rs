@@ -1,0 +1,46 @@
+//! `modified_blinn_phong`: the reciprocal Blinn-Phong BRDF (BRDF Summary eq. 8).
+//!
+//! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
+
+use super::lobes::{DiffuseSpecular, half_cosine};
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The modified Blinn-Phong kernel.
+pub struct ModifiedBlinnPhong;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "modified_blinn_phong",
+    family: Family::A,
+    summary: "reciprocal Blinn-Phong: diffuse plus a cosine-power lobe of the half vector",
+    formula: "f = kd + ks·cos_th^p",
+    source: "BRDF Summary eq. 8",
+    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+impl Kernel for ModifiedBlinnPhong {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> DiffuseSpecular<F> {
+        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let (cos_th, defined) = half_cosine(d);
+        let lobe = cos_th.powf(pp.p);
+        let rgb = pp.combine(if defined { lobe } else { F::ZERO });
+        above_both(mu_i, mu_o, rgb)
+    }
+}

@@ -1,0 +1,44 @@
+//! `modified_phong`: the reciprocal "modified" Phong BRDF (BRDF Summary eq. 3).
+//!
+//! `f = kd + ks·cos_ar^p`. Reciprocal; `kd` without `1/π` as the Summary writes it.
+//! Directional albedo at normal incidence with kd = 0, ks = 1: `2π/(p+2)`.
+
+use super::lobes::{DiffuseSpecular, mirror_cosine};
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The modified Phong kernel.
+pub struct ModifiedPhong;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "modified_phong",
+    family: Family::A,
+    summary: "reciprocal Phong: diffuse plus a cosine-power lobe about the mirror direction",
+    formula: "f = kd + ks·cos_ar^p",
+    source: "BRDF Summary eq. 3",
+    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+impl Kernel for ModifiedPhong {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> DiffuseSpecular<F> {
+        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let (mu_i, cos_ar) = mirror_cosine(d);
+        let mu_o = d.n.dot(d.wo);
+        above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
+    }
+}

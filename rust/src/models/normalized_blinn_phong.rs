@@ -1,0 +1,49 @@
+//! `normalized_blinn_phong`: the normalized Blinn-Phong BRDF (BRDF Summary eq. 9, RTR 7.48).
+//!
+//! `f = kd/π + ks·(p+8)/(8π)·cos_th^p`. The Summary prints `cos^n(α_r)`; that is a typo
+//! for `cos_th` (RTR 7.48 confirms). `(p+8)/(8π)` is an approximation: the albedo at
+//! normal incidence is `(p+8)(p+2^(−p/2))/((p+2)(p+4))`, slightly above 1.
+
+use super::lobes::{DiffuseSpecular, half_cosine};
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The normalized Blinn-Phong kernel.
+pub struct NormalizedBlinnPhong;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "normalized_blinn_phong",
+    family: Family::A,
+    summary: "Blinn-Phong lobe with the approximate (p+8)/(8π) normalization, plus Lambert",
+    formula: "f = kd/π + ks·(p+8)/(8π)·cos_th^p",
+    source: "BRDF Summary eq. 9 (cos_th, not cos_ar: typo fixed); RTR 3rd ed. eq. 7.48",
+    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+impl Kernel for NormalizedBlinnPhong {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> DiffuseSpecular<F> {
+        let eighth = F::from_f64(0.125);
+        DiffuseSpecular::read(p, F::FRAC_1_PI, |e| (e * eighth + F::ONE) * F::FRAC_1_PI)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let (cos_th, defined) = half_cosine(d);
+        let lobe = cos_th.powf(pp.p);
+        let rgb = pp.combine(if defined { lobe } else { F::ZERO });
+        above_both(mu_i, mu_o, rgb)
+    }
+}

@@ -1,0 +1,44 @@
+//! `normalized_phong`: the energy-normalized Phong BRDF (BRDF Summary eq. 5, RTR eq. 7.47).
+//!
+//! `f = kd/π + ks·(p+2)/(2π)·cos_ar^p` (the Summary's `n` is `p`). With kd = 0, ks = 1
+//! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
+
+use super::lobes::{DiffuseSpecular, mirror_cosine};
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The normalized Phong kernel.
+pub struct NormalizedPhong;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "normalized_phong",
+    family: Family::A,
+    summary: "energy-normalized Phong lobe about the mirror direction, plus Lambert",
+    formula: "f = kd/π + ks·(p+2)/(2π)·cos_ar^p",
+    source: "BRDF Summary eq. 5; RTR 3rd ed. eq. 7.47",
+    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+impl Kernel for NormalizedPhong {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> DiffuseSpecular<F> {
+        DiffuseSpecular::read(p, F::FRAC_1_PI, |e| (e + F::TWO) * F::HALF * F::FRAC_1_PI)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let (mu_i, cos_ar) = mirror_cosine(d);
+        let mu_o = d.n.dot(d.wo);
+        above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
+    }
+}

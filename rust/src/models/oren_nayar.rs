@@ -1,0 +1,61 @@
+//! `oren_nayar`: the qualitative Oren-Nayar model of rough diffuse reflection.
+//!
+//! `f = (kd/π)·(A + B·max(0, cos(φi−φo))·sin a·tan b)`, `a = max(θi, θo)`,
+//! `b = min(θi, θo)`, `A = 1 − 0.5σ²/(σ²+0.33)`, `B = 0.45σ²/(σ²+0.09)` (the shading
+//! assignment). The angular factor is computed without trigonometry, see
+//! [`oren_nayar_angular`]; `cos(φi−φo)` is 0 when a tangent-plane projection has zero length.
+
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::Real;
+use crate::math::Vector3;
+use crate::math::geometry::{above_both, oren_nayar_ab, oren_nayar_angular};
+
+/// The Oren-Nayar BRDF kernel.
+pub struct OrenNayar;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "oren_nayar",
+    family: Family::A,
+    summary: "rough diffuse reflection (qualitative Oren-Nayar)",
+    formula: "f = (kd/π)·(A + B·max(0, cos(φi−φo))·sin a·tan b), a = max(θi,θo), b = min(θi,θo), \
+              A = 1 − 0.5σ²/(σ²+0.33), B = 0.45σ²/(σ²+0.09)",
+    source: "Oren & Nayar 1994 (qualitative model), as in the shading assignment",
+    params: &[spec::kd(0.5, 0), spec::sigma(3)],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+/// Derived constants: `kd·A/π` and `kd·B/π`.
+#[derive(Clone, Copy)]
+pub struct Prepared<F> {
+    kd_a: [F; 3],
+    kd_b: [F; 3],
+}
+
+impl Kernel for OrenNayar {
+    type Prepared<F: Real> = Prepared<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
+        let kd = p.colour(0);
+        let (a, b) = oren_nayar_ab(p.scalar(3));
+        Prepared {
+            kd_a: kd.map(|c| c * a * F::FRAC_1_PI),
+            kd_b: kd.map(|c| c * b * F::FRAC_1_PI),
+        }
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);
+        let rgb = [0, 1, 2].map(|c| pp.kd_b[c] * g + pp.kd_a[c]);
+        above_both(mu_i, mu_o, rgb)
+    }
+}

@@ -1,0 +1,60 @@
+//! `oren_nayar_shading`: the shading assignment's Oren-Nayar term, cosine included.
+//!
+//! `s(l, v) = kd·clamp(n·l, 0, 1)·(A + B·G·sin a·tan b)` with A, B, a, b and
+//! `G = max(0, cos(φi−φo))` as in `oren_nayar`; `= π·mu_i·oren_nayar` for mu_i, mu_o > 0.
+//! The viewer may be below the surface; the light below gives 0.
+
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::{oren_nayar_ab, oren_nayar_angular};
+use crate::math::{Real, Vector3, clamp};
+
+/// The Oren-Nayar shading kernel.
+pub struct OrenNayarShading;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "oren_nayar_shading",
+    family: Family::B,
+    summary: "Oren-Nayar rough diffuse shading term (includes the light cosine)",
+    formula: "s = kd·clamp(n·l, 0, 1)·(A + B·max(0, cos(φi−φo))·sin a·tan b)",
+    source: "scan-line shading assignment (Oren-Nayar term)",
+    params: &[spec::kd(0.5, 0), spec::sigma(3)],
+    tangent: TangentUse::None,
+    reciprocal: false,
+};
+
+/// Derived constants: `kd·A` and `kd·B`.
+#[derive(Clone, Copy)]
+pub struct Prepared<F> {
+    kd_a: [F; 3],
+    kd_b: [F; 3],
+}
+
+impl Kernel for OrenNayarShading {
+    type Prepared<F: Real> = Prepared<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
+        let kd = p.colour(0);
+        let (a, b) = oren_nayar_ab(p.scalar(3));
+        Prepared {
+            kd_a: kd.map(|c| c * a),
+            kd_b: kd.map(|c| c * b),
+        }
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let cos_l = clamp(mu_i, F::ZERO, F::ONE);
+        // With the light above, max(mu_i, mu_o) > 0 and the angular factor is finite.
+        let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);
+        let g = if mu_i > F::ZERO { g } else { F::ZERO };
+        [0, 1, 2].map(|c| (pp.kd_b[c] * g + pp.kd_a[c]) * cos_l)
+    }
+}

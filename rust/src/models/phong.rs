@@ -1,0 +1,46 @@
+//! `phong`: the original Phong BRDF as the BRDF Summary writes it (eq. 2).
+//!
+//! `f = kd + ks·cos_ar^p / mu_i`. Not reciprocal (the `1/mu_i`) and not energy
+//! conserving; `kd` enters without `1/π`, so the diffuse albedo is `π·kd` (the source's
+//! convention, kept on purpose). Infinite only where the exact value is: mu_i → 0+.
+
+use super::lobes::{DiffuseSpecular, mirror_cosine};
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The original Phong kernel.
+pub struct Phong;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "phong",
+    family: Family::A,
+    summary: "original Phong: diffuse plus a cosine-power lobe about the mirror direction, over mu_i",
+    formula: "f = kd + ks·cos_ar^p / mu_i",
+    source: "BRDF Summary eq. 2",
+    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    tangent: TangentUse::None,
+    reciprocal: false,
+};
+
+impl Kernel for Phong {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> DiffuseSpecular<F> {
+        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let (mu_i, cos_ar) = mirror_cosine(d);
+        let mu_o = d.n.dot(d.wo);
+        let lobe = cos_ar.powf(pp.p) / mu_i;
+        above_both(mu_i, mu_o, pp.combine(lobe))
+    }
+}

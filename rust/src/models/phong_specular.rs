@@ -1,0 +1,45 @@
+//! `phong_specular`: the shading assignment's Phong specular term.
+//!
+//! `s(l, v) = ks·clamp(v·r, 0, 1)^p` (m_S is `ks`, γ is `p`), 0 when `n·l <= 0`;
+//! `= mu_i·phong(kd=0)` for mu_i, mu_o > 0.
+
+use super::lobes::mirror_cosine;
+use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::Real;
+
+/// The Phong specular kernel.
+pub struct PhongSpecular;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "phong_specular",
+    family: Family::B,
+    summary: "Phong specular shading term: cosine power about the mirror direction",
+    formula: "s = ks·clamp(v·r, 0, 1)^p, 0 when n·l <= 0",
+    source: "scan-line shading assignment (Phong specular, m_S = ks, γ = p)",
+    params: &[spec::ks(1.0, 0), spec::exponent(3)],
+    tangent: TangentUse::None,
+    reciprocal: false,
+};
+
+impl Kernel for PhongSpecular {
+    type Prepared<F: Real> = ([F; 3], F);
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {
+        (p.colour(0), p.scalar(3))
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
+        let (ks, p) = *pp;
+        let (mu_i, cos_ar) = mirror_cosine(d);
+        let lobe = cos_ar.powf(p);
+        let lit = mu_i > F::ZERO;
+        ks.map(|c| if lit { c * lobe } else { F::ZERO })
+    }
+}

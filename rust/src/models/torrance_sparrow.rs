@@ -1,0 +1,99 @@
+//! `torrance_sparrow`: the Torrance-Sparrow microfacet BRDF with a cosine-power NDF
+//! (BRDF Summary eqs. 10–14; RTR eq. 7.51 is the same function).
+//!
+//! `f = kd/π + ks·D·F·G / (4·mu_i·mu_o)` with `D = (p+2)/(2π)·cos_th^p`,
+//! `F = R0 + (1−R0)(1−cos_b)^5`, `R0 = ((eta−1)/(eta+1))²` (grey), and
+//! `G = min(1, 2·cos_th·mu_o/cos_b, 2·cos_th·mu_i/cos_b)`.
+//!
+//! `G/(4 mu_i mu_o)` is evaluated as `min(1/(4 mu_i mu_o), cos_th/(2 cos_b mu_i),
+//! cos_th/(2 cos_b mu_o))`: the same value, but finite at grazing angles where
+//! `4 mu_i mu_o` underflows (no 0·∞).
+
+use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
+use crate::math::{Real, Vector3, min};
+
+/// The Torrance-Sparrow kernel.
+pub struct TorranceSparrow;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "torrance_sparrow",
+    family: Family::A,
+    summary: "microfacet BRDF: cosine-power NDF, Schlick Fresnel from eta, V-cavity shadowing",
+    formula: "f = kd/π + ks·D·F·G/(4·mu_i·mu_o), D = (p+2)/(2π)·cos_th^p, \
+              F = R0 + (1−R0)(1−cos_b)^5, R0 = ((eta−1)/(eta+1))², \
+              G = min(1, 2·cos_th·mu_o/cos_b, 2·cos_th·mu_i/cos_b)",
+    source: "BRDF Summary eqs. 10–14; RTR 3rd ed. eq. 7.51",
+    params: &[
+        spec::kd(0.0, 0),
+        spec::ks(1.0, 3),
+        spec::exponent(6),
+        ParamSpec {
+            name: "eta",
+            kind: ParamKind::Scalar,
+            default: Some(1.5),
+            range: ValidRange::POSITIVE,
+            doc: "relative index of refraction (scalar: the Fresnel term is grey)",
+            slot: 7,
+        },
+    ],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+/// Derived constants.
+#[derive(Clone, Copy)]
+pub struct Prepared<F> {
+    kd_over_pi: [F; 3],
+    /// `ks·(p+2)/(2π)`.
+    ks_norm: [F; 3],
+    p: F,
+    r0: F,
+}
+
+impl Kernel for TorranceSparrow {
+    type Prepared<F: Real> = Prepared<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
+        let exponent = p.scalar(6);
+        let eta = p.scalar(7);
+        let norm = (exponent + F::TWO) * F::HALF * F::FRAC_1_PI;
+        let r = (eta - F::ONE) / (eta + F::ONE);
+        Prepared {
+            kd_over_pi: p.colour(0).map(|c| c * F::FRAC_1_PI),
+            ks_norm: p.colour(3).map(|c| c * norm),
+            p: exponent,
+            r0: r * r,
+        }
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let hv = half_vector::<F>(d.wi, d.wo);
+        let cos_th = clamped_cosine::<F>(d.n, hv.h);
+        let cos_b = hv.cos_b;
+        let d_lobe = cos_th.powf(pp.p);
+        let fresnel = pp.r0 + (F::ONE - pp.r0) * schlick_weight(cos_b);
+        let half = F::HALF;
+        let ratio = cos_th.cos / cos_b.cos;
+        let g_over = min(
+            min(
+                F::ONE / (F::from_f64(4.0) * mu_i * mu_o),
+                ratio * half / mu_i,
+            ),
+            ratio * half / mu_o,
+        );
+        let spec = d_lobe * fresnel * g_over;
+        let spec = if hv.defined { spec } else { F::ZERO };
+        let rgb = [0, 1, 2].map(|c| pp.ks_norm[c] * spec + pp.kd_over_pi[c]);
+        above_both(mu_i, mu_o, rgb)
+    }
+}

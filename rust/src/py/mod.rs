@@ -1,0 +1,222 @@
+//! The Python bindings: the only code that touches PyO3 and NumPy.
+//!
+//! Each function converts its arguments to core types, releases the GIL around the work
+//! and maps [`BrdfError`] to a Python exception in one place. The Python package
+//! (`python/brdf_rs`) settles dtypes before calling here: arrays arrive as float64 or
+//! float32 NumPy arrays of any shape and layout, read in place.
+
+use numpy::{Element, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::error::{BrdfError, ErrorClass};
+use crate::eval::{self, EvalInputs, EvalOptions};
+use crate::math::Real;
+use crate::models::{ModelKind, ParamKind, TangentUse};
+
+impl From<BrdfError> for PyErr {
+    fn from(e: BrdfError) -> PyErr {
+        match e.class() {
+            ErrorClass::Type => PyTypeError::new_err(e.to_string()),
+            ErrorClass::Value => PyValueError::new_err(e.to_string()),
+        }
+    }
+}
+
+type Arr<'py, F> = PyReadonlyArrayDyn<'py, F>;
+
+/// Extracts the `{name: array}` parameter dict as read-only arrays.
+fn param_arrays<'py, F: Real + Element>(
+    params: &Bound<'py, PyDict>,
+) -> PyResult<Vec<(String, Arr<'py, F>)>> {
+    params
+        .iter()
+        .map(|(k, v)| {
+            let name: String = k.extract()?;
+            let array: Arr<'py, F> = v.extract().map_err(|_| {
+                PyTypeError::new_err(format!("{name}: expected a {} array", F::DTYPE))
+            })?;
+            Ok((name, array))
+        })
+        .collect()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn eval_impl<'py, F: Real + Element>(
+    py: Python<'py>,
+    model: &str,
+    wi: Arr<'py, F>,
+    wo: Arr<'py, F>,
+    n: Option<Arr<'py, F>>,
+    tangent: Option<Arr<'py, F>>,
+    params: &Bound<'py, PyDict>,
+    options: EvalOptions,
+    out: Option<Bound<'py, PyArrayDyn<F>>>,
+) -> PyResult<Bound<'py, PyArrayDyn<F>>> {
+    let kind = ModelKind::from_name(model)?;
+    let params = param_arrays::<F>(params)?;
+    let inputs = EvalInputs {
+        wi: wi.as_array(),
+        wo: wo.as_array(),
+        n: n.as_ref().map(|a| a.as_array()),
+        tangent: tangent.as_ref().map(|a| a.as_array()),
+        params: params
+            .iter()
+            .map(|(name, a)| (name.as_str(), a.as_array()))
+            .collect(),
+    };
+    let plan = eval::plan(kind, inputs, options)?;
+    let shape = plan.output_shape();
+    let out = match out {
+        Some(out) => out,
+        // SAFETY: every element is written by `execute` before the array is returned.
+        None => unsafe { PyArrayDyn::<F>::new(py, shape.as_slice(), false) },
+    };
+    {
+        let mut guard = out.try_readwrite().map_err(|e| {
+            PyValueError::new_err(format!(
+                "out: cannot write into it ({e}); is it an input too?"
+            ))
+        })?;
+        let view = guard.as_array_mut();
+        py.detach(|| plan.execute(view))?;
+    }
+    Ok(out)
+}
+
+/// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
+#[pyfunction]
+#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None))]
+#[allow(clippy::too_many_arguments)]
+fn eval_f64<'py>(
+    py: Python<'py>,
+    model: &str,
+    wi: Arr<'py, f64>,
+    wo: Arr<'py, f64>,
+    n: Option<Arr<'py, f64>>,
+    tangent: Option<Arr<'py, f64>>,
+    params: &Bound<'py, PyDict>,
+    normalized: bool,
+    check: bool,
+    check_params: bool,
+    out: Option<Bound<'py, PyArrayDyn<f64>>>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let options = EvalOptions {
+        normalized,
+        check,
+        check_params,
+    };
+    eval_impl(py, model, wi, wo, n, tangent, params, options, out)
+}
+
+/// Evaluates a model on float32 arrays with the float32 kernels (see `brdf_rs.eval`).
+#[pyfunction]
+#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None))]
+#[allow(clippy::too_many_arguments)]
+fn eval_f32<'py>(
+    py: Python<'py>,
+    model: &str,
+    wi: Arr<'py, f32>,
+    wo: Arr<'py, f32>,
+    n: Option<Arr<'py, f32>>,
+    tangent: Option<Arr<'py, f32>>,
+    params: &Bound<'py, PyDict>,
+    normalized: bool,
+    check: bool,
+    check_params: bool,
+    out: Option<Bound<'py, PyArrayDyn<f32>>>,
+) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+    let options = EvalOptions {
+        normalized,
+        check,
+        check_params,
+    };
+    eval_impl(py, model, wi, wo, n, tangent, params, options, out)
+}
+
+/// Checks parameter names, shapes and values for a model (float64 arrays), without
+/// evaluating: `brdf_rs.Model` calls this once.
+#[pyfunction]
+fn check_params<'py>(model: &str, params: &Bound<'py, PyDict>) -> PyResult<()> {
+    let kind = ModelKind::from_name(model)?;
+    let params = param_arrays::<f64>(params)?;
+    let views: Vec<(&str, _)> = params
+        .iter()
+        .map(|(name, a)| (name.as_str(), a.as_array()))
+        .collect();
+    eval::check_params(kind, views)?;
+    Ok(())
+}
+
+/// Returns the spec table: one dict per model.
+#[pyfunction]
+fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for kind in ModelKind::ALL {
+        let spec = kind.spec();
+        let params = PyList::empty(py);
+        for p in spec.params {
+            let d = PyDict::new(py);
+            d.set_item("name", p.name)?;
+            d.set_item("kind", p.kind.name())?;
+            d.set_item("default", p.default)?;
+            d.set_item("min", p.range.min)?;
+            d.set_item("max", p.range.max)?;
+            d.set_item("min_open", p.range.min_open)?;
+            d.set_item("max_open", p.range.max_open)?;
+            d.set_item("range", p.range.describe())?;
+            d.set_item("doc", p.doc)?;
+            d.set_item("varies", p.kind.may_vary())?;
+            let max_len = match p.kind {
+                ParamKind::ScalarList { max_len, .. } | ParamKind::ColourList { max_len, .. } => {
+                    Some(max_len)
+                }
+                _ => None,
+            };
+            d.set_item("max_len", max_len)?;
+            params.append(d)?;
+        }
+        let d = PyDict::new(py);
+        d.set_item("name", spec.name)?;
+        d.set_item("family", spec.family.letter())?;
+        d.set_item("summary", spec.summary)?;
+        d.set_item("formula", spec.formula)?;
+        d.set_item("source", spec.source)?;
+        d.set_item("reciprocal", spec.reciprocal)?;
+        d.set_item("tangent", spec.tangent == TangentUse::Required)?;
+        d.set_item("params", params)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// Sets the number of worker threads.
+#[pyfunction]
+fn set_num_threads(n: usize) -> PyResult<()> {
+    Ok(crate::parallel::set_num_threads(n)?)
+}
+
+/// Returns the number of worker threads.
+#[pyfunction]
+fn num_threads() -> usize {
+    crate::parallel::num_threads()
+}
+
+/// Returns the instruction set the kernels run with (`avx512`, `avx2`, `baseline`).
+#[pyfunction]
+fn isa() -> &'static str {
+    crate::eval::engine::isa().name()
+}
+
+/// The compiled core of brdf-rs. Use the `brdf_rs` package, not this module.
+#[pymodule]
+#[pyo3(name = "_brdf_rs")]
+mod brdf_rs_ext {
+    #[pymodule_export]
+    use super::{check_params, eval_f32, eval_f64, isa, models, num_threads, set_num_threads};
+
+    #[pymodule_export]
+    #[allow(non_upper_case_globals)]
+    const __version__: &str = crate::VERSION;
+}
