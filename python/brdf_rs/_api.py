@@ -12,7 +12,7 @@ from . import _brdf_rs as _core
 __all__ = ["Model", "eval", "isa", "models", "num_threads", "set_num_threads"]
 
 
-def eval(  # noqa: A001 - the public name is fixed
+def eval(
     model: str,
     wi: Any,
     wo: Any,
@@ -52,9 +52,7 @@ def eval(  # noqa: A001 - the public name is fixed
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     p = _arrays.parameters(params, dtype)
     kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
-    return kernel(
-        model, v["wi"], v["wo"], v["n"], v["tangent"], p, normalized, check, True, out
-    )
+    return kernel(model, v["wi"], v["wo"], v["n"], v["tangent"], p, normalized, check, True, out)
 
 
 class Model:

@@ -79,6 +79,17 @@ pub fn format_index(index: &[usize]) -> String {
     }
 }
 
+/// Formats a float the way Python prints it (`nan`, `inf`, `-1.0`, `1e-300`).
+pub fn format_float(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf".into() } else { "-inf".into() }
+    } else {
+        format!("{x:?}")
+    }
+}
+
 /// Formats a shape the way NumPy prints it: `(3,)`, `(2, 3)`, `()`.
 pub fn format_shape(shape: &[usize]) -> String {
     match shape.len() {
@@ -132,8 +143,9 @@ impl fmt::Display for BrdfError {
             } => {
                 write!(
                     f,
-                    "{name}{} = {value:?} is out of range: must be {valid}",
-                    format_index(index)
+                    "{name}{} = {} is out of range: must be {valid}",
+                    format_index(index),
+                    format_float(*value)
                 )
             }
             BrdfError::BadVector {

@@ -3,7 +3,7 @@
 use ndarray::ArrayViewD;
 
 use super::rows::Rows;
-use crate::error::{BrdfError, closest, format_shape};
+use crate::error::{BrdfError, closest, format_float, format_shape};
 use crate::math::Real;
 use crate::models::{ModelSpec, ParamKind, ParamSpec};
 
@@ -162,14 +162,14 @@ pub fn resolve<'a, F: Real>(
                 if ascending {
                     if let Some(k) = values.windows(2).position(|w| w[1] < w[0]) {
                         return Err(BrdfError::InvalidArgument(format!(
-                            "{} must be ascending: {}[{}] = {:?} is below {}[{}] = {:?}",
+                            "{} must be ascending: {}[{}] = {} is below {}[{}] = {}",
                             p.name,
                             p.name,
                             k + 1,
-                            values[k + 1].to_f64(),
+                            format_float(values[k + 1].to_f64()),
                             p.name,
                             k,
-                            values[k].to_f64()
+                            format_float(values[k].to_f64())
                         )));
                     }
                 }

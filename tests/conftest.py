@@ -1,0 +1,128 @@
+"""Shared test helpers: random inputs drawn from the spec table, and a condition estimate.
+
+The condition estimate says how much a model's exact value moves when its inputs move by
+a relative ``delta``: the ratio of relative output change to relative input change,
+measured with the pure-Python reference under random component-wise perturbations of
+the directions and the parameters. Comparisons then allow an error proportional to it:
+a well-conditioned value must match to 1e-12, an ill-conditioned one (a 1/mu_i blow-up,
+a toon threshold, an exponent of 1e6 far from the peak) only as well as its inputs
+determine it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import brdf_rs
+import numpy as np
+import pytest
+from brdf_rs import reference
+
+SPECS = brdf_rs.models()
+MODEL_NAMES = list(SPECS)
+FAMILY_A = [m for m in MODEL_NAMES if SPECS[m]["family"] == "A"]
+FAMILY_B = [m for m in MODEL_NAMES if SPECS[m]["family"] == "B"]
+
+
+def random_directions(rng: np.random.Generator, n: int, *, unnormalized: bool = True):
+    """Random directions over the whole sphere, some with random lengths."""
+    v = rng.normal(size=(n, 3))
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    if unnormalized:
+        scale = 10.0 ** rng.uniform(-3, 3, size=(n, 1))
+        v *= np.where(rng.random((n, 1)) < 0.5, 1.0, scale)
+    return v
+
+
+def upper_directions(rng: np.random.Generator, n: int):
+    """Random unit directions in the upper hemisphere (+z)."""
+    v = random_directions(rng, n, unnormalized=False)
+    v[:, 2] = np.abs(v[:, 2])
+    return v
+
+
+def random_value(rng: np.random.Generator, model: str, spec: dict, size=None):
+    """A random valid value of one parameter (arrays of ``size`` rows for varying ones)."""
+    name, kind = spec["name"], spec["kind"]
+    if kind == "colour":
+        hi = 1.0 if spec["max"] <= 1.0 else 1.5
+        shape = (3,) if size is None else (size, 3)
+        return rng.uniform(0.0, hi, size=shape)
+    if kind == "scalar":
+        if name == "p":
+            p = 10.0 ** rng.uniform(-1, 3, size=size)
+            return np.where(rng.random(size=size) < 0.05, 0.0, p)
+        if name == "eta":
+            return 10.0 ** rng.uniform(-0.7, 0.7, size=size)
+        return rng.uniform(spec["min"], spec["max"], size=size)
+    raise AssertionError(f"no varying generator for {model}.{name}")
+
+
+def random_lists(rng: np.random.Generator, model: str) -> dict:
+    """Random valid values for list parameters and required scalars of toon models."""
+    if model == "toon_diffuse":
+        k = int(rng.integers(1, 4))
+        return {
+            "thresholds": np.sort(rng.uniform(-1, 1, size=k)),
+            "colors": rng.uniform(0, 1, size=(k + 1, 3)),
+        }
+    return {}
+
+
+def random_params(rng: np.random.Generator, model: str, size=None) -> dict:
+    """Random values of every parameter of ``model`` (per-row arrays when ``size``)."""
+    out = random_lists(rng, model)
+    for spec in SPECS[model]["params"]:
+        if spec["name"] in out:
+            continue
+        out[spec["name"]] = random_value(rng, model, spec, size)
+    return out
+
+
+def row_params(model: str, params: dict, i: int) -> dict:
+    """The parameters of row ``i`` as plain Python values, for the reference."""
+    out = {}
+    kinds = {p["name"]: p["kind"] for p in SPECS[model]["params"]}
+    for k, v in params.items():
+        a = np.asarray(v, dtype=np.float64)
+        per_row = (kinds[k] == "colour" and a.ndim == 2) or (kinds[k] == "scalar" and a.ndim == 1)
+        out[k] = a[i].tolist() if per_row else a.tolist()
+    return out
+
+
+def reference_rgb(model, wi, wo, n=(0.0, 0.0, 1.0), tangent=None, **params):
+    return np.array(reference.eval(model, list(wi), list(wo), list(n), tangent, **params))
+
+
+def condition(model, wi, wo, n, tangent, params, rng, value, delta=1e-7, trials=3):
+    """Estimated relative condition number of the reference value at these inputs."""
+    worst = 0.0
+    for _ in range(trials):
+        jitter = lambda v: [x * (1.0 + delta * rng.uniform(-1, 1)) for x in v]  # noqa: E731
+        p2 = {}
+        for k, v in params.items():
+            if k in ("thresholds", "colors"):
+                p2[k] = v
+            elif isinstance(v, list):
+                p2[k] = jitter(v)
+            else:
+                p2[k] = v * (1.0 + delta * rng.uniform(-1, 1))
+        t2 = None if tangent is None else jitter(tangent)
+        try:
+            moved = reference_rgb(model, jitter(wi), jitter(wo), jitter(n), t2, **p2)
+        except (ValueError, OverflowError):
+            return math.inf
+        with np.errstate(invalid="ignore", divide="ignore"):
+            scale = np.maximum(np.abs(value), 1e-300)
+            change = np.abs(moved - value) / scale / delta
+        change = np.where(np.isfinite(value) & np.isfinite(moved), change, 0.0)
+        change = np.where(np.isinf(value) != np.isinf(moved), math.inf, change)
+        worst = max(worst, float(np.max(change)))
+    # A relative jump of 1% or more under a 1e-7 nudge is a discontinuity (a toon band
+    # edge, the horizon): the value is not determined by the inputs' precision at all.
+    return math.inf if worst * delta >= 1e-2 else worst
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261121)

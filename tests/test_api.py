@@ -1,0 +1,349 @@
+"""The public API's contract: shapes, dtypes, layouts, parameters, errors, threads."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+import threading
+
+import brdf_rs
+import numpy as np
+import pytest
+from conftest import MODEL_NAMES, random_directions, random_params
+
+
+def _extra(model):
+    """Required arguments of a model (toon lists, threshold, tangent)."""
+    if model == "toon_diffuse":
+        return {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
+    if model == "toon_specular":
+        return {"threshold": 0.9}
+    if model == "kajiya_kay":
+        return {"tangent": [1.0, 0.0, 0.0]}
+    return {}
+
+
+# ---------------------------------------------------------------------------- shapes
+
+
+def test_broadcasting_shapes_and_defaults():
+    wi = np.ones((4, 1, 3))
+    wo = np.ones((5, 3))
+    assert brdf_rs.eval("lambert", wi, wo).shape == (4, 5, 3)
+    assert brdf_rs.eval("lambert", [0, 0, 1], [0, 0, 1]).shape == (3,)
+    assert brdf_rs.eval("lambert", wi, wo, [0, 0, 1]).shape == (4, 5, 3)
+    kd = np.full((7, 1, 1, 3), 0.5)
+    assert brdf_rs.eval("lambert", wi, wo, kd=kd).shape == (7, 4, 5, 3)
+    assert brdf_rs.eval("lambert", np.zeros((0, 3)), [0, 0, 1]).shape == (0, 3)
+
+
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_any_memory_layout_gives_the_same_result(model, rng):
+    base_wi = random_directions(rng, 600)
+    base_wo = random_directions(rng, 600)
+    extra = _extra(model)
+    want = brdf_rs.eval(model, base_wi, base_wo, **extra)
+    fortran = np.asfortranarray(base_wi)
+    strided = np.zeros((600, 6))
+    strided[:, ::2] = base_wo
+    reversed_ = base_wi[::-1].copy()[::-1]
+    np.testing.assert_array_equal(brdf_rs.eval(model, fortran, strided[:, ::2], **extra), want)
+    np.testing.assert_array_equal(brdf_rs.eval(model, reversed_, base_wo, **extra), want)
+    grid = brdf_rs.eval(
+        model,
+        base_wi.reshape(20, 30, 3).transpose(1, 0, 2),
+        base_wo.reshape(20, 30, 3).transpose(1, 0, 2),
+        **extra,
+    )
+    np.testing.assert_array_equal(grid.transpose(1, 0, 2).reshape(600, 3), want)
+
+
+def test_broadcast_normals_and_parameters_follow_numpy(rng):
+    wi = random_directions(rng, 12).reshape(3, 4, 3)
+    wo = random_directions(rng, 12).reshape(3, 4, 3)
+    n = random_directions(rng, 3).reshape(3, 1, 3)
+    p = np.array([1.0, 5.0, 20.0, 80.0])
+    got = brdf_rs.eval("torrance_sparrow", wi, wo, n, p=p, ks=0.7)
+    full_n = np.broadcast_to(n, wi.shape)
+    for i in range(3):
+        for j in range(4):
+            want = brdf_rs.eval(
+                "torrance_sparrow", wi[i, j], wo[i, j], full_n[i, j], p=p[j], ks=0.7
+            )
+            np.testing.assert_array_equal(got[i, j], want)
+
+
+# ---------------------------------------------------------------------------- dtypes
+
+
+def test_dtype_rules(rng):
+    wi = random_directions(rng, 8)
+    wo = random_directions(rng, 8)
+    f32 = brdf_rs.eval("phong", wi.astype(np.float32), wo.astype(np.float32))
+    assert f32.dtype == np.float32
+    assert brdf_rs.eval("phong", wi, wo).dtype == np.float64
+    assert brdf_rs.eval("phong", wi.astype(np.float32), wo).dtype == np.float64
+    ints = brdf_rs.eval("lambert", np.array([[0, 0, 1]]), np.array([[1, 0, 1]]))
+    assert ints.dtype == np.float64
+    big_endian = brdf_rs.eval("phong", wi.astype(">f8"), wo.astype(">f8"))
+    np.testing.assert_array_equal(big_endian, brdf_rs.eval("phong", wi, wo))
+    # A float32 batch stays float32 with float64 parameters (the kernel casts them).
+    assert (
+        brdf_rs.eval("phong", wi.astype(np.float32), wo.astype(np.float32), p=np.float64(3)).dtype
+        == np.float32
+    )
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [np.array([[1 + 1j, 0, 1]]), np.array([[True, False, True]]), np.array([["a", "b", "c"]])],
+)
+def test_unsupported_dtypes_are_type_errors(bad):
+    with pytest.raises(TypeError, match=r"^wi: expected real numbers"):
+        brdf_rs.eval("lambert", bad, [0, 0, 1])
+
+
+def test_out_parameter(rng):
+    wi = random_directions(rng, 50)
+    out = np.empty((50, 3))
+    result = brdf_rs.eval("phong", wi, [0, 0, 1], out=out)
+    assert result is out
+    np.testing.assert_array_equal(out, brdf_rs.eval("phong", wi, [0, 0, 1]))
+    with pytest.raises(ValueError, match=r"out: expected shape \(50, 3\); got \(49, 3\)"):
+        brdf_rs.eval("phong", wi, [0, 0, 1], out=np.empty((49, 3)))
+
+
+# ---------------------------------------------------------------------- parameters
+
+
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_spatially_varying_parameters_match_per_row_calls(model, rng):
+    if model == "toon_diffuse":
+        pytest.skip("list parameters are uniform by design")
+    n = 64
+    wi = random_directions(rng, n)
+    wo = random_directions(rng, n)
+    params = random_params(rng, model, size=n)
+    extra = {k: v for k, v in _extra(model).items() if k not in params}
+    got = brdf_rs.eval(model, wi, wo, **params, **extra)
+    for i in range(n):
+        row = {k: v[i] for k, v in params.items()}
+        np.testing.assert_array_equal(got[i], brdf_rs.eval(model, wi[i], wo[i], **row, **extra))
+
+
+def test_scalar_colour_is_grey_and_trailing_one_broadcasts(rng):
+    wi = random_directions(rng, 10)
+    grey = brdf_rs.eval("lambert", wi, [0, 0, 1], kd=0.3)
+    rgb = brdf_rs.eval("lambert", wi, [0, 0, 1], kd=[0.3, 0.3, 0.3])
+    column = brdf_rs.eval("lambert", wi, [0, 0, 1], kd=np.full((10, 1), 0.3))
+    np.testing.assert_array_equal(grey, rgb)
+    np.testing.assert_array_equal(grey, column)
+
+
+def test_model_object_matches_eval(rng):
+    wi = random_directions(rng, 100)
+    wo = random_directions(rng, 100)
+    m = brdf_rs.Model("torrance_sparrow", kd=[0.1, 0.2, 0.3], ks=0.8, p=50, eta=1.5)
+    want = brdf_rs.eval("torrance_sparrow", wi, wo, kd=[0.1, 0.2, 0.3], ks=0.8, p=50, eta=1.5)
+    np.testing.assert_array_equal(m.eval(wi, wo), want)
+    np.testing.assert_array_equal(m(wi, wo), want)
+    assert m.eval(wi.astype(np.float32), wo.astype(np.float32)).dtype == np.float32
+    assert "torrance_sparrow" in repr(m)
+    with pytest.raises(ValueError, match=r"eta = -1.0 is out of range"):
+        brdf_rs.Model("torrance_sparrow", eta=-1)
+
+
+def test_models_table_is_complete():
+    specs = brdf_rs.models()
+    assert len(specs) == 17
+    ts = specs["torrance_sparrow"]
+    assert ts["family"] == "A"
+    assert "Summary eqs. 10" in ts["source"]
+    names = [p["name"] for p in ts["params"]]
+    assert names == ["kd", "ks", "p", "eta"]
+    eta = ts["params"][3]
+    assert eta["default"] == 1.5 and eta["kind"] == "scalar" and eta["range"] == "> 0 and finite"
+    for name, spec in specs.items():
+        assert spec["family"] in ("A", "B") and spec["summary"] and spec["source"], name
+        for p in spec["params"]:
+            assert p["doc"] and p["kind"] in ("scalar", "colour", "scalar list", "colour list")
+
+
+# -------------------------------------------------------------------------- errors
+
+
+def test_unknown_model_lists_names_and_suggests():
+    with pytest.raises(
+        ValueError,
+        match=r'unknown model "torrance_sparow" \(did you mean "torrance_sparrow"\?\); known models: lambert, oren_nayar',
+    ):
+        brdf_rs.eval("torrance_sparow", [0, 0, 1], [0, 0, 1])
+
+
+def test_unknown_and_missing_parameters_are_type_errors():
+    with pytest.raises(
+        TypeError, match=r'phong: unknown parameter "shininess"; phong takes: kd, ks, p'
+    ):
+        brdf_rs.eval("phong", [0, 0, 1], [0, 0, 1], shininess=3)
+    with pytest.raises(TypeError, match=r'toon_specular: missing required parameter "threshold"'):
+        brdf_rs.eval("toon_specular", [0, 0, 1], [0, 0, 1])
+    with pytest.raises(TypeError, match=r'kajiya_kay: missing required parameter "tangent"'):
+        brdf_rs.eval("kajiya_kay", [0, 0, 1], [0, 0, 1])
+    with pytest.raises(TypeError, match=r'lambert: unknown parameter "tangent"'):
+        brdf_rs.eval("lambert", [0, 0, 1], [0, 0, 1], tangent=[1, 0, 0])
+
+
+@pytest.mark.parametrize(
+    ("model", "params", "message"),
+    [
+        ("phong", {"p": -1.0}, r"p = -1.0 is out of range: must be >= 0 and finite"),
+        ("torrance_sparrow", {"eta": 0.0}, r"eta = 0.0 is out of range: must be > 0 and finite"),
+        (
+            "oren_nayar",
+            {"sigma": 2.0},
+            r"sigma = 2.0 is out of range: must be in \[0, 1.5707963267948966\]",
+        ),
+        ("lambert", {"kd": [0.5, -0.1, 0.2]}, r"kd\[1\] = -0.1 is out of range: must be >= 0"),
+        ("phong", {"p": np.array([1.0, np.nan])}, r"p\[1\] = nan is out of range"),
+        ("blinn_phong_fresnel", {"ks": 1.5}, r"ks = 1.5 is out of range: must be in \[0, 1\]"),
+        (
+            "lambert",
+            {"kd": [0.5, 0.5]},
+            r"kd: a colour is a number, an RGB triple or an array whose last axis has length 3",
+        ),
+        (
+            "toon_diffuse",
+            {"thresholds": [0.5, 0.1], "colors": [0, 0.5, 1]},
+            r"thresholds must be ascending: thresholds\[1\] = 0.1 is below thresholds\[0\] = 0.5",
+        ),
+        (
+            "toon_diffuse",
+            {"thresholds": [0.5], "colors": [0, 0.5, 1]},
+            r"colors: needs len\(thresholds\) \+ 1 = 2 colours; got 3",
+        ),
+    ],
+)
+def test_out_of_range_parameters_are_value_errors(model, params, message):
+    with pytest.raises(ValueError, match=message):
+        brdf_rs.eval(model, [0, 0, 1], [0, 0, 1], **params)
+
+
+def test_shape_errors_name_both_shapes():
+    with pytest.raises(
+        ValueError,
+        match=r"shapes do not broadcast: wi has batch shape \(5,\) and wo has batch shape \(4,\)",
+    ):
+        brdf_rs.eval("lambert", np.ones((5, 3)), np.ones((4, 3)))
+    with pytest.raises(
+        ValueError,
+        match=r"wo: expected an array of shape \(\.\.\., 3\) \(x, y, z components\); got shape \(4, 2\)",
+    ):
+        brdf_rs.eval("lambert", np.ones((4, 3)), np.ones((4, 2)))
+    with pytest.raises(
+        ValueError,
+        match=r"shapes do not broadcast: wi has batch shape \(5,\) and p has batch shape \(2,\)",
+    ):
+        brdf_rs.eval("phong", np.ones((5, 3)), [0, 0, 1], p=[1.0, 2.0])
+
+
+@pytest.mark.parametrize(
+    ("arg", "value", "problem"),
+    [("wi", np.nan, "NaN"), ("wo", np.inf, "infinite"), ("n", 0.0, "a zero-length vector")],
+)
+def test_bad_vectors_name_argument_and_first_index(arg, value, problem):
+    arrays = {"wi": np.ones((3, 4, 3)), "wo": np.ones((3, 4, 3)), "n": np.ones((3, 4, 3))}
+    arrays[arg][1, 2] = value
+    arrays[arg][2, 3] = value
+    pattern = re.escape(f"{arg}[1, 2] is {problem} (first bad index [1, 2])")
+    with pytest.raises(ValueError, match=pattern):
+        brdf_rs.eval("lambert", arrays["wi"], arrays["wo"], arrays["n"])
+    # check=False: no error, NaN in exactly the bad rows.
+    got = brdf_rs.eval("lambert", arrays["wi"], arrays["wo"], arrays["n"], check=False)
+    bad = np.zeros((3, 4), bool)
+    bad[1, 2] = bad[2, 3] = True
+    assert np.isnan(got[bad]).all() and not np.isnan(got[~bad]).any()
+
+
+def test_bad_vector_in_a_broadcast_argument_reports_its_own_index():
+    n = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=re.escape("n[1] is a zero-length vector")):
+        brdf_rs.eval("lambert", np.ones((4, 1, 3)), np.ones((2, 3)), n)
+
+
+# ------------------------------------------------------------------------- threads
+
+
+def test_results_are_bitwise_identical_for_any_thread_count(rng):
+    wi = random_directions(rng, 300_001)
+    wo = random_directions(rng, 300_001)
+    p = 10 ** rng.uniform(0, 3, size=300_001)
+    before = brdf_rs.num_threads()
+    try:
+        results = []
+        for threads in (1, 2, 3):
+            brdf_rs.set_num_threads(threads)
+            results.append(brdf_rs.eval("torrance_sparrow", wi, wo, p=p))
+            results.append(
+                brdf_rs.eval("normalized_phong", wi.astype(np.float32), wo.astype(np.float32), p=50)
+            )
+        for later in results[2:]:
+            first = results[0] if later.dtype == np.float64 else results[1]
+            np.testing.assert_array_equal(later, first)
+    finally:
+        brdf_rs.set_num_threads(before)
+    with pytest.raises(ValueError, match="n: expected a positive integer"):
+        brdf_rs.set_num_threads(0)
+
+
+def test_concurrent_calls_match_serial_calls(rng):
+    wi = random_directions(rng, 50_000)
+    wo = random_directions(rng, 50_000)
+    want = {m: brdf_rs.eval(m, wi, wo, **_extra(m)) for m in MODEL_NAMES}
+    failures = []
+
+    def worker(model):
+        for _ in range(3):
+            if not np.array_equal(brdf_rs.eval(model, wi, wo, **_extra(model)), want[model]):
+                failures.append(model)
+
+    threads = [threading.Thread(target=worker, args=(m,)) for m in MODEL_NAMES]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not failures
+
+
+def test_environment_sets_thread_count_and_isa():
+    code = "import brdf_rs; print(brdf_rs.num_threads(), brdf_rs.isa())"
+    env = {"BRDF_RS_NUM_THREADS": "3", "BRDF_RS_ISA": "baseline", "PATH": ""}
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    assert out.stdout.split() == ["3", "baseline"]
+
+
+def test_instruction_set_paths_agree(rng):
+    """The AVX-512, AVX2 and baseline loops compute the same values (to rounding)."""
+    code = """
+import sys, numpy as np, brdf_rs
+rng = np.random.default_rng(5)
+wi = rng.normal(size=(5000, 3)); wo = rng.normal(size=(5000, 3))
+out = [brdf_rs.eval(m, wi, wo, **kw) for m, kw in [("torrance_sparrow", {"p": 40.0}), ("oren_nayar", {}), ("kajiya_kay", {"tangent": [1.0, 0.0, 0.0]})]]
+np.save(sys.argv[1], np.stack(out))
+"""
+    results = {}
+    for isa in ("baseline", "avx2", "avx512"):
+        path = f"{np.random.default_rng().integers(1 << 60)}_{isa}.npy"
+        import os
+        import tempfile
+
+        path = os.path.join(tempfile.gettempdir(), path)
+        subprocess.run(
+            [sys.executable, "-c", code, path], env={**os.environ, "BRDF_RS_ISA": isa}, check=True
+        )
+        results[isa] = np.load(path)
+        os.remove(path)
+    for isa in ("avx2", "avx512"):
+        np.testing.assert_allclose(results[isa], results["baseline"], rtol=1e-13, atol=1e-300)

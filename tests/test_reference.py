@@ -1,0 +1,166 @@
+"""Every model against the pure-Python reference: random and adversarial inputs, float64
+and float32, uniform and per-element (spatially varying) parameters."""
+
+from __future__ import annotations
+
+import math
+
+import brdf_rs
+import numpy as np
+import pytest
+from conftest import (
+    FAMILY_A,
+    MODEL_NAMES,
+    SPECS,
+    condition,
+    random_directions,
+    random_params,
+    reference_rgb,
+    row_params,
+)
+
+EPS64 = np.finfo(np.float64).eps
+EPS32 = np.finfo(np.float32).eps
+N_RANDOM = 10_000
+
+
+def hemisphere_biased(rng, n_vectors, count):
+    """Random directions, 75% of them on the side of their normal."""
+    w = random_directions(rng, count)
+    flip = (np.einsum("ij,ij->i", w, n_vectors) < 0) & (rng.random(count) < 0.75)
+    w[flip] *= -1
+    return w
+
+
+def random_case(rng, model, count):
+    n = random_directions(rng, count)
+    n[: count // 4] = [0.0, 0.0, 1.0]
+    wi = hemisphere_biased(rng, n, count)
+    wo = hemisphere_biased(rng, n, count)
+    tangent = random_directions(rng, count) if SPECS[model]["tangent"] else None
+    return wi, wo, n, tangent
+
+
+def close(got, want, cond, rtol, eps, atol):
+    """|got - want| <= (rtol + 32 eps cond) |want| + atol, exact for zeros and infinities."""
+    tol = (rtol + 32 * eps * cond) * np.abs(want) + atol
+    both_inf = np.isinf(got) & np.isinf(want) & (np.sign(got) == np.sign(want))
+    return bool(np.all(both_inf | (np.abs(got - want) <= tol)))
+
+
+def assert_close(model, got, want, cond, rtol, eps, atol, label):
+    assert close(got, want, cond, rtol, eps, atol), (
+        f"{model} {label}: got {got}, reference {want}, condition {cond:.3g}, "
+        f"error {np.max(np.abs(got - want) / np.maximum(np.abs(want), 1e-300)):.3g}"
+    )
+
+
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_random_inputs_match_reference(model, rng):
+    wi, wo, n, tangent = random_case(rng, model, N_RANDOM)
+    params = random_params(rng, model, size=N_RANDOM)
+    got64 = brdf_rs.eval(model, wi, wo, n, tangent=tangent, **params)
+    f32 = {k: np.asarray(v, np.float32) for k, v in params.items()}
+    as32 = lambda a: None if a is None else a.astype(np.float32)  # noqa: E731
+    got32 = brdf_rs.eval(model, as32(wi), as32(wo), as32(n), tangent=as32(tangent), **f32)
+    assert got64.dtype == np.float64 and got32.dtype == np.float32
+    assert not np.isnan(got64).any() and not np.isnan(got32).any()
+
+    excused = 0  # rows that needed more than 1e-12 (1e-5) and were ill-conditioned
+    nonzero = 0
+    for i in range(N_RANDOM):
+        t = None if tangent is None else tangent[i].tolist()
+        p = row_params(model, params, i)
+        want = reference_rgb(model, wi[i], wo[i], n[i], t, **p)
+        nonzero += bool(np.any(want != 0))
+        # float32: against the reference on the float32-rounded inputs.
+        p32 = row_params(model, f32, i)
+        t32 = None if tangent is None else as32(tangent[i]).astype(np.float64).tolist()
+        want32 = reference_rgb(
+            model, as32(wi[i]).tolist(), as32(wo[i]).tolist(), as32(n[i]).tolist(), t32, **p32
+        )
+        # Near zero (below float32's normal range) only an absolute error is meaningful.
+        check32 = np.all(np.isfinite(want32)) and np.max(np.abs(want32)) < 1e30
+        if close(got64[i], want, 0.0, 1e-12, EPS64, 0.0) and (
+            not check32 or close(got32[i], want32, 0.0, 1e-5, EPS32, 1e-36)
+        ):
+            continue
+        # Not within the plain tolerance: allow what the inputs' precision allows.
+        cond = condition(model, wi[i].tolist(), wo[i].tolist(), n[i].tolist(), t, p, rng, want)
+        excused += cond > 1e4
+        assert_close(model, got64[i], want, cond, 1e-12, EPS64, 0.0, f"float64 row {i}")
+        if check32:
+            assert_close(model, got32[i], want32, cond, 1e-5, EPS32, 1e-36, f"float32 row {i}")
+    # The comparison must have teeth: most rows well-conditioned and not trivially zero.
+    assert excused < 0.02 * N_RANDOM, excused
+    assert nonzero > 0.3 * N_RANDOM, nonzero
+
+
+def _adversarial_geometry():
+    """(label, wi, wo, n) cases where naive formulas break."""
+    z = (0.0, 0.0, 1.0)
+    cases = []
+    for c in (1e-300, 1e-16, 0.0, -0.0):
+        s = math.sqrt(1.0 - c * c) if c > 1e-8 else 1.0
+        graze = (s, 0.0, c)
+        cases.append((f"grazing wi n.wi={c}", graze, (0.3, -0.2, 0.9), z))
+        cases.append((f"grazing wo n.wo={c}", (0.3, -0.2, 0.9), (-s, 0.0, c), z))
+        cases.append((f"both grazing {c}", graze, (0.0, s, c), z))
+    w = (0.48, -0.36, 0.8)
+    mirror = (-0.48, 0.36, 0.8)
+    cases += [
+        ("wi == wo", w, w, z),
+        ("wi == mirror(wo)", w, mirror, z),
+        ("wi == -wo", w, tuple(-x for x in w), z),
+        ("wi == n", z, w, z),
+        ("wi == wo == n", z, z, z),
+        ("tiny vectors", tuple(1e-200 * x for x in w), tuple(3e-201 * x for x in mirror), z),
+        ("huge vectors", tuple(1e200 * x for x in w), tuple(7e199 * x for x in mirror), z),
+        ("subnormal", (5e-324, 0.0, 1e-323), (0.0, -5e-324, 1e-323), z),
+        ("tilted normal", (1.0, 2.0, 3.0), (-2.0, 1.0, 3.0), (0.1, 0.2, 1.0)),
+        ("near mirror", w, (-0.48, 0.36 + 1e-9, 0.8), z),
+        ("near opposite", w, (-0.48 + 1e-12, 0.36, -0.8), z),
+    ]
+    return cases
+
+
+def _adversarial_params(model):
+    base = random_params(np.random.default_rng(7), model)
+    names = {p["name"] for p in SPECS[model]["params"]}
+    variants = [("random", base)]
+    if "p" in names:
+        variants += [(f"p={p}", {**base, "p": p}) for p in (0.0, 1e4, 1e6)]
+    if "eta" in names:
+        variants.append(("eta=1", {**base, "eta": 1.0}))
+    if "sigma" in names:
+        variants += [(f"sigma={s}", {**base, "sigma": s}) for s in (0.0, math.pi / 2)]
+    if model == "toon_specular":
+        variants.append(("threshold=1", {**base, "threshold": 1.0}))
+    return variants
+
+
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_adversarial_inputs_never_nan_and_match_reference(model):
+    rng = np.random.default_rng(3)
+    tangent = (0.6, 0.0, 0.8) if SPECS[model]["tangent"] else None
+    for plabel, params in _adversarial_params(model):
+        for glabel, wi, wo, n in _adversarial_geometry():
+            got = brdf_rs.eval(model, wi, wo, n, tangent=tangent, **params)
+            label = f"{glabel}, {plabel}"
+            assert not np.isnan(got).any(), f"{model}: NaN for {label}"
+            plain = {k: np.asarray(v).tolist() for k, v in params.items()}
+            want = reference_rgb(model, wi, wo, n, tangent, **plain)
+            if close(got, want, 0.0, 1e-12, EPS64, 0.0):
+                continue
+            cond = condition(model, list(wi), list(wo), list(n), tangent, plain, rng, want)
+            assert_close(model, got, want, cond, 1e-12, EPS64, 0.0, label)
+
+
+def test_family_a_is_zero_below_the_surface(rng):
+    n = 1000
+    wi = random_directions(rng, n)
+    wo = random_directions(rng, n)
+    wo[:, 2] = -np.abs(wo[:, 2])
+    for model in FAMILY_A:
+        assert (brdf_rs.eval(model, wi, wo) == 0).all(), model
+        assert (brdf_rs.eval(model, wo, wi) == 0).all(), model
