@@ -24,9 +24,11 @@
 
 pub mod error;
 pub mod eval;
+pub mod integrate;
 pub mod math;
 pub mod models;
 pub mod parallel;
+pub mod sampling;
 
 #[cfg(feature = "python")]
 mod py;

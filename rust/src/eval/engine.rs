@@ -103,12 +103,18 @@ impl<F: Real> ParamSource<F> for BlockParams<'_, F> {
     }
 }
 
-/// Reads row `row` of `rows` (3 components) into `dst`.
-pub fn read_row<F: Real>(rows: &Rows<'_, F>, batch: &[usize], row: usize, dst: &mut [F; 3]) {
+/// Reads row `row` of `rows` (`comps` components, 1 or 3) into `dst`.
+pub fn read_row<F: Real>(
+    rows: &Rows<'_, F>,
+    comps: usize,
+    batch: &[usize],
+    row: usize,
+    dst: &mut [F; 3],
+) {
     match rows {
         Rows::Constant(r) => *dst = *r,
-        Rows::Contiguous(s) => dst.copy_from_slice(&s[3 * row..3 * row + 3]),
-        Rows::Strided(s) => s.for_each(batch, row, 1, 3, |_, c, v| dst[c] = v),
+        Rows::Contiguous(s) => dst[..comps].copy_from_slice(&s[comps * row..comps * (row + 1)]),
+        Rows::Strided(s) => s.for_each(batch, row, 1, comps, |_, c, v| dst[c] = v),
     }
 }
 

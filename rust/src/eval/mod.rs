@@ -208,7 +208,7 @@ impl<F: Real> Plan<'_, F> {
         for row in 0..self.rows {
             for (i, original) in self.originals.iter().enumerate() {
                 let Some(view) = original else { continue };
-                engine::read_row(&self.vectors[i], &self.batch, row, &mut row_buf);
+                engine::read_row(&self.vectors[i], 3, &self.batch, row, &mut row_buf);
                 let v = F::V3::new(row_buf[0], row_buf[1], row_buf[2]);
                 if F::usable(v) {
                     continue;

@@ -3,6 +3,7 @@
 //! `f = kd + ks·cos_th^p / mu_i`, `cos_th = n·h`. Not reciprocal (the `1/mu_i`); `kd`
 //! without `1/π` (the Summary's convention). 0 where the half vector is undefined.
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -43,5 +44,9 @@ impl Kernel for BlinnPhong {
         let lobe = cos_th.powf(pp.p) / mu_i;
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, std::f64::consts::PI, Importance::BlinnHalf { p: slots[6] }))
     }
 }

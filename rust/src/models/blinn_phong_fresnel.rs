@@ -4,6 +4,7 @@
 //! `ks` is the normal-incidence reflectance F0 and `cos_b = wi·h`. `(1 − cos_b)` comes
 //! from a vector difference, so Schlick's weight has no cancellation near normal incidence.
 
+use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::lobes::DiffuseSpecular;
 use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
@@ -65,5 +66,23 @@ impl Kernel for BlinnPhongFresnel {
             fresnel * spec + lobe.kd[c]
         });
         above_both(mu_i, mu_o, rgb)
+    }
+
+    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`: F is affine in F0, so two scalar
+    /// integrals (the lobe, and the lobe times Schlick's weight) give every RGB F0.
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        let f0 = colour(slots, 3);
+        let importance = Importance::BlinnHalf { p: slots[6] };
+        Some(vec![
+            Term { colour: colour(slots, 0), integral: Integral::Exact(1.0) },
+            Term {
+                colour: f0,
+                integral: Integral::Lobe { basis: basis(slots, &[(0, 0.0), (3, 1.0)]), importance },
+            },
+            Term {
+                colour: f0.map(|c| 1.0 - c),
+                integral: Integral::Lobe { basis: basis(slots, &[(0, 0.0), (3, 0.0)]), importance },
+            },
+        ])
     }
 }

@@ -3,6 +3,7 @@
 //! `f(wi, wo) = kd / π` (RTR §7.6; BRDF Summary, diffuse term). Its directional albedo is
 //! exactly `kd` for every incidence, so the integrator uses that closed form.
 
+use super::albedo::{Integral, Term, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
@@ -39,5 +40,9 @@ impl Kernel for Lambert {
     #[inline(always)]
     fn eval<F: Real>(kd_over_pi: &[F; 3], d: &Directions<F>) -> [F; 3] {
         above_both(d.n.dot(d.wi), d.n.dot(d.wo), *kd_over_pi)
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(vec![Term { colour: colour(slots, 0), integral: Integral::Exact(1.0) }])
     }
 }

@@ -8,6 +8,7 @@
 //! compiled per instruction set; models therefore write straight-line, branch-free code
 //! (selects, not early returns).
 
+pub mod albedo;
 pub mod lobes;
 pub mod spec;
 
@@ -79,6 +80,13 @@ pub trait Kernel: 'static {
     /// Returns the model's RGB value for one set of unit directions: `f(wi, wo)` in 1/sr
     /// for family A (cosine excluded), the shading term `s(l, v)` for family B.
     fn eval<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
+
+    /// Returns the model's directional albedo as `Σ colour_k · I_k` for the raw
+    /// parameter slots (see [`albedo`]); `None` for family-B shading terms, which are
+    /// not integrated.
+    fn albedo_terms(_slots: &[f64]) -> Option<Vec<albedo::Term>> {
+        None
+    }
 }
 
 /// Something done with a kernel type chosen at run time: `ModelKind::visit` calls

@@ -2,6 +2,7 @@
 //!
 //! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -42,5 +43,9 @@ impl Kernel for ModifiedBlinnPhong {
         let lobe = cos_th.powf(pp.p);
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, std::f64::consts::PI, Importance::BlinnHalf { p: slots[6] }))
     }
 }

@@ -3,6 +3,7 @@
 //! `f = kd + ks·cos_ar^p`. Reciprocal; `kd` without `1/π` as the Summary writes it.
 //! Directional albedo at normal incidence with kd = 0, ks = 1: `2π/(p+2)`.
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -40,5 +41,9 @@ impl Kernel for ModifiedPhong {
         let (mu_i, cos_ar) = mirror_cosine(d);
         let mu_o = d.n.dot(d.wo);
         above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, std::f64::consts::PI, Importance::PhongLobe { p: slots[6] }))
     }
 }

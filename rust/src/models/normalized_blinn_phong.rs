@@ -4,6 +4,7 @@
 //! for `cos_th` (RTR 7.48 confirms). `(p+8)/(8π)` is an approximation: the albedo at
 //! normal incidence is `(p+8)(p+2^(−p/2))/((p+2)(p+4))`, slightly above 1.
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -45,5 +46,9 @@ impl Kernel for NormalizedBlinnPhong {
         let lobe = cos_th.powf(pp.p);
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, 1.0, Importance::BlinnHalf { p: slots[6] }))
     }
 }

@@ -3,6 +3,7 @@
 //! `f = kd/π + ks·(p+2)/(2π)·cos_ar^p` (the Summary's `n` is `p`). With kd = 0, ks = 1
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -40,5 +41,9 @@ impl Kernel for NormalizedPhong {
         let (mu_i, cos_ar) = mirror_cosine(d);
         let mu_o = d.n.dot(d.wo);
         above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, 1.0, Importance::PhongLobe { p: slots[6] }))
     }
 }

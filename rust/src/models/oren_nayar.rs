@@ -5,6 +5,7 @@
 //! assignment). The angular factor is computed without trigonometry, see
 //! [`oren_nayar_angular`]; `cos(φi−φo)` is 0 when a tangent-plane projection has zero length.
 
+use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
@@ -57,5 +58,17 @@ impl Kernel for OrenNayar {
         let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);
         let rgb = [0, 1, 2].map(|c| pp.kd_b[c] * g + pp.kd_a[c]);
         above_both(mu_i, mu_o, rgb)
+    }
+
+    /// One term: `kd·∫(A + B·g)/π·mu_o`, integrated with cosine sampling (the constant `A`
+    /// part then adds no variance); exactly `kd·A` when `B = 0` (σ = 0).
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        let (a, b) = oren_nayar_ab(slots[3]);
+        let integral = if b == 0.0 {
+            Integral::Exact(a)
+        } else {
+            Integral::Lobe { basis: basis(slots, &[(0, 1.0)]), importance: Importance::Cosine }
+        };
+        Some(vec![Term { colour: colour(slots, 0), integral }])
     }
 }

@@ -4,6 +4,7 @@
 //! conserving; `kd` enters without `1/π`, so the diffuse albedo is `π·kd` (the source's
 //! convention, kept on purpose). Infinite only where the exact value is: mu_i → 0+.
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -42,5 +43,9 @@ impl Kernel for Phong {
         let mu_o = d.n.dot(d.wo);
         let lobe = cos_ar.powf(pp.p) / mu_i;
         above_both(mu_i, mu_o, pp.combine(lobe))
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, std::f64::consts::PI, Importance::PhongLobe { p: slots[6] }))
     }
 }

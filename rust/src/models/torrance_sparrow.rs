@@ -9,6 +9,7 @@
 //! cos_th/(2 cos_b mu_o))`: the same value, but finite at grazing angles where
 //! `4 mu_i mu_o` underflows (no 0·∞).
 
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
@@ -95,5 +96,9 @@ impl Kernel for TorranceSparrow {
         let spec = if hv.defined { spec } else { F::ZERO };
         let rgb = [0, 1, 2].map(|c| pp.ks_norm[c] * spec + pp.kd_over_pi[c]);
         above_both(mu_i, mu_o, rgb)
+    }
+
+    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, 1.0, Importance::BlinnHalf { p: slots[6] }))
     }
 }

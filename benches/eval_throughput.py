@@ -1,0 +1,204 @@
+"""Throughput of brdf_rs.eval for every model against a natural NumPy implementation.
+
+Million evaluations per second, float64 and float32, 1 and 2 threads, N random direction
+pairs (NumPy arrays in, a fresh NumPy array out, as a user calls it). Every number in one
+table comes from the same run, so the ratios compare like with like on a noisy machine.
+
+    python benches/eval_throughput.py                 # all models, N = 4,000,000
+    python benches/eval_throughput.py --models torrance_sparrow --repeat 9
+
+Writes benches/results/eval_throughput.{md,json,png}.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import numpy_models  # noqa: E402
+
+import brdf_rs  # noqa: E402
+
+RESULTS = HERE / "results"
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def extra_args(model: str) -> dict:
+    """Parameters a model needs beyond its defaults (a typical material)."""
+    if model == "toon_diffuse":
+        return {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
+    if model == "toon_specular":
+        return {"threshold": 0.9}
+    if model in ("torrance_sparrow", "blinn_phong_fresnel"):
+        return {"kd": [0.2, 0.1, 0.05], "p": 50.0}
+    if "p" in {p["name"] for p in brdf_rs.models()[model]["params"]}:
+        return {"p": 50.0}
+    return {}
+
+
+def directions(rng: np.random.Generator, n: int) -> np.ndarray:
+    v = rng.normal(size=(n, 3))
+    v[:, 2] = np.abs(v[:, 2])
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    return v
+
+
+def best_time(fn, repeat: int) -> tuple[float, float]:
+    """(minimum, median) wall time of `repeat` calls after one warm-up call."""
+    fn()
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return min(times), statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--n", type=int, default=4_000_000, help="direction pairs per call")
+    parser.add_argument("--repeat", type=int, default=5, help="timed calls per cell")
+    parser.add_argument("--models", nargs="*", default=list(brdf_rs.models()))
+    parser.add_argument("--threads", nargs="*", type=int, default=[1, 2])
+    parser.add_argument("--out", type=Path, default=RESULTS / "eval_throughput")
+    args = parser.parse_args()
+
+    rng = np.random.default_rng(1)
+    wi64, wo64 = directions(rng, args.n), directions(rng, args.n)
+    inputs = {
+        "float64": (wi64, wo64),
+        "float32": (wi64.astype(np.float32), wo64.astype(np.float32)),
+    }
+    tangent = np.array([1.0, 0.0, 0.0])
+    rows = []
+    header = (
+        f"{'model':24s} {'dtype':8s} {'numpy':>8s}"
+        + "".join(f" {f'{t} thr':>8s} {f'{t} thr n':>9s}" for t in args.threads)
+        + f" {'x numpy':>8s}"
+    )
+    print(f"N = {args.n:,}, best of {args.repeat}; M evals/s ('n': normalized=True)")
+    print(header)
+    for model in args.models:
+        extra = extra_args(model)
+        t_arg = {"tangent": tangent} if brdf_rs.models()[model]["tangent"] else {}
+        for dtype, (wi, wo) in inputs.items():
+            row = {"model": model, "dtype": dtype}
+            nz = np.array([0.0, 0.0, 1.0], dtype=wi.dtype)
+            tn = {k: v.astype(wi.dtype) for k, v in t_arg.items()}
+            best, _ = best_time(
+                lambda wi=wi, wo=wo, nz=nz, tn=tn: numpy_models.evaluate(
+                    model, wi, wo, nz, **tn, **extra
+                ),
+                max(1, args.repeat // 2),
+            )
+            row["numpy"] = args.n / best / 1e6
+            for threads in args.threads:
+                brdf_rs.set_num_threads(threads)
+                for normalized in (False, True):
+                    best, median = best_time(
+                        lambda wi=wi, wo=wo, normalized=normalized: brdf_rs.eval(
+                            model, wi, wo, normalized=normalized, **t_arg, **extra
+                        ),
+                        args.repeat,
+                    )
+                    key = f"{threads}t" + ("_normalized" if normalized else "")
+                    row[key] = args.n / best / 1e6
+                    row[key + "_median"] = args.n / median / 1e6
+            top = max(args.threads)
+            row["speedup"] = row[f"{top}t"] / row["numpy"]
+            rows.append(row)
+            line = f"{model:24s} {dtype:8s} {row['numpy']:8.1f}"
+            for threads in args.threads:
+                line += f" {row[f'{threads}t']:8.1f} {row[f'{threads}t_normalized']:9.1f}"
+            print(line + f" {row['speedup']:7.1f}x", flush=True)
+
+    meta = {
+        "cpu": cpu_model(),
+        "isa": brdf_rs.isa(),
+        "brdf_rs": brdf_rs.__version__,
+        "numpy": np.__version__,
+        "python": platform.python_version(),
+        "n": args.n,
+        "repeat": args.repeat,
+        "date": time.strftime("%Y-%m-%d %H:%M:%S"),
+    }
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1))
+    write_markdown(args.out.with_suffix(".md"), meta, rows, args.threads)
+    write_plot(args.out.with_suffix(".png"), meta, rows, args.threads)
+    print(f"wrote {args.out.with_suffix('.md')}, .json, .png")
+
+
+def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
+    lines = [
+        "# brdf_rs.eval throughput",
+        "",
+        f"CPU: {meta['cpu']} (kernels: {meta['isa']}); N = {meta['n']:,} pairs; "
+        f"best of {meta['repeat']} calls; NumPy {meta['numpy']}; {meta['date']}.",
+        "Million evaluations per second, NumPy arrays in and a new array out. "
+        "'normalized' = `normalized=True` (inputs promised unit length).",
+        "",
+        "| model | dtype | NumPy |"
+        + "".join(f" {t} thread{'s' if t > 1 else ''} | normalized |" for t in threads)
+        + " vs NumPy |",
+        "|---|---|---:|" + "---:|---:|" * len(threads) + "---:|",
+    ]
+    for r in rows:
+        cells = "".join(f" {r[f'{t}t']:.1f} | {r[f'{t}t_normalized']:.1f} |" for t in threads)
+        lines.append(
+            f"| {r['model']} | {r['dtype']} | {r['numpy']:.1f} |{cells} {r['speedup']:.0f}x |"
+        )
+    path.write_text("\n".join(lines) + "\n")
+
+
+def write_plot(path: Path, meta: dict, rows: list, threads: list) -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib not installed: no plot")
+        return
+    models = list(dict.fromkeys(r["model"] for r in rows))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 0.4 * len(models) + 2), sharey=True)
+    for ax, dtype in zip(axes, ("float64", "float32"), strict=True):
+        sub = {r["model"]: r for r in rows if r["dtype"] == dtype}
+        y = np.arange(len(models))
+        series = [("numpy", "NumPy")] + [(f"{t}t", f"brdf-rs, {t} thread(s)") for t in threads]
+        h = 0.8 / len(series)
+        for k, (key, label) in enumerate(series):
+            ax.barh(y + k * h, [sub[m][key] for m in models], height=h, label=label)
+        ax.set_xscale("log")
+        ax.set_yticks(y + 0.4 - h / 2, models)
+        ax.set_xlabel("million evaluations / s (log)")
+        ax.set_title(dtype)
+        ax.invert_yaxis()
+    axes[0].legend(loc="lower right")
+    fig.suptitle(f"brdf_rs.eval throughput, N = {meta['n']:,}, {meta['cpu']}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

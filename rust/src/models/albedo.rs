@@ -1,0 +1,75 @@
+//! How a family-A model's directional albedo decomposes, for the integrator.
+//!
+//! Colours enter every model linearly (and Schlick's F is affine in F0), so the RGB albedo
+//! `R(mu) = ∫ f(wi, wo)·mu_o dωo` is a short sum `Σ colour_k · I_k` of *scalar*
+//! integrals: a model lists its terms ([`Term`]) and the integrator computes each `I_k`
+//! once, not once per channel. An `I_k` is either known exactly (a Lambert lobe
+//! integrates to 1, the Summary's bare `kd` to π) or the integral of the same model
+//! evaluated with grey "basis" parameters, drawn with the importance sampler the model
+//! names. Terms whose colour is zero are never integrated.
+
+use crate::eval::engine::MAX_VARYING_SLOTS;
+
+/// Parameter slots of a basis evaluation (family-A models have at most this many).
+pub type Slots = [f64; MAX_VARYING_SLOTS];
+
+/// The sampler matched to a lobe.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Importance {
+    /// Cosine-weighted about the normal (diffuse lobes).
+    Cosine,
+    /// The Phong lobe `cos^p α_r` about the mirror direction.
+    PhongLobe { p: f64 },
+    /// Half vectors from the Blinn NDF `∝ cos^p θh` (pdf_h `= D·cos θh`).
+    BlinnHalf { p: f64 },
+}
+
+/// One scalar integral of a decomposition.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Integral {
+    /// Known exactly, for every incidence.
+    Exact(f64),
+    /// `∫ f(wi, wo; basis)·mu_o dωo` with the model evaluated at the grey `basis`
+    /// parameters, sampled with `importance`.
+    Lobe { basis: Slots, importance: Importance },
+}
+
+/// `colour · integral`, per channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Term {
+    pub colour: [f64; 3],
+    pub integral: Integral,
+}
+
+/// Returns a copy of `slots` with the colours at the given slot offsets set to grey
+/// values: `basis(slots, &[(0, 0.0), (3, 1.0)])` is "kd = 0, ks = 1".
+pub fn basis(slots: &[f64], colours: &[(usize, f64)]) -> Slots {
+    let mut out = [0.0; MAX_VARYING_SLOTS];
+    out[..slots.len()].copy_from_slice(slots);
+    for &(slot, value) in colours {
+        out[slot..slot + 3].fill(value);
+    }
+    out
+}
+
+/// Returns the colour at `slot`.
+pub fn colour(slots: &[f64], slot: usize) -> [f64; 3] {
+    [slots[slot], slots[slot + 1], slots[slot + 2]]
+}
+
+/// Returns `[s·c for c in colour]`.
+pub fn scaled(colour: [f64; 3], s: f64) -> [f64; 3] {
+    colour.map(|c| c * s)
+}
+
+/// The usual pair: a diffuse colour at slot 0 with a known albedo, and a specular colour
+/// at slot 3 whose lobe is integrated with `importance`.
+pub fn diffuse_and_lobe(slots: &[f64], diffuse_albedo: f64, importance: Importance) -> Vec<Term> {
+    vec![
+        Term { colour: colour(slots, 0), integral: Integral::Exact(diffuse_albedo) },
+        Term {
+            colour: colour(slots, 3),
+            integral: Integral::Lobe { basis: basis(slots, &[(0, 0.0), (3, 1.0)]), importance },
+        },
+    ]
+}
