@@ -7,12 +7,20 @@ without the cosine factor, family-B shading terms include the light's cosine. Se
 """
 
 from . import reference
+from ._albedo import Albedo, Energy, Table, albedo, albedo_table, dfg_table, energy
 from ._api import Model, eval, isa, models, num_threads, set_num_threads
 from ._brdf_rs import __version__
 
 __all__ = [
+    "Albedo",
+    "Energy",
     "Model",
+    "Table",
     "__version__",
+    "albedo",
+    "albedo_table",
+    "dfg_table",
+    "energy",
     "eval",
     "isa",
     "models",

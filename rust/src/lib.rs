@@ -22,6 +22,10 @@
 //! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, SIMD dispatch).
 //! - `py` (feature `python`): the only place that touches PyO3 / NumPy.
 
+// Numeric loops index several parallel arrays at once; iterator chains would hide that
+// (and vectorize no better).
+#![allow(clippy::needless_range_loop)]
+
 pub mod error;
 pub mod eval;
 pub mod integrate;

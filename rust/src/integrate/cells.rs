@@ -64,7 +64,13 @@ impl<'a> CellGrid<'a> {
         let mu = Rows::new(mu, false, 1, &batch);
         let mut uniform = resolved.uniform;
         let mut varying = Vec::new();
-        for BatchParam { spec: p, view, has_component_axis, .. } in resolved.batch {
+        for BatchParam {
+            spec: p,
+            view,
+            has_component_axis,
+            ..
+        } in resolved.batch
+        {
             let comps = p.kind.slots();
             let rows = Rows::new(view, has_component_axis, comps, &batch);
             match rows.constant() {
@@ -72,12 +78,18 @@ impl<'a> CellGrid<'a> {
                 None => varying.push((p.slot, comps, rows)),
             }
         }
-        Ok(CellGrid { batch, mu, uniform, varying, ids })
+        Ok(CellGrid {
+            batch,
+            mu,
+            uniform,
+            varying,
+            ids,
+        })
     }
 }
 
 impl Cells for CellGrid<'_> {
-    fn len(&self) -> usize {
+    fn count(&self) -> usize {
         self.batch.iter().product()
     }
 

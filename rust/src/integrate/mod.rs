@@ -28,6 +28,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::error::BrdfError;
+use crate::eval::engine::{self, Isa};
 use crate::models::albedo::{Importance, Integral, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind};
 use crate::parallel;
@@ -124,7 +125,23 @@ impl AlbedoOptions {
                 self.replicates
             ));
         }
-        let per_cell = if self.tol.is_some() { self.max_samples } else { self.samples };
+        let per_cell = if self.tol.is_some() {
+            self.max_samples
+        } else {
+            self.samples
+        };
+        if self.sequence == Sequence::Sobol
+            && per_cell
+                .div_ceil(u64::from(self.replicates))
+                .next_power_of_two()
+                > SOBOL_MAX_POINTS
+        {
+            return bad(format!(
+                "samples: {per_cell} samples over {} replicates passes 2^32 Sobol points per \
+                 replicate; use more replicates",
+                self.replicates
+            ));
+        }
         let total = per_cell as f64 * cells as f64;
         if total > MAX_SAMPLES_PER_REQUEST {
             return bad(format!(
@@ -154,25 +171,28 @@ pub struct Progress {
     pub cancel: AtomicBool,
 }
 
-/// A lobe ready to sample: the prepared basis evaluation and its warp.
+/// Points per block: the unit of vectorized work.
+const POINTS: usize = 256;
+/// Most scalar integrals one cell estimates together.
+const MAX_LOBES: usize = 3;
+/// Partial sums per reduction: a fixed pattern, so the bits do not depend on the ISA.
+const LANES: usize = 8;
+
+/// A lobe ready to sample: the prepared basis evaluation and its warp. The warp also
+/// says where it points: half vectors reflected into `wo` (Blinn), about the mirror
+/// direction (Phong), about the normal (cosine, uniform).
 struct Lobe<P> {
     colour: [f64; 3],
     prepared: P,
     warp: Warp,
-    /// Whether the warp samples half vectors (reflected into `wo`).
-    half_vector: bool,
-    /// Whether the warp's axis is the mirror direction (else the normal).
-    about_mirror: bool,
 }
 
-/// The per-sample contribution of every lobe of a cell.
+/// The per-sample weights `f·mu_o/pdf` of every lobe of a cell.
 struct CellIntegrand<K: Kernel> {
     lobes: Vec<Lobe<K::Prepared<f64>>>,
     wi: DVec3,
     mirror_frame: Frame,
 }
-
-const NORMAL_FRAME: Frame = Frame { x: DVec3::X, y: DVec3::Y, z: DVec3::Z };
 
 impl<K: Kernel> CellIntegrand<K> {
     fn new(mu: f64, terms: &[Term], sampler: SamplerChoice) -> (Self, [f64; 3]) {
@@ -195,85 +215,215 @@ impl<K: Kernel> CellIntegrand<K> {
                 }
                 Integral::Lobe { basis, importance } => {
                     let prepared = K::prepare::<f64, [f64]>(&basis[..]);
-                    let (warp, half_vector, about_mirror) = match (sampler, importance) {
-                        (SamplerChoice::Uniform, _) => (Warp::UniformHemisphere, false, false),
+                    let warp = match (sampler, importance) {
+                        (SamplerChoice::Uniform, _) => Warp::UniformHemisphere,
                         (SamplerChoice::Cosine, _) | (_, Importance::Cosine) => {
-                            (Warp::CosineHemisphere, false, false)
+                            Warp::CosineHemisphere
                         }
-                        (_, Importance::PhongLobe { p }) => (Warp::PhongLobe { p }, false, true),
-                        (_, Importance::BlinnHalf { p }) => (Warp::BlinnHalf { p }, true, false),
+                        (_, Importance::PhongLobe { p }) => Warp::PhongLobe { p },
+                        (_, Importance::BlinnHalf { p }) => Warp::BlinnHalf { p },
                     };
-                    lobes.push(Lobe { colour: term.colour, prepared, warp, half_vector, about_mirror });
+                    lobes.push(Lobe {
+                        colour: term.colour,
+                        prepared,
+                        warp,
+                    });
                 }
             }
         }
-        (CellIntegrand { lobes, wi, mirror_frame }, exact)
+        debug_assert!(lobes.len() <= MAX_LOBES);
+        (
+            CellIntegrand {
+                lobes,
+                wi,
+                mirror_frame,
+            },
+            exact,
+        )
     }
 
-    /// Returns the RGB estimate `Σ colour·f·mu_o/pdf` for one point `u`.
-    #[inline]
-    fn sample(&self, u: [f64; 2]) -> [f64; 3] {
-        let mut rgb = [0.0; 3];
-        for lobe in &self.lobes {
-            // Points on the half azimuth range [0, π) have density 2·pdf there, and the
-            // integral is twice the half's: the two factors cancel in f·mu_o/pdf.
-            let s = lobe.warp.sample_folded(u);
-            let (wo, pdf) = if lobe.half_vector {
-                let h = s.dir;
-                let wo = reflect(self.wi, h);
-                let pdf_h = lobe.warp.pdf(h.z, s.one_minus_cos);
-                (wo, reflected_pdf(pdf_h, wo.dot(h)))
-            } else {
-                let frame = if lobe.about_mirror { &self.mirror_frame } else { &NORMAL_FRAME };
-                (frame.to_world(s.dir), lobe.warp.pdf(s.dir.z, s.one_minus_cos))
+    /// Writes the weight of lobe `k` for every point `(u0[j], u1[j])` into `w`.
+    ///
+    /// Points cover the half azimuth range `[0, π)` (density 2·pdf there) and the
+    /// integral is twice the half's: the two factors cancel in `f·mu_o/pdf`.
+    #[inline(always)]
+    fn weights(&self, k: usize, u0: &[f64], u1: &[f64], w: &mut [f64]) {
+        let lobe = &self.lobes[k];
+        let wi = self.wi;
+        let eval = |wo: DVec3| {
+            let d = Directions::<f64> {
+                wi,
+                wo,
+                n: DVec3::Z,
+                t: DVec3::X,
             };
-            if !(wo.z > 0.0 && pdf > 0.0) {
-                continue;
-            }
-            let d = Directions::<f64> { wi: self.wi, wo, n: DVec3::Z, t: DVec3::X };
-            let f = K::eval::<f64>(&lobe.prepared, &d)[0];
-            let w = f * wo.z / pdf;
-            for (c, colour) in rgb.iter_mut().zip(lobe.colour) {
-                *c += colour * w;
+            K::eval::<f64>(&lobe.prepared, &d)[0]
+        };
+        // One loop per warp, so each loop body is straight-line code.
+        macro_rules! about_axis {
+            ($warp:expr, $frame:expr) => {{
+                let warp = $warp;
+                let frame = $frame;
+                for j in 0..w.len() {
+                    let s = warp.sample_folded([u0[j], u1[j]]);
+                    let wo = frame.to_world(s.dir);
+                    let pdf = s.pdf;
+                    let x = eval(wo) * wo.z / pdf;
+                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
+                }
+            }};
+        }
+        match lobe.warp {
+            Warp::UniformHemisphere => about_axis!(Warp::UniformHemisphere, &NORMAL_FRAME),
+            Warp::CosineHemisphere => about_axis!(Warp::CosineHemisphere, &NORMAL_FRAME),
+            Warp::PhongLobe { p } => about_axis!(Warp::PhongLobe { p }, &self.mirror_frame),
+            Warp::BlinnHalf { p } => {
+                let warp = Warp::BlinnHalf { p };
+                for j in 0..w.len() {
+                    let s = warp.sample_folded([u0[j], u1[j]]);
+                    let h = s.dir;
+                    let wo = reflect(wi, h);
+                    let pdf = reflected_pdf(s.pdf, wo.dot(h));
+                    let x = eval(wo) * wo.z / pdf;
+                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
+                }
             }
         }
-        rgb
     }
 }
 
-/// Running sums of RGB values and their squares.
-#[derive(Clone, Copy, Default)]
-struct Sums {
+const NORMAL_FRAME: Frame = Frame {
+    x: DVec3::X,
+    y: DVec3::Y,
+    z: DVec3::Z,
+};
+
+/// Sums of lobe weights over points: `Σ (w_k − c_k)` and `Σ (w_k − c_k)(w_l − c_l)`,
+/// accumulated in `LANES` fixed partial sums (deterministic, and free to run in SIMD
+/// lanes). The shift `c_k` (the first block's mean) keeps the variance free of the
+/// cancellation of `Σw² − n·mean²` when the weights are nearly constant.
+#[derive(Clone, Copy)]
+struct LobeSums {
     n: u64,
-    sum: [f64; 3],
-    sum_sq: [f64; 3],
+    shift: [f64; MAX_LOBES],
+    sum: [[f64; LANES]; MAX_LOBES],
+    cross: [[[f64; LANES]; MAX_LOBES]; MAX_LOBES],
 }
 
-impl Sums {
-    fn add(&mut self, x: [f64; 3]) {
-        self.n += 1;
-        for c in 0..3 {
-            self.sum[c] += x[c];
-            self.sum_sq[c] += x[c] * x[c];
+impl LobeSums {
+    fn new() -> Self {
+        LobeSums {
+            n: 0,
+            shift: [0.0; MAX_LOBES],
+            sum: [[0.0; LANES]; MAX_LOBES],
+            cross: [[[0.0; LANES]; MAX_LOBES]; MAX_LOBES],
         }
     }
 
-    fn mean(&self) -> [f64; 3] {
-        self.sum.map(|s| s / self.n as f64)
+    #[inline(always)]
+    fn add_block(&mut self, w: &[[f64; POINTS]; MAX_LOBES], lobes: usize, len: usize, cross: bool) {
+        if self.n == 0 && cross {
+            for k in 0..lobes {
+                self.shift[k] = w[k][..len].iter().sum::<f64>() / len as f64;
+            }
+        }
+        self.n += len as u64;
+        for k in 0..lobes {
+            let ck = self.shift[k];
+            for (j, x) in w[k][..len].iter().enumerate() {
+                self.sum[k][j % LANES] += x - ck;
+            }
+            if cross {
+                for l in 0..=k {
+                    let cl = self.shift[l];
+                    for j in 0..len {
+                        self.cross[k][l][j % LANES] += (w[k][j] - ck) * (w[l][j] - cl);
+                    }
+                }
+            }
+        }
     }
 
-    /// Standard error of the mean of the added values.
-    fn stderr(&self) -> [f64; 3] {
+    fn total(lanes: &[f64; LANES]) -> f64 {
+        lanes.iter().sum()
+    }
+
+    /// The RGB mean `Σ colour_k · mean(w_k)` and, if cross sums were kept, the standard
+    /// error of that mean from the per-point variance.
+    fn rgb<P>(&self, lobes: &[Lobe<P>]) -> ([f64; 3], [f64; 3]) {
         let n = self.n as f64;
-        std::array::from_fn(|c| {
-            let mean = self.sum[c] / n;
-            let var = ((self.sum_sq[c] - n * mean * mean) / (n - 1.0)).max(0.0);
+        // Shifted mean and second moment about the shift.
+        let mut mean = [0.0; 3];
+        let mut second = [0.0; 3];
+        let mut shift = [0.0; 3];
+        for (k, lk) in lobes.iter().enumerate() {
+            let sk = Self::total(&self.sum[k]) / n;
+            for c in 0..3 {
+                mean[c] += lk.colour[c] * sk;
+                shift[c] += lk.colour[c] * self.shift[k];
+            }
+            for (l, ll) in lobes.iter().enumerate().take(k + 1) {
+                let x = Self::total(&self.cross[k][l]) / n;
+                let twice = if l == k { 1.0 } else { 2.0 };
+                for c in 0..3 {
+                    second[c] += twice * lk.colour[c] * ll.colour[c] * x;
+                }
+            }
+        }
+        let se = std::array::from_fn(|c| {
+            let var = (second[c] - mean[c] * mean[c]).max(0.0) * n / (n - 1.0);
             (var / n).sqrt()
-        })
+        });
+        (std::array::from_fn(|c| shift[c] + mean[c]), se)
+    }
+}
+
+/// Point scratch of one block.
+struct PointBlock {
+    u0: [f64; POINTS],
+    u1: [f64; POINTS],
+    w: [[f64; POINTS]; MAX_LOBES],
+}
+
+impl PointBlock {
+    fn new() -> Self {
+        PointBlock {
+            u0: [0.0; POINTS],
+            u1: [0.0; POINTS],
+            w: [[0.0; POINTS]; MAX_LOBES],
+        }
+    }
+}
+
+/// Accumulates points `first .. first + count` of a stream into `sums`.
+#[inline(always)]
+fn accumulate<K: Kernel>(
+    integrand: &CellIntegrand<K>,
+    stream: &mut Stream,
+    count: u64,
+    block: &mut PointBlock,
+    sums: &mut LobeSums,
+    cross: bool,
+) {
+    let mut left = count;
+    while left > 0 {
+        let len = left.min(POINTS as u64) as usize;
+        stream.fill(&mut block.u0[..len], &mut block.u1[..len]);
+        for k in 0..integrand.lobes.len() {
+            integrand.weights(
+                k,
+                &block.u0[..len],
+                &block.u1[..len],
+                &mut block.w[k][..len],
+            );
+        }
+        sums.add_block(&block.w, integrand.lobes.len(), len, cross);
+        left -= len as u64;
     }
 }
 
 /// Estimates one cell. `cell` keys the sample streams.
+#[inline(always)]
 fn integrate_cell<K: Kernel>(
     mu: f64,
     slots: &[f64],
@@ -284,100 +434,163 @@ fn integrate_cell<K: Kernel>(
     let terms = K::albedo_terms(slots).unwrap_or_default();
     let (integrand, exact) = CellIntegrand::<K>::new(mu, &terms, options.sampler);
     if integrand.lobes.is_empty() {
-        return CellResult { value: exact, stderr: [0.0; 3], samples: 0 };
+        return CellResult {
+            value: exact,
+            stderr: [0.0; 3],
+            samples: 0,
+        };
     }
-    let target = |n: u64| match options.tol {
-        Some(_) => n.min(options.max_samples),
-        None => n,
-    };
+    let mut block = PointBlock::new();
     let (mean, stderr, samples) = match options.sequence {
         Sequence::Random => {
             let mut stream = Stream::new(Sequence::Random, options.seed, cell, 0);
-            let mut sums = Sums::default();
-            let mut goal = target(options.samples).max(2);
+            let mut sums = LobeSums::new();
+            let cap = if options.tol.is_some() {
+                options.max_samples
+            } else {
+                u64::MAX
+            };
+            let mut goal = options.samples.min(cap).max(2);
             loop {
-                while sums.n < goal {
-                    sums.add(integrand.sample(stream.next_point()));
-                }
+                accumulate(
+                    &integrand,
+                    &mut stream,
+                    goal - sums.n,
+                    &mut block,
+                    &mut sums,
+                    true,
+                );
                 progress.samples_done.fetch_add(goal, Ordering::Relaxed);
-                let se = sums.stderr();
+                let (mean, se) = sums.rgb(&integrand.lobes);
                 let done = match options.tol {
                     None => true,
                     Some(tol) => se.iter().all(|&s| s <= tol) || goal >= options.max_samples,
                 };
                 if done || progress.cancel.load(Ordering::Relaxed) {
-                    break (sums.mean(), se, sums.n);
+                    break (mean, se, sums.n);
                 }
                 goal = (goal * 2).min(options.max_samples);
             }
         }
         Sequence::Sobol => {
-            let reps = options.replicates as u64;
-            // Points per replicate: a power of two, at most the Sobol limit; beyond it,
-            // more replicates.
-            let mut per_rep = (target(options.samples).div_ceil(reps)).next_power_of_two();
-            let mut n_reps = reps;
-            if per_rep > SOBOL_MAX_POINTS {
-                n_reps = reps * (per_rep / SOBOL_MAX_POINTS);
-                per_rep = SOBOL_MAX_POINTS;
-            }
-            let mut replicate_sums: Vec<[f64; 3]> = Vec::new();
-            let mut streams: Vec<Stream> = Vec::new();
+            let reps = u64::from(options.replicates);
+            let cap = if options.tol.is_some() {
+                options.max_samples
+            } else {
+                u64::MAX
+            };
+            // Points per replicate: a power of two (every such prefix is a net).
+            let mut per_rep = options.samples.min(cap).div_ceil(reps).next_power_of_two();
+            let mut streams: Vec<Stream> = (0..reps)
+                .map(|r| Stream::new(Sequence::Sobol, options.seed, cell, r))
+                .collect();
+            let mut sums = vec![LobeSums::new(); streams.len()];
             let mut done_per_rep = 0u64;
             loop {
-                while streams.len() < n_reps as usize {
-                    let r = streams.len() as u64;
-                    streams.push(Stream::new(Sequence::Sobol, options.seed, cell, r));
-                    replicate_sums.push([0.0; 3]);
-                    // A new replicate must catch up with the others' point count.
-                    let catch_up = done_per_rep;
-                    let (s, acc) = (streams.last_mut().unwrap(), replicate_sums.last_mut().unwrap());
-                    for _ in 0..catch_up {
-                        let x = integrand.sample(s.next_point());
-                        for c in 0..3 {
-                            acc[c] += x[c];
-                        }
-                    }
+                for (stream, s) in streams.iter_mut().zip(sums.iter_mut()) {
+                    let count = per_rep - done_per_rep;
+                    accumulate(&integrand, stream, count, &mut block, s, false);
                 }
-                for (s, acc) in streams.iter_mut().zip(replicate_sums.iter_mut()) {
-                    for _ in done_per_rep..per_rep {
-                        let x = integrand.sample(s.next_point());
-                        for c in 0..3 {
-                            acc[c] += x[c];
-                        }
-                    }
-                }
-                progress.samples_done.fetch_add((per_rep - done_per_rep) * n_reps, Ordering::Relaxed);
+                progress
+                    .samples_done
+                    .fetch_add((per_rep - done_per_rep) * reps, Ordering::Relaxed);
                 done_per_rep = per_rep;
-                let mut sums = Sums::default();
-                for acc in &replicate_sums {
-                    sums.add(acc.map(|s| s / per_rep as f64));
-                }
-                let se = sums.stderr();
-                let total = per_rep * n_reps;
+                // Replicate means, then their mean and spread.
+                let means: Vec<[f64; 3]> = sums.iter().map(|s| s.rgb(&integrand.lobes).0).collect();
+                let (mean, se) = mean_and_stderr(&means);
+                let total = per_rep * reps;
                 let done = match options.tol {
                     None => true,
                     Some(tol) => se.iter().all(|&s| s <= tol) || total * 2 > options.max_samples,
                 };
                 if done || progress.cancel.load(Ordering::Relaxed) {
-                    break (sums.mean(), se, total);
+                    break (mean, se, total);
                 }
-                if per_rep < SOBOL_MAX_POINTS {
-                    per_rep *= 2;
-                } else {
-                    n_reps *= 2;
-                }
+                per_rep *= 2;
             }
         }
     };
     let value = std::array::from_fn(|c| exact[c] + mean[c]);
-    CellResult { value, stderr, samples }
+    CellResult {
+        value,
+        stderr,
+        samples,
+    }
+}
+
+/// The mean of RGB values and its standard error, computed in two passes.
+fn mean_and_stderr(values: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    let n = values.len() as f64;
+    let mean: [f64; 3] = std::array::from_fn(|c| values.iter().map(|v| v[c]).sum::<f64>() / n);
+    let se = std::array::from_fn(|c| {
+        let ss: f64 = values.iter().map(|v| (v[c] - mean[c]).powi(2)).sum();
+        (ss / (n - 1.0) / n).sqrt()
+    });
+    (mean, se)
+}
+
+type CellFn = fn(f64, &[f64], u64, &AlbedoOptions, &Progress) -> CellResult;
+
+fn cell_baseline<K: Kernel>(
+    mu: f64,
+    slots: &[f64],
+    cell: u64,
+    options: &AlbedoOptions,
+    progress: &Progress,
+) -> CellResult {
+    integrate_cell::<K>(mu, slots, cell, options, progress)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+fn cell_avx2<K: Kernel>(
+    mu: f64,
+    slots: &[f64],
+    cell: u64,
+    options: &AlbedoOptions,
+    progress: &Progress,
+) -> CellResult {
+    integrate_cell::<K>(mu, slots, cell, options, progress)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+fn cell_avx512<K: Kernel>(
+    mu: f64,
+    slots: &[f64],
+    cell: u64,
+    options: &AlbedoOptions,
+    progress: &Progress,
+) -> CellResult {
+    integrate_cell::<K>(mu, slots, cell, options, progress)
+}
+
+/// Integrates one cell with the loop compiled for `isa` (which the CPU must support).
+fn integrate_cell_isa<K: Kernel>(
+    isa: Isa,
+    mu: f64,
+    slots: &[f64],
+    cell: u64,
+    options: &AlbedoOptions,
+    progress: &Progress,
+) -> CellResult {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: `isa` comes from `engine::isa()`, which checked the CPU's features.
+        match isa {
+            Isa::Avx512 => return unsafe { cell_avx512::<K>(mu, slots, cell, options, progress) },
+            Isa::Avx2 => return unsafe { cell_avx2::<K>(mu, slots, cell, options, progress) },
+            Isa::Baseline => {}
+        }
+    }
+    let f: CellFn = cell_baseline::<K>;
+    f(mu, slots, cell, options, progress)
 }
 
 /// The cells of a request: `mu` and the parameter slots of each cell, and its id.
 pub trait Cells: Sync {
     /// Number of cells.
-    fn len(&self) -> usize;
+    fn count(&self) -> usize;
     /// Returns `(mu, slots, cell id)` of cell `i`, writing the slots into `slots`.
     fn cell(&self, i: usize, slots: &mut Vec<f64>) -> (f64, u64);
 }
@@ -393,17 +606,28 @@ impl<C: Cells> KernelVisitor for RunAlbedo<'_, C> {
     type Output = ();
 
     fn visit<K: Kernel>(self) {
-        let RunAlbedo { cells, options, progress, out } = self;
+        let RunAlbedo {
+            cells,
+            options,
+            progress,
+            out,
+        } = self;
+        let isa = engine::isa();
         let work = |(i, result): (usize, &mut CellResult)| {
             if progress.cancel.load(Ordering::Relaxed) {
                 return;
             }
             let mut slots = Vec::new();
             let (mu, id) = cells.cell(i, &mut slots);
-            *result = integrate_cell::<K>(mu, &slots, id, options, progress);
+            *result = integrate_cell_isa::<K>(isa, mu, &slots, id, options, progress);
             progress.cells_done.fetch_add(1, Ordering::Relaxed);
         };
-        parallel::install(|| out.par_iter_mut().enumerate().with_max_len(1).for_each(work));
+        parallel::install(|| {
+            out.par_iter_mut()
+                .enumerate()
+                .with_max_len(1)
+                .for_each(work)
+        });
     }
 }
 
@@ -425,8 +649,13 @@ pub fn albedo<C: Cells>(
             kind.name()
         )));
     }
-    options.validate(cells.len())?;
-    kind.visit(RunAlbedo { cells, options, progress, out });
+    options.validate(cells.count())?;
+    kind.visit(RunAlbedo {
+        cells,
+        options,
+        progress,
+        out,
+    });
     Ok(())
 }
 
@@ -436,11 +665,18 @@ mod tests {
     use cells::CellGrid;
     use ndarray::{ArrayD, IxDyn};
 
-    fn albedo_one(model: &str, mu: f64, params: &[(&str, f64)], options: AlbedoOptions) -> CellResult {
+    fn albedo_one(
+        model: &str,
+        mu: f64,
+        params: &[(&str, f64)],
+        options: AlbedoOptions,
+    ) -> CellResult {
         let kind = ModelKind::from_name(model).unwrap();
         let mu = ArrayD::from_elem(IxDyn(&[]), mu);
-        let arrays: Vec<(&str, ArrayD<f64>)> =
-            params.iter().map(|(k, v)| (*k, ArrayD::from_elem(IxDyn(&[]), *v))).collect();
+        let arrays: Vec<(&str, ArrayD<f64>)> = params
+            .iter()
+            .map(|(k, v)| (*k, ArrayD::from_elem(IxDyn(&[]), *v)))
+            .collect();
         let views = arrays.iter().map(|(k, a)| (*k, a.view())).collect();
         let grid = CellGrid::new(kind, mu.view(), views, None).unwrap();
         let mut out = [CellResult::default()];
@@ -451,13 +687,19 @@ mod tests {
     fn assert_within(r: CellResult, want: f64, sigmas: f64, label: &str) {
         for c in 0..3 {
             let err = (r.value[c] - want).abs();
-            assert!(err <= sigmas * r.stderr[c] + 1e-12, "{label}: {r:?} vs {want}");
+            assert!(
+                err <= sigmas * r.stderr[c] + 1e-12,
+                "{label}: {r:?} vs {want}"
+            );
         }
     }
 
     #[test]
     fn closed_forms() {
-        let opts = AlbedoOptions { samples: 1 << 16, ..Default::default() };
+        let opts = AlbedoOptions {
+            samples: 1 << 16,
+            ..Default::default()
+        };
         let r = albedo_one("lambert", 0.3, &[("kd", 0.7)], opts);
         assert_eq!(r.value, [0.7; 3]);
         assert_eq!((r.stderr, r.samples), ([0.0; 3], 0));
@@ -467,7 +709,12 @@ mod tests {
             assert_within(r, 1.0, 5.0, "normalized_phong");
             assert!(r.stderr[0] < 1e-3, "{r:?}");
             let r = albedo_one("modified_phong", 1.0, &base, opts);
-            assert_within(r, 2.0 * std::f64::consts::PI / (p + 2.0), 5.0, "modified_phong");
+            assert_within(
+                r,
+                2.0 * std::f64::consts::PI / (p + 2.0),
+                5.0,
+                "modified_phong",
+            );
             let exact = (p + 8.0) * (p + 2f64.powf(-p / 2.0)) / ((p + 2.0) * (p + 4.0));
             let r = albedo_one("normalized_blinn_phong", 1.0, &base, opts);
             assert_within(r, exact, 5.0, "normalized_blinn_phong");
@@ -485,11 +732,23 @@ mod tests {
             "torrance_sparrow",
             0.4,
             &base,
-            AlbedoOptions { samples: 1 << 20, ..Default::default() },
+            AlbedoOptions {
+                samples: 1 << 20,
+                ..Default::default()
+            },
         );
         for sequence in [Sequence::Sobol, Sequence::Random] {
-            for sampler in [SamplerChoice::Uniform, SamplerChoice::Cosine, SamplerChoice::Importance] {
-                let opts = AlbedoOptions { samples: 1 << 16, sequence, sampler, ..Default::default() };
+            for sampler in [
+                SamplerChoice::Uniform,
+                SamplerChoice::Cosine,
+                SamplerChoice::Importance,
+            ] {
+                let opts = AlbedoOptions {
+                    samples: 1 << 16,
+                    sequence,
+                    sampler,
+                    ..Default::default()
+                };
                 let r = albedo_one("torrance_sparrow", 0.4, &base, opts);
                 assert_within(r, want.value[0], 5.0, &format!("{sequence:?} {sampler:?}"));
             }

@@ -11,6 +11,7 @@
 
 pub mod fastmath;
 pub mod geometry;
+pub mod series;
 
 use glam::{DVec3, Vec3};
 use std::fmt::Debug;

@@ -31,7 +31,10 @@ pub enum Integral {
     Exact(f64),
     /// `∫ f(wi, wo; basis)·mu_o dωo` with the model evaluated at the grey `basis`
     /// parameters, sampled with `importance`.
-    Lobe { basis: Slots, importance: Importance },
+    Lobe {
+        basis: Slots,
+        importance: Importance,
+    },
 }
 
 /// `colour · integral`, per channel.
@@ -66,10 +69,16 @@ pub fn scaled(colour: [f64; 3], s: f64) -> [f64; 3] {
 /// at slot 3 whose lobe is integrated with `importance`.
 pub fn diffuse_and_lobe(slots: &[f64], diffuse_albedo: f64, importance: Importance) -> Vec<Term> {
     vec![
-        Term { colour: colour(slots, 0), integral: Integral::Exact(diffuse_albedo) },
+        Term {
+            colour: colour(slots, 0),
+            integral: Integral::Exact(diffuse_albedo),
+        },
         Term {
             colour: colour(slots, 3),
-            integral: Integral::Lobe { basis: basis(slots, &[(0, 0.0), (3, 1.0)]), importance },
+            integral: Integral::Lobe {
+                basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
+                importance,
+            },
         },
     ]
 }

@@ -47,6 +47,10 @@ impl Kernel for BlinnPhong {
     }
 
     fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(slots, std::f64::consts::PI, Importance::BlinnHalf { p: slots[6] }))
+        Some(diffuse_and_lobe(
+            slots,
+            std::f64::consts::PI,
+            Importance::BlinnHalf { p: slots[6] },
+        ))
     }
 }

@@ -74,14 +74,23 @@ impl Kernel for BlinnPhongFresnel {
         let f0 = colour(slots, 3);
         let importance = Importance::BlinnHalf { p: slots[6] };
         Some(vec![
-            Term { colour: colour(slots, 0), integral: Integral::Exact(1.0) },
+            Term {
+                colour: colour(slots, 0),
+                integral: Integral::Exact(1.0),
+            },
             Term {
                 colour: f0,
-                integral: Integral::Lobe { basis: basis(slots, &[(0, 0.0), (3, 1.0)]), importance },
+                integral: Integral::Lobe {
+                    basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
+                    importance,
+                },
             },
             Term {
                 colour: f0.map(|c| 1.0 - c),
-                integral: Integral::Lobe { basis: basis(slots, &[(0, 0.0), (3, 0.0)]), importance },
+                integral: Integral::Lobe {
+                    basis: basis(slots, &[(0, 0.0), (3, 0.0)]),
+                    importance,
+                },
             },
         ])
     }

@@ -43,6 +43,9 @@ impl Kernel for Lambert {
     }
 
     fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
-        Some(vec![Term { colour: colour(slots, 0), integral: Integral::Exact(1.0) }])
+        Some(vec![Term {
+            colour: colour(slots, 0),
+            integral: Integral::Exact(1.0),
+        }])
     }
 }

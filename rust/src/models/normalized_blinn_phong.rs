@@ -49,6 +49,10 @@ impl Kernel for NormalizedBlinnPhong {
     }
 
     fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(slots, 1.0, Importance::BlinnHalf { p: slots[6] }))
+        Some(diffuse_and_lobe(
+            slots,
+            1.0,
+            Importance::BlinnHalf { p: slots[6] },
+        ))
     }
 }

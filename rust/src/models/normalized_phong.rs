@@ -44,6 +44,10 @@ impl Kernel for NormalizedPhong {
     }
 
     fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(slots, 1.0, Importance::PhongLobe { p: slots[6] }))
+        Some(diffuse_and_lobe(
+            slots,
+            1.0,
+            Importance::PhongLobe { p: slots[6] },
+        ))
     }
 }

@@ -67,8 +67,14 @@ impl Kernel for OrenNayar {
         let integral = if b == 0.0 {
             Integral::Exact(a)
         } else {
-            Integral::Lobe { basis: basis(slots, &[(0, 1.0)]), importance: Importance::Cosine }
+            Integral::Lobe {
+                basis: basis(slots, &[(0, 1.0)]),
+                importance: Importance::Cosine,
+            }
         };
-        Some(vec![Term { colour: colour(slots, 0), integral }])
+        Some(vec![Term {
+            colour: colour(slots, 0),
+            integral,
+        }])
     }
 }

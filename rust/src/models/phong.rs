@@ -46,6 +46,10 @@ impl Kernel for Phong {
     }
 
     fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(slots, std::f64::consts::PI, Importance::PhongLobe { p: slots[6] }))
+        Some(diffuse_and_lobe(
+            slots,
+            std::f64::consts::PI,
+            Importance::PhongLobe { p: slots[6] },
+        ))
     }
 }

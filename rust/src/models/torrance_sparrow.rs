@@ -99,6 +99,10 @@ impl Kernel for TorranceSparrow {
     }
 
     fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(slots, 1.0, Importance::BlinnHalf { p: slots[6] }))
+        Some(diffuse_and_lobe(
+            slots,
+            1.0,
+            Importance::BlinnHalf { p: slots[6] },
+        ))
     }
 }

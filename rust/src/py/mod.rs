@@ -5,15 +5,21 @@
 //! (`python/brdf_rs`) settles dtypes before calling here: arrays arrive as float64 or
 //! float32 NumPy arrays of any shape and layout, read in place.
 
-use numpy::{Element, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+use numpy::{Element, IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::error::{BrdfError, ErrorClass};
 use crate::eval::{self, EvalInputs, EvalOptions};
+use crate::integrate::cells::CellGrid;
+use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
 use crate::models::{ModelKind, ParamKind, TangentUse};
+use crate::sampling::streams::Sequence;
 
 impl From<BrdfError> for PyErr {
     fn from(e: BrdfError) -> PyErr {
@@ -191,6 +197,133 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(list)
 }
 
+/// Runs `work` on a scoped thread while this thread polls every 100 ms: it reports
+/// progress to `callback(cells_done, samples_done)` and checks for Ctrl-C (a
+/// `KeyboardInterrupt` cancels the work, waits for it to stop and is raised).
+fn run_interruptible<'py, T: Send>(
+    py: Python<'py>,
+    progress: &Progress,
+    callback: Option<&Bound<'py, PyAny>>,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    std::thread::scope(|scope| {
+        let handle = scope.spawn(work);
+        loop {
+            let finished = py.detach(|| {
+                let start = std::time::Instant::now();
+                while !handle.is_finished() && start.elapsed() < Duration::from_millis(100) {
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+                handle.is_finished()
+            });
+            let mut polled = py.check_signals();
+            if polled.is_ok() {
+                if let Some(cb) = callback {
+                    let cells = progress.cells_done.load(Ordering::Relaxed);
+                    let samples = progress.samples_done.load(Ordering::Relaxed);
+                    polled = cb.call1((cells, samples)).map(|_| ());
+                }
+            }
+            if let Err(e) = polled {
+                progress.cancel.store(true, Ordering::Relaxed);
+                let _ = py.detach(|| handle.join());
+                return Err(e);
+            }
+            if finished {
+                return py
+                    .detach(|| handle.join())
+                    .map_err(|_| PyRuntimeError::new_err("internal error: the worker panicked"));
+            }
+        }
+    })
+}
+
+/// Directional albedo of every cell of `mu` broadcast with `params` (see
+/// `brdf_rs.albedo`). Returns `(value, stderr, samples)`.
+#[pyfunction]
+#[pyo3(signature = (model, mu, params, samples, sampler, sequence, seed, tol, max_samples, replicates, cell_ids=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn albedo<'py>(
+    py: Python<'py>,
+    model: &str,
+    mu: Arr<'py, f64>,
+    params: &Bound<'py, PyDict>,
+    samples: u64,
+    sampler: &str,
+    sequence: &str,
+    seed: u64,
+    tol: Option<f64>,
+    max_samples: Option<u64>,
+    replicates: u32,
+    cell_ids: Option<PyReadonlyArrayDyn<'py, u64>>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<AlbedoArrays<'py>> {
+    let kind = ModelKind::from_name(model)?;
+    let sampler = SamplerChoice::from_name(sampler).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "sampler: expected \"auto\", \"importance\", \"cosine\" or \"uniform\"; got {sampler:?}"
+        ))
+    })?;
+    let sequence = Sequence::from_name(sequence).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "sequence: expected \"sobol\" or \"random\"; got {sequence:?}"
+        ))
+    })?;
+    let options = AlbedoOptions {
+        samples,
+        sampler,
+        sequence,
+        seed,
+        tol,
+        max_samples: max_samples.unwrap_or_else(|| samples.max(1 << 24)),
+        replicates,
+    };
+    let params = param_arrays::<f64>(params)?;
+    let views = params
+        .iter()
+        .map(|(name, a)| (name.as_str(), a.as_array()))
+        .collect();
+    let ids =
+        match &cell_ids {
+            Some(a) => Some(a.as_slice().map_err(|_| {
+                PyValueError::new_err("cell_ids: must be a C-contiguous uint64 array")
+            })?),
+            None => None,
+        };
+    let grid = CellGrid::new(kind, mu.as_array(), views, ids)?;
+    let cells = grid.count();
+    options.validate(cells)?;
+    let counters = Progress::default();
+    let mut out = vec![CellResult::default(); cells];
+    run_interruptible(py, &counters, progress.as_ref(), || {
+        integrate::albedo(kind, &grid, &options, &counters, &mut out)
+    })??;
+    let mut shape = grid.batch.clone();
+    let n = out.len();
+    let samples = numpy::ndarray::Array::from_iter(out.iter().map(|r| r.samples))
+        .into_shape_with_order(shape.clone())
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    shape.push(3);
+    let value = numpy::ndarray::Array::from_iter(out.iter().flat_map(|r| r.value))
+        .into_shape_with_order(shape.clone())
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let stderr = numpy::ndarray::Array::from_iter(out.iter().flat_map(|r| r.stderr))
+        .into_shape_with_order(shape)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    debug_assert_eq!(value.len(), 3 * n);
+    Ok((
+        value.into_pyarray(py),
+        stderr.into_pyarray(py),
+        samples.into_pyarray(py),
+    ))
+}
+
+type AlbedoArrays<'py> = (
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<u64>>,
+);
+
 /// Sets the number of worker threads.
 #[pyfunction]
 fn set_num_threads(n: usize) -> PyResult<()> {
@@ -214,7 +347,9 @@ fn isa() -> &'static str {
 #[pyo3(name = "_brdf_rs")]
 mod brdf_rs_ext {
     #[pymodule_export]
-    use super::{check_params, eval_f32, eval_f64, isa, models, num_threads, set_num_threads};
+    use super::{
+        albedo, check_params, eval_f32, eval_f64, isa, models, num_threads, set_num_threads,
+    };
 
     #[pymodule_export]
     #[allow(non_upper_case_globals)]

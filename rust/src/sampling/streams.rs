@@ -1,16 +1,18 @@
 //! Sample streams, keyed by (seed, cell, replicate) so results never depend on how cells
 //! are split between threads, chunks or machines.
 //!
-//! - Randomized quasi-Monte Carlo: Owen-scrambled Sobol points from the `sobol_burley`
-//!   crate (Burley 2020, hash-based nested scrambling), one independent scramble per
-//!   replicate; at most 2^16 points per replicate.
+//! - Randomized quasi-Monte Carlo: Owen-scrambled Sobol points ([`super::sobol`]:
+//!   Burley 2020, `sobol_burley`'s scramble), one independent scramble per replicate, up
+//!   to 2^32 points each.
 //! - Monte Carlo: PCG-64 (MCG variant, `rand_pcg`) seeded per (seed, cell, replicate).
 
 use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
-/// The most points one Sobol replicate can hold (`sobol_burley`'s limit).
-pub const SOBOL_MAX_POINTS: u64 = 1 << 16;
+use super::sobol;
+
+/// The most points one Sobol replicate can hold.
+pub const SOBOL_MAX_POINTS: u64 = 1 << 32;
 
 /// How sample points are generated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,7 +56,7 @@ pub fn mix(seed: u64, cell: u64, replicate: u64) -> u64 {
 
 /// The points of one replicate of one cell.
 pub enum Stream {
-    Sobol { seed: u32, next: u32 },
+    Sobol { keys: [u32; 2], next: u64 },
     Random(Box<Pcg64Mcg>),
 }
 
@@ -63,7 +65,10 @@ impl Stream {
     pub fn new(sequence: Sequence, seed: u64, cell: u64, replicate: u64) -> Stream {
         let key = mix(seed, cell, replicate);
         match sequence {
-            Sequence::Sobol => Stream::Sobol { seed: (key ^ (key >> 32)) as u32, next: 0 },
+            Sequence::Sobol => Stream::Sobol {
+                keys: sobol::scramble_keys((key ^ (key >> 32)) as u32),
+                next: 0,
+            },
             Sequence::Random => Stream::Random(Box::new(Pcg64Mcg::seed_from_u64(key))),
         }
     }
@@ -71,13 +76,32 @@ impl Stream {
     /// Returns the next point in `[0, 1)²`.
     #[inline]
     pub fn next_point(&mut self) -> [f64; 2] {
+        let (mut a, mut b) = ([0.0], [0.0]);
+        self.fill(&mut a, &mut b);
+        [a[0], b[0]]
+    }
+
+    /// Fills `u0`, `u1` with the next points (as many as `u0` holds).
+    ///
+    /// # Panics
+    /// When a Sobol replicate would pass 2^32 points (the integrator never asks).
+    #[inline(always)]
+    pub fn fill(&mut self, u0: &mut [f64], u1: &mut [f64]) {
         match self {
-            Stream::Sobol { seed, next } => {
-                let p = sobol_burley::sample_4d(*next, 0, *seed);
-                *next += 1;
-                [f64::from(p[0]), f64::from(p[1])]
+            Stream::Sobol { keys, next } => {
+                assert!(
+                    *next + u0.len() as u64 <= SOBOL_MAX_POINTS,
+                    "Sobol replicate exhausted"
+                );
+                sobol::fill(*next as u32, *keys, u0, u1);
+                *next += u0.len() as u64;
             }
-            Stream::Random(rng) => [unit(rng.next_u64()), unit(rng.next_u64())],
+            Stream::Random(rng) => {
+                for (a, b) in u0.iter_mut().zip(u1.iter_mut()) {
+                    *a = unit(rng.next_u64());
+                    *b = unit(rng.next_u64());
+                }
+            }
         }
     }
 }

@@ -1,0 +1,459 @@
+"""Directional albedo, albedo tables, split-sum (DFG) tables and energy checks.
+
+The directional albedo of a family-A BRDF is ``R(mu) = ∫ f(wi, wo)·cos θo dωo`` with
+``cos θi = mu`` (MODELS.md, the Summary's eq. 4). The Rust core computes it by
+randomized quasi-Monte Carlo or Monte Carlo with the lobe's own importance sampler,
+exact terms added in closed form, and an honest standard error per cell.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import logging
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import _arrays
+from . import _brdf_rs as _core
+
+__all__ = ["Albedo", "Energy", "Table", "albedo", "albedo_table", "dfg_table", "energy"]
+
+log = logging.getLogger("brdf_rs")
+
+#: Independent scrambles per cell for ``sequence="sobol"`` (the error bar's basis).
+DEFAULT_REPLICATES = 16
+
+
+@dataclasses.dataclass(frozen=True)
+class Albedo:
+    """Directional albedo estimates: ``value`` and ``stderr`` (shape ``cells + (3,)``,
+    RGB) and ``samples`` drawn per cell (0 where the value is exact)."""
+
+    value: np.ndarray
+    stderr: np.ndarray
+    samples: np.ndarray
+
+
+def _integer(name: str, v: Any, lo: int) -> int:
+    """An integer option (an integral float such as 1e6 is accepted)."""
+    if isinstance(v, float) and v.is_integer():
+        v = int(v)
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+        raise TypeError(f"{name}: expected an integer, got {v!r}")
+    if v < lo:
+        raise ValueError(f"{name}: must be at least {lo}; got {v}")
+    if v >= 2**64:
+        raise ValueError(f"{name}: must be below 2**64; got {v}")
+    return int(v)
+
+
+def _options(samples, sampler, sequence, seed, tol, max_samples, replicates) -> dict:
+    integer = _integer
+    options = {
+        "samples": integer("samples", samples, 1),
+        "sampler": str(sampler),
+        "sequence": str(sequence),
+        "seed": integer("seed", seed, 0),
+        "tol": None,
+        "max_samples": None,
+        "replicates": integer("replicates", replicates, 2),
+    }
+    if tol is not None:
+        tol = float(tol)
+        if not (tol > 0 and np.isfinite(tol)):
+            raise ValueError(f"tol: must be a positive number; got {tol}")
+        options["tol"] = tol
+    if max_samples is not None:
+        options["max_samples"] = integer("max_samples", max_samples, 1)
+    return options
+
+
+def albedo(
+    model: str,
+    mu: Any,
+    *,
+    samples: int = 4096,
+    sampler: str = "auto",
+    sequence: str = "sobol",
+    seed: int = 0,
+    tol: float | None = None,
+    max_samples: int | None = None,
+    replicates: int = DEFAULT_REPLICATES,
+    progress: Callable[[int, int], None] | None = None,
+    cell_ids: np.ndarray | None = None,
+    **params: Any,
+) -> Albedo:
+    """Directional albedo ``R(mu) = ∫ f(wi, wo)·cos θo dωo`` of a family-A model.
+
+    Args:
+        model: a family-A model name.
+        mu: cosines of the incidence angle, in [0, 1]; any shape, broadcast with the
+            parameters (NumPy rules) into cells.
+        samples: samples per cell (rounded up to ``replicates`` × a power of two for
+            ``sobol``); with ``tol``, the first round.
+        sampler: ``"auto"`` / ``"importance"`` (each lobe's own sampler), ``"cosine"``
+            or ``"uniform"``.
+        sequence: ``"sobol"`` (Owen-scrambled Sobol, randomized QMC with ``replicates``
+            independent scrambles for the error bar) or ``"random"`` (PCG-64).
+        seed: the streams are keyed by (seed, cell): same seed, same bits.
+        tol: stop each cell once every channel's standard error is at most ``tol``
+            (doubling its samples, up to ``max_samples``, default max(samples, 2^24)).
+        progress: called as ``progress(cells_done, samples_done)`` about every 0.1 s.
+        cell_ids: uint64 ids keying each cell's stream (default: the flat cell index).
+        **params: the model's parameters (MODELS.md names), scalars or arrays
+            broadcasting against ``mu``.
+
+    Returns:
+        :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
+    """
+    mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
+    p = _arrays.parameters(params, np.float64)
+    options = _options(samples, sampler, sequence, seed, tol, max_samples, replicates)
+    ids = None if cell_ids is None else np.ascontiguousarray(cell_ids, dtype=np.uint64)
+    value, stderr, drawn = _core.albedo(
+        model,
+        mu_array,
+        p,
+        options["samples"],
+        options["sampler"],
+        options["sequence"],
+        options["seed"],
+        options["tol"],
+        options["max_samples"],
+        options["replicates"],
+        ids,
+        progress,
+    )
+    return Albedo(value=value, stderr=stderr, samples=drawn)
+
+
+# ------------------------------------------------------------------------------- tables
+
+
+@dataclasses.dataclass
+class Table:
+    """An albedo table: ``value``/``stderr`` of shape ``axes lengths + (3,)``.
+
+    ``axes`` maps each axis name (``mu`` or a parameter) to its coordinates, in order;
+    ``meta`` records how it was made (model, fixed parameters, sampler, sequence, seed,
+    samples, library version).
+    """
+
+    value: np.ndarray
+    stderr: np.ndarray
+    samples: np.ndarray
+    axes: dict[str, np.ndarray]
+    meta: dict[str, Any]
+
+    def save(self, path: str | Path) -> Path:
+        """Writes ``.npz`` (everything), ``.exr`` (float32 value and stderr, needs the
+        ``exr`` extra) or ``.png`` (a 16-bit preview of a 2-D table)."""
+        path = Path(path)
+        suffix = path.suffix.lower()
+        if suffix == ".npz":
+            _save_npz(self, path)
+        elif suffix == ".exr":
+            _save_exr(self, path)
+        elif suffix == ".png":
+            _save_png(self, path)
+        else:
+            raise ValueError(f"path: unknown table format {suffix!r}; use .npz, .exr or .png")
+        return path
+
+    @classmethod
+    def load(cls, path: str | Path) -> Table:
+        """Reads a table written by :meth:`save` as ``.npz``."""
+        with np.load(Path(path), allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+            names = meta["axis_names"]
+            axes = {name: data[f"axis_{name}"] for name in names}
+            return cls(data["value"], data["stderr"], data["samples"], axes, meta)
+
+    def to_xarray(self):
+        """Returns ``value`` as an ``xarray.DataArray`` with named coordinates (needs xarray)."""
+        import xarray as xr
+
+        coords = {**self.axes, "channel": ["R", "G", "B"]}
+        dims = [*self.axes, "channel"]
+        return xr.DataArray(self.value, coords=coords, dims=dims, attrs=_flat_meta(self.meta))
+
+    def __repr__(self) -> str:
+        axes = ", ".join(f"{k}[{len(v)}]" for k, v in self.axes.items())
+        return f"Table({self.meta.get('model')!r}, axes={axes})"
+
+
+def _flat_meta(meta: Mapping[str, Any]) -> dict[str, str]:
+    return {k: v if isinstance(v, str) else json.dumps(v) for k, v in meta.items()}
+
+
+def _save_npz(table: Table, path: Path) -> None:
+    arrays = {f"axis_{k}": np.asarray(v) for k, v in table.axes.items()}
+    tmp = path.with_name(path.name + ".partial.npz")
+    np.savez_compressed(
+        tmp,
+        value=table.value,
+        stderr=table.stderr,
+        samples=table.samples,
+        meta=np.array(json.dumps(table.meta)),
+        **arrays,
+    )
+    tmp.replace(path)  # never leave a half-written table under the real name
+
+
+def _save_exr(table: Table, path: Path) -> None:
+    try:
+        import OpenEXR
+    except ImportError:
+        raise ImportError(
+            "writing .exr needs the OpenEXR package: pip install brdf-rs[exr]"
+        ) from None
+    value = table.value.astype(np.float32)
+    if value.ndim == 2:
+        value = value[None]
+    if value.ndim != 3:
+        raise ValueError(f"table: .exr holds 1-D or 2-D tables; this one has {value.ndim - 1} axes")
+    stderr = table.stderr.astype(np.float32).reshape(value.shape)
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    header.update({f"brdf_rs_{k}": v for k, v in _flat_meta(table.meta).items()})
+    channels = {"RGB": np.ascontiguousarray(value), "stderr.RGB": np.ascontiguousarray(stderr)}
+    tmp = path.with_name(path.name + ".partial.exr")
+    with OpenEXR.File(header, channels) as f:
+        f.write(str(tmp))
+    tmp.replace(path)
+
+
+def _save_png(table: Table, path: Path) -> None:
+    try:
+        import png
+    except ImportError:
+        raise ImportError("writing .png needs the pypng package: pip install pypng") from None
+    value = table.value
+    if value.ndim != 3:
+        raise ValueError(
+            f"table: the .png preview is for 2-D tables; this one has {value.ndim - 1} axes"
+        )
+    top = float(np.max(value)) or 1.0
+    scaled = np.clip(value / top, 0.0, 1.0)
+    pixels = np.round(scaled * 65535).astype(np.uint16)
+    rows = pixels.reshape(pixels.shape[0], -1)
+    tmp = path.with_name(path.name + ".partial.png")
+    with open(tmp, "wb") as f:
+        png.Writer(width=value.shape[1], height=value.shape[0], greyscale=False, bitdepth=16).write(
+            f, rows.tolist()
+        )
+    tmp.replace(path)
+
+
+def albedo_table(
+    model: str,
+    axes: Mapping[str, Sequence[float] | np.ndarray],
+    *,
+    samples: int = 4096,
+    sampler: str = "auto",
+    sequence: str = "sobol",
+    seed: int = 0,
+    tol: float | None = None,
+    max_samples: int | None = None,
+    replicates: int = DEFAULT_REPLICATES,
+    progress: Callable[[int, int], None] | None = None,
+    **fixed: Any,
+) -> Table:
+    """Tabulates the directional albedo over a grid of ``axes``.
+
+    Args:
+        model: a family-A model.
+        axes: ordered ``{name: coordinates}``; names are ``mu`` and the model's
+            parameters (a colour axis holds grey values). The table's shape is the axes'
+            lengths (in order) + (3,).
+        **fixed: parameters held fixed over the table, and the options of :func:`albedo`.
+    """
+    if not axes:
+        raise ValueError("axes: give at least one axis, e.g. {'mu': np.linspace(0, 1, 64)}")
+    names = list(axes)
+    coords = {}
+    for name in names:
+        a = np.asarray(_arrays.parameters({name: axes[name]}, np.float64)[name])
+        if a.ndim != 1 or a.size == 0:
+            raise ValueError(
+                f"axes[{name!r}]: expected a non-empty 1-D list of values; got shape {a.shape}"
+            )
+        coords[name] = a
+    for name in fixed:
+        if name in coords:
+            raise ValueError(f"{name}: given both as an axis and as a fixed value")
+    if "mu" not in coords and "mu" not in fixed:
+        raise ValueError("axes: needs a 'mu' axis (or a fixed mu=...)")
+    specs = _core_models()
+    kinds = {p["name"]: p["kind"] for p in specs[model]["params"]} if model in specs else {}
+    grid = {}
+    for k, name in enumerate(names):
+        shape = [1] * len(names)
+        shape[k] = -1
+        a = coords[name].reshape(shape)
+        if kinds.get(name) == "colour":
+            a = a[..., None]
+        grid[name] = a
+    fixed = dict(fixed)
+    mu = grid.pop("mu") if "mu" in grid else np.asarray(fixed.pop("mu"), dtype=np.float64)
+    mu = np.broadcast_to(mu, [len(coords[n]) if n == "mu" else 1 for n in names])
+    result = albedo(
+        model,
+        mu,
+        samples=samples,
+        sampler=sampler,
+        sequence=sequence,
+        seed=seed,
+        tol=tol,
+        max_samples=max_samples,
+        replicates=replicates,
+        progress=progress,
+        **grid,
+        **fixed,
+    )
+    full = tuple(len(coords[n]) for n in names)
+    value = np.broadcast_to(result.value, (*full, 3)).copy()
+    stderr = np.broadcast_to(result.stderr, (*full, 3)).copy()
+    drawn = np.broadcast_to(result.samples, full).copy()
+    from . import __version__
+
+    meta = {
+        "model": model,
+        "axis_names": names,
+        "fixed": {k: np.asarray(v).tolist() for k, v in fixed.items()},
+        "samples": samples,
+        "sampler": sampler,
+        "sequence": sequence,
+        "seed": seed,
+        "tol": tol,
+        "max_samples": max_samples,
+        "replicates": replicates,
+        "brdf_rs": __version__,
+        "quantity": "directional albedo R(mu): integral of f(wi, wo) cos(theta_o) d(omega_o)",
+    }
+    return Table(value, stderr, drawn, coords, meta)
+
+
+def _core_models() -> dict[str, dict[str, Any]]:
+    return {m["name"]: m for m in _core.models()}
+
+
+# ------------------------------------------------------------------------- DFG, energy
+
+#: The parameter that plays "roughness" in a split-sum table, per Schlick-Fresnel model.
+_DFG_ROUGHNESS = {"blinn_phong_fresnel": "p"}
+
+
+def dfg_table(
+    model: str,
+    mu: Sequence[float] | np.ndarray,
+    roughness: Sequence[float] | np.ndarray,
+    *,
+    samples: int = 1 << 14,
+    seed: int = 0,
+    **options: Any,
+) -> Table:
+    """The split-sum table: ``scale`` A and ``bias`` B with ``R_spec = F0·A + B``.
+
+    For a Schlick-Fresnel model (``F = F0 + (1 − F0)(1 − cos β)^5``) the specular albedo
+    is affine in F0: ``A = I(F0 = 1) − I(F0 = 0)``, ``B = I(F0 = 0)``. Both integrals use
+    the same points (same cell ids), so their errors are correlated and largely cancel in
+    ``A``; the reported stderr of ``A`` is the conservative ``sqrt(se1² + se0²)``.
+    ``roughness`` is the model's roughness parameter (``p`` for blinn_phong_fresnel).
+
+    Returns a :class:`Table` with axes ``mu``, roughness; ``value[..., 0]`` = A,
+    ``value[..., 1]`` = B, ``value[..., 2]`` = 0.
+    """
+    if model not in _DFG_ROUGHNESS:
+        known = ", ".join(_DFG_ROUGHNESS)
+        raise ValueError(f"{model}: a split-sum table needs a Schlick-Fresnel model: {known}")
+    rough = _DFG_ROUGHNESS[model]
+    mu = np.asarray(mu, dtype=np.float64)
+    r = np.asarray(roughness, dtype=np.float64)
+    if mu.ndim != 1 or r.ndim != 1:
+        raise ValueError("mu, roughness: expected 1-D lists of values")
+    ids = np.arange(mu.size * r.size, dtype=np.uint64).reshape(mu.size, r.size)
+    mus = mu[:, None]
+    rs = r[None, :]
+    one = albedo(
+        model,
+        mus,
+        cell_ids=ids,
+        samples=samples,
+        seed=seed,
+        kd=0.0,
+        ks=1.0,
+        **{rough: rs},
+        **options,
+    )
+    zero = albedo(
+        model,
+        mus,
+        cell_ids=ids,
+        samples=samples,
+        seed=seed,
+        kd=0.0,
+        ks=0.0,
+        **{rough: rs},
+        **options,
+    )
+    value = np.zeros((mu.size, r.size, 3))
+    stderr = np.zeros_like(value)
+    value[..., 0] = one.value[..., 0] - zero.value[..., 0]
+    value[..., 1] = zero.value[..., 0]
+    stderr[..., 0] = np.hypot(one.stderr[..., 0], zero.stderr[..., 0])
+    stderr[..., 1] = zero.stderr[..., 0]
+    from . import __version__
+
+    meta = {
+        "model": model,
+        "axis_names": ["mu", rough],
+        "quantity": "split-sum DFG: channel 0 = scale A, channel 1 = bias B, R_spec = F0*A + B",
+        "samples": samples,
+        "seed": seed,
+        "brdf_rs": __version__,
+        **{k: v for k, v in options.items() if isinstance(v, (int, float, str))},
+    }
+    return Table(value, stderr, one.samples + zero.samples, {"mu": mu, rough: r}, meta)
+
+
+@dataclasses.dataclass(frozen=True)
+class Energy:
+    """The largest directional albedo of a parameter set, and where it occurs.
+
+    ``max`` and ``stderr`` are RGB at ``mu_at_max`` (the incidence of the largest
+    channel's maximum); ``gains_energy`` is true when some channel exceeds 1 by more than
+    3 standard errors; ``mu`` / ``value`` hold the whole curve that was searched.
+    """
+
+    max: np.ndarray
+    stderr: np.ndarray
+    mu_at_max: float
+    gains_energy: bool
+    mu: np.ndarray
+    value: np.ndarray
+
+
+def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) -> Energy:
+    """Finds the maximum directional albedo over mu (the Summary's eq. 4 energy check).
+
+    A grid of 65 incidences (including mu = 1 and a grazing 0.005) is integrated; the
+    best cell's neighbourhood is then refined on a finer grid of 17 incidences.
+    """
+    mu = np.concatenate([[0.005], np.arange(1, 65) / 64.0])
+    coarse = albedo(model, mu, samples=samples, seed=seed, **params)
+    best = int(np.argmax(coarse.value.max(axis=-1)))
+    lo, hi = mu[max(best - 1, 0)], mu[min(best + 1, mu.size - 1)]
+    fine_mu = np.linspace(lo, hi, 17)
+    fine = albedo(model, fine_mu, samples=samples, seed=seed + 1, **params)
+    all_mu = np.concatenate([mu, fine_mu])
+    all_value = np.concatenate([coarse.value, fine.value])
+    all_err = np.concatenate([coarse.stderr, fine.stderr])
+    order = np.argsort(all_mu, kind="stable")
+    all_mu, all_value, all_err = all_mu[order], all_value[order], all_err[order]
+    k = int(np.argmax(all_value.max(axis=-1)))
+    gains = bool(np.any(all_value[k] - 3 * all_err[k] > 1.0))
+    return Energy(all_value[k], all_err[k], float(all_mu[k]), gains, all_mu, all_value)
