@@ -13,6 +13,7 @@ Writes benches/results/eval_throughput.{md,json,png}.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import platform
 import statistics
@@ -25,9 +26,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-import numpy_models  # noqa: E402
-
 import brdf_rs  # noqa: E402
+import numpy_models  # noqa: E402
 
 RESULTS = HERE / "results"
 
@@ -104,22 +104,16 @@ def main() -> None:
             row = {"model": model, "dtype": dtype}
             nz = np.array([0.0, 0.0, 1.0], dtype=wi.dtype)
             tn = {k: v.astype(wi.dtype) for k, v in t_arg.items()}
-            best, _ = best_time(
-                lambda wi=wi, wo=wo, nz=nz, tn=tn: numpy_models.evaluate(
-                    model, wi, wo, nz, **tn, **extra
-                ),
-                max(1, args.repeat // 2),
-            )
+            numpy_call = functools.partial(numpy_models.evaluate, model, wi, wo, nz, **tn, **extra)
+            best, _ = best_time(numpy_call, max(1, args.repeat // 2))
             row["numpy"] = args.n / best / 1e6
             for threads in args.threads:
                 brdf_rs.set_num_threads(threads)
                 for normalized in (False, True):
-                    best, median = best_time(
-                        lambda wi=wi, wo=wo, normalized=normalized: brdf_rs.eval(
-                            model, wi, wo, normalized=normalized, **t_arg, **extra
-                        ),
-                        args.repeat,
+                    call = functools.partial(
+                        brdf_rs.eval, model, wi, wo, normalized=normalized, **t_arg, **extra
                     )
+                    best, median = best_time(call, args.repeat)
                     key = f"{threads}t" + ("_normalized" if normalized else "")
                     row[key] = args.n / best / 1e6
                     row[key + "_median"] = args.n / median / 1e6
