@@ -128,7 +128,8 @@ def test_float32_close_to_float64_where_well_conditioned(call):
     good = (np.abs(mu_i) > 1e-2) & (np.abs(mu_o) > 1e-2) & (half > 1e-2)
     scale = np.max(np.abs(got64), initial=0.0)
     p = np.broadcast_to(np.asarray(params.get("p", 32.0)), good.shape)
-    tol = 1e-4 * (1.0 + p[..., None] / 10.0) * np.abs(got64) + 1e-6 * scale
+    # float32 kernels flush lobe values below 2^-100 to 0: absolute slack for those.
+    tol = 1e-4 * (1.0 + p[..., None] / 10.0) * np.abs(got64) + 1e-6 * scale + 2.0**-100 * 1e8
     err = np.abs(got32.astype(np.float64) - got64)
     assert np.all(err[good] <= tol[good]), (model, err[good].max())
 

@@ -25,6 +25,8 @@
 // Numeric loops index several parallel arrays at once; iterator chains would hide that
 // (and vectorize no better).
 #![allow(clippy::needless_range_loop)]
+// `!(x > 0.0)` is deliberate throughout: it is true for NaN, where `x <= 0.0` is not.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod error;
 pub mod eval;

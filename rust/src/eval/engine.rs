@@ -83,11 +83,13 @@ pub fn isa() -> Isa {
     })
 }
 
-/// Block scratch: directions (4 vectors × 3 components), a usable flag, parameters.
+/// Block scratch: directions (4 vectors × 3 components), a usable flag, parameters,
+/// and the RGB results before they are interleaved into the output.
 struct Scratch<F> {
     vectors: [[[F; BLOCK]; 3]; 4],
     ok: [bool; BLOCK],
     params: [[F; BLOCK]; MAX_VARYING_SLOTS],
+    rgb: [[F; BLOCK]; 3],
 }
 
 /// Per-element parameters read from scratch.
@@ -146,6 +148,25 @@ fn load_vector<F: Real>(
     }
 }
 
+/// Hints the CPU to fetch rows `row0 .. row0 + len` of a contiguous source into cache.
+#[inline(always)]
+fn prefetch_rows<F: Real>(rows: &Rows<'_, F>, row0: usize, len: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Rows::Contiguous(s) = rows {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let Some(block) = s.get(3 * row0..3 * (row0 + len)) else {
+            return;
+        };
+        let step = 64 / std::mem::size_of::<F>();
+        for k in (0..block.len()).step_by(step) {
+            // SAFETY: a prefetch is only a hint; the address is inside the slice.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(block[k..].as_ptr().cast()) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (rows, row0, len);
+}
+
 /// Copies rows of a varying parameter (1 or 3 components) into its scratch slots.
 #[inline(always)]
 fn load_param<F: Real>(
@@ -197,20 +218,45 @@ fn normalize_block<F: Real>(v: &mut [[F; BLOCK]; 3], ok: &mut [bool; BLOCK], nor
 /// Evaluates rows `first_row .. first_row + out.len()/3` of the plan with kernel `K`.
 /// Returns whether any row had an unusable input vector.
 #[inline(always)]
-fn run_range<F: Real, K: Kernel, const VARY: bool>(
+fn run_range<F: Real, K: Kernel, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
+    // MODE_UNIFORM: one parameter set; MODE_NORMAL_Z: that, and n = +z for every row
+    // (dot products with n fold to a component); MODE_VARYING: parameters per row.
+    let vary = MODE == MODE_VARYING;
+    let normal_z = MODE == MODE_NORMAL_Z;
     let rows = out.len() / 3;
+    // Constant directions are normalized (and checked) once, not per row.
+    let constant: [Option<([F; 3], bool)>; 4] = std::array::from_fn(|i| {
+        plan.vectors[i].constant().map(|r| {
+            let v = F::V3::new(r[0], r[1], r[2]);
+            let (u, ok) = if plan.options.normalized {
+                (v, F::usable(v))
+            } else {
+                F::normalize(v)
+            };
+            ([u.x(), u.y(), u.z()], ok)
+        })
+    });
     let uses_tangent = plan.kind.spec().tangent != crate::models::TangentUse::None;
     let uniform = K::prepare::<F, [F]>(&plan.uniform);
     let mut scratch = Scratch {
         vectors: [[[F::ZERO; BLOCK]; 3]; 4],
         ok: [true; BLOCK],
         params: [[F::ZERO; BLOCK]; MAX_VARYING_SLOTS],
+        rgb: [[F::ZERO; BLOCK]; 3],
     };
-    if VARY {
+    for (i, c) in constant.iter().enumerate() {
+        if let Some((row, _)) = c {
+            for (lane, value) in scratch.vectors[i].iter_mut().zip(row) {
+                lane.fill(*value);
+            }
+        }
+    }
+    let constant_ok = constant.iter().all(|c| c.is_none_or(|(_, ok)| ok));
+    if vary {
         for (slot, lane) in scratch
             .params
             .iter_mut()
@@ -224,9 +270,20 @@ fn run_range<F: Real, K: Kernel, const VARY: bool>(
     for block_start in (0..rows).step_by(BLOCK) {
         let len = BLOCK.min(rows - block_start);
         let row0 = first_row + block_start;
-        scratch.ok = [true; BLOCK];
+        scratch.ok = [constant_ok; BLOCK];
+        // Ask for the next block's input now: it arrives while this block computes.
+        let next = row0 + len;
         for (i, source) in plan.vectors.iter().enumerate() {
-            if i == 3 && !uses_tangent {
+            if i != 3 || uses_tangent {
+                prefetch_rows(
+                    source,
+                    next,
+                    BLOCK.min(first_row + rows - next.min(first_row + rows)),
+                );
+            }
+        }
+        for (i, source) in plan.vectors.iter().enumerate() {
+            if (i == 3 && !uses_tangent) || constant[i].is_some() {
                 continue;
             }
             load_vector(source, &plan.batch, row0, len, &mut scratch.vectors[i]);
@@ -236,77 +293,91 @@ fn run_range<F: Real, K: Kernel, const VARY: bool>(
                 plan.options.normalized,
             );
         }
-        if VARY {
+        if vary {
             for p in &plan.varying {
                 let lanes = &mut scratch.params[p.slot..p.slot + p.comps];
                 load_param(&p.rows, p.comps, &plan.batch, row0, len, lanes);
             }
         }
-        let out_block = &mut out[3 * block_start..3 * (block_start + len)];
         let [wi, wo, n, t] = &scratch.vectors;
-        for (j, rgb_out) in out_block.chunks_exact_mut(3).enumerate() {
+        let [r, g, b] = &mut scratch.rgb;
+        // The model over the whole block (lanes past `len` compute on stale, harmless
+        // scratch and are never written out), into structure-of-arrays RGB.
+        for j in 0..BLOCK {
             let d = Directions::<F> {
                 wi: F::V3::new(wi[0][j], wi[1][j], wi[2][j]),
                 wo: F::V3::new(wo[0][j], wo[1][j], wo[2][j]),
-                n: F::V3::new(n[0][j], n[1][j], n[2][j]),
+                n: if normal_z {
+                    F::V3::new(F::ZERO, F::ZERO, F::ONE)
+                } else {
+                    F::V3::new(n[0][j], n[1][j], n[2][j])
+                },
                 t: F::V3::new(t[0][j], t[1][j], t[2][j]),
             };
-            let rgb = if VARY {
-                K::eval(
-                    &K::prepare(&BlockParams {
-                        slots: &scratch.params,
-                        j,
-                    }),
-                    &d,
-                )
+            let rgb = if vary {
+                let params = BlockParams {
+                    slots: &scratch.params,
+                    j,
+                };
+                K::eval(&K::prepare(&params), &d)
             } else {
                 K::eval(&uniform, &d)
             };
             let ok = scratch.ok[j];
-            for c in 0..3 {
-                rgb_out[c] = if ok { rgb[c] } else { F::NAN };
-            }
+            r[j] = if ok { rgb[0] } else { F::NAN };
+            g[j] = if ok { rgb[1] } else { F::NAN };
+            b[j] = if ok { rgb[2] } else { F::NAN };
+        }
+        let out_block = &mut out[3 * block_start..3 * (block_start + len)];
+        for (j, rgb_out) in out_block.chunks_exact_mut(3).enumerate() {
+            rgb_out[0] = r[j];
+            rgb_out[1] = g[j];
+            rgb_out[2] = b[j];
         }
         any_bad |= scratch.ok[..len].iter().any(|ok| !ok);
     }
     any_bad
 }
 
+const MODE_UNIFORM: u8 = 0;
+const MODE_NORMAL_Z: u8 = 1;
+const MODE_VARYING: u8 = 2;
+
 /// The signature of a compiled range loop.
 type RangeFn<F> = for<'p, 'a, 'o> unsafe fn(&'p Plan<'a, F>, usize, &'o mut [F]) -> bool;
 
-fn range_baseline<F: Real, K: Kernel, const VARY: bool>(
+fn range_baseline<F: Real, K: Kernel, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
-    run_range::<F, K, VARY>(plan, first_row, out)
+    run_range::<F, K, MODE>(plan, first_row, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-fn range_avx2<F: Real, K: Kernel, const VARY: bool>(
+fn range_avx2<F: Real, K: Kernel, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
-    run_range::<F, K, VARY>(plan, first_row, out)
+    run_range::<F, K, MODE>(plan, first_row, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-fn range_avx512<F: Real, K: Kernel, const VARY: bool>(
+fn range_avx512<F: Real, K: Kernel, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
-    run_range::<F, K, VARY>(plan, first_row, out)
+    run_range::<F, K, MODE>(plan, first_row, out)
 }
 
-/// Picks the compiled loop for a model, an instruction set and a parameter mode.
+/// Picks the compiled loop for a model, an instruction set and a mode.
 struct SelectLoop<F> {
     isa: Isa,
-    vary: bool,
+    mode: u8,
     _float: PhantomData<F>,
 }
 
@@ -314,19 +385,22 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
     type Output = RangeFn<F>;
 
     fn visit<K: Kernel>(self) -> RangeFn<F> {
+        macro_rules! pick {
+            ($f:ident) => {
+                match self.mode {
+                    MODE_NORMAL_Z => $f::<F, K, MODE_NORMAL_Z> as RangeFn<F>,
+                    MODE_VARYING => $f::<F, K, MODE_VARYING> as RangeFn<F>,
+                    _ => $f::<F, K, MODE_UNIFORM> as RangeFn<F>,
+                }
+            };
+        }
         #[cfg(target_arch = "x86_64")]
-        match (self.isa, self.vary) {
-            (Isa::Avx512, false) => return range_avx512::<F, K, false> as RangeFn<F>,
-            (Isa::Avx512, true) => return range_avx512::<F, K, true> as RangeFn<F>,
-            (Isa::Avx2, false) => return range_avx2::<F, K, false> as RangeFn<F>,
-            (Isa::Avx2, true) => return range_avx2::<F, K, true> as RangeFn<F>,
-            (Isa::Baseline, _) => {}
+        match self.isa {
+            Isa::Avx512 => return pick!(range_avx512),
+            Isa::Avx2 => return pick!(range_avx2),
+            Isa::Baseline => {}
         }
-        if self.vary {
-            range_baseline::<F, K, true> as RangeFn<F>
-        } else {
-            range_baseline::<F, K, false> as RangeFn<F>
-        }
+        pick!(range_baseline)
     }
 }
 
@@ -337,10 +411,17 @@ pub fn run<F: Real>(plan: &Plan<'_, F>, out: &mut [F]) -> bool {
         return false;
     }
     let isa = isa();
-    let vary = !plan.varying.is_empty();
+    let z = [F::ZERO, F::ZERO, F::ONE];
+    let mode = if !plan.varying.is_empty() {
+        MODE_VARYING
+    } else if plan.vectors[2].constant() == Some(z) {
+        MODE_NORMAL_Z
+    } else {
+        MODE_UNIFORM
+    };
     let range = plan.kind.visit(SelectLoop::<F> {
         isa,
-        vary,
+        mode,
         _float: PhantomData,
     });
     let task_rows = TASK_BLOCKS * BLOCK;

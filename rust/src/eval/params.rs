@@ -218,6 +218,75 @@ pub fn resolve<'a, F: Real>(
     Ok(Resolved { uniform, batch })
 }
 
+/// Parameters resolved against a batch: the uniform slots plus the rows of every
+/// parameter that varies, read per element (used by the integrator and the samplers,
+/// which work element by element rather than in SIMD blocks).
+pub struct ParamRows<'a, F> {
+    pub batch: Vec<usize>,
+    uniform: Vec<F>,
+    varying: Vec<(usize, usize, Rows<'a, F>)>,
+}
+
+impl<'a, F: Real> ParamRows<'a, F> {
+    /// Checks `given` against `spec` and broadcasts the parameters together with the
+    /// `others` (named batch shapes of the other inputs).
+    pub fn new(
+        spec: &'static ModelSpec,
+        given: Vec<(&'a str, ArrayViewD<'a, F>)>,
+        others: &[(&str, Vec<usize>)],
+    ) -> Result<ParamRows<'a, F>, BrdfError> {
+        let matched = match_names(spec, given.iter().map(|(name, _)| *name))?;
+        let given: Vec<GivenParam<'a, F>> = matched
+            .into_iter()
+            .zip(given)
+            .map(|(spec, (_, view))| GivenParam { spec, view })
+            .collect();
+        let resolved = resolve(spec, given, true)?;
+        let mut named: Vec<(&str, Vec<usize>)> = others.to_vec();
+        for p in &resolved.batch {
+            named.push((p.spec.name, p.own_batch.clone()));
+        }
+        let batch = super::rows::broadcast_shapes(&named)?;
+        let mut uniform = resolved.uniform;
+        let mut varying = Vec::new();
+        for BatchParam {
+            spec: p,
+            view,
+            has_component_axis,
+            ..
+        } in resolved.batch
+        {
+            let comps = p.kind.slots();
+            let rows = Rows::new(view, has_component_axis, comps, &batch);
+            match rows.constant() {
+                Some(row) => uniform[p.slot..p.slot + comps].copy_from_slice(&row[..comps]),
+                None => varying.push((p.slot, comps, rows)),
+            }
+        }
+        Ok(ParamRows {
+            batch,
+            uniform,
+            varying,
+        })
+    }
+
+    /// Returns the number of elements of the batch.
+    pub fn count(&self) -> usize {
+        self.batch.iter().product()
+    }
+
+    /// Writes the parameter slots of element `i` into `slots`.
+    pub fn slots(&self, i: usize, slots: &mut Vec<F>) {
+        slots.clear();
+        slots.extend_from_slice(&self.uniform);
+        let mut row = [F::ZERO; 3];
+        for (slot, comps, rows) in &self.varying {
+            super::engine::read_row(rows, *comps, &self.batch, i, &mut row);
+            slots[*slot..*slot + *comps].copy_from_slice(&row[..*comps]);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

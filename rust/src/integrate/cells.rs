@@ -6,16 +6,15 @@ use ndarray::ArrayViewD;
 use super::Cells;
 use crate::error::{BrdfError, format_shape};
 use crate::eval::engine::read_row;
-use crate::eval::params::{self, BatchParam, GivenParam};
-use crate::eval::rows::{Rows, broadcast_shapes};
+use crate::eval::params::{self, ParamRows};
+use crate::eval::rows::Rows;
 use crate::models::ModelKind;
 
-/// Broadcast cells: uniform slots plus the rows of every varying parameter and of `mu`.
+/// Broadcast cells: the parameters' rows and the rows of `mu`.
 pub struct CellGrid<'a> {
     pub batch: Vec<usize>,
     mu: Rows<'a, f64>,
-    uniform: Vec<f64>,
-    varying: Vec<(usize, usize, Rows<'a, f64>)>,
+    params: ParamRows<'a, f64>,
     ids: Option<&'a [u64]>,
 }
 
@@ -29,7 +28,6 @@ impl<'a> CellGrid<'a> {
         given: Vec<(&'a str, ArrayViewD<'a, f64>)>,
         ids: Option<&'a [u64]>,
     ) -> Result<CellGrid<'a>, BrdfError> {
-        let spec = kind.spec();
         if let Some(pos) = mu.iter().position(|&m| !(0.0..=1.0).contains(&m)) {
             let index = params::unravel(pos, mu.shape());
             return Err(BrdfError::OutOfRange {
@@ -39,18 +37,8 @@ impl<'a> CellGrid<'a> {
                 valid: "in [0, 1] (the cosine of the incidence angle)".into(),
             });
         }
-        let matched = params::match_names(spec, given.iter().map(|(name, _)| *name))?;
-        let given: Vec<GivenParam<'a, f64>> = matched
-            .into_iter()
-            .zip(given)
-            .map(|(spec, (_, view))| GivenParam { spec, view })
-            .collect();
-        let resolved = params::resolve(spec, given, true)?;
-        let mut named = vec![("mu", mu.shape().to_vec())];
-        for p in &resolved.batch {
-            named.push((p.spec.name, p.own_batch.clone()));
-        }
-        let batch = broadcast_shapes(&named)?;
+        let params = ParamRows::new(kind.spec(), given, &[("mu", mu.shape().to_vec())])?;
+        let batch = params.batch.clone();
         let cells: usize = batch.iter().product();
         if let Some(ids) = ids {
             if ids.len() != cells {
@@ -62,27 +50,10 @@ impl<'a> CellGrid<'a> {
             }
         }
         let mu = Rows::new(mu, false, 1, &batch);
-        let mut uniform = resolved.uniform;
-        let mut varying = Vec::new();
-        for BatchParam {
-            spec: p,
-            view,
-            has_component_axis,
-            ..
-        } in resolved.batch
-        {
-            let comps = p.kind.slots();
-            let rows = Rows::new(view, has_component_axis, comps, &batch);
-            match rows.constant() {
-                Some(row) => uniform[p.slot..p.slot + comps].copy_from_slice(&row[..comps]),
-                None => varying.push((p.slot, comps, rows)),
-            }
-        }
         Ok(CellGrid {
             batch,
             mu,
-            uniform,
-            varying,
+            params,
             ids,
         })
     }
@@ -94,13 +65,8 @@ impl Cells for CellGrid<'_> {
     }
 
     fn cell(&self, i: usize, slots: &mut Vec<f64>) -> (f64, u64) {
-        slots.clear();
-        slots.extend_from_slice(&self.uniform);
+        self.params.slots(i, slots);
         let mut row = [0.0; 3];
-        for (slot, comps, rows) in &self.varying {
-            read_row(rows, *comps, &self.batch, i, &mut row);
-            slots[*slot..*slot + *comps].copy_from_slice(&row[..*comps]);
-        }
         read_row(&self.mu, 1, &self.batch, i, &mut row);
         let id = self.ids.map_or(i as u64, |ids| ids[i]);
         (row[0], id)

@@ -503,8 +503,9 @@ pub fn pow_unit_f32_fma(x: f32, one_minus_x: f32, p: f32) -> f32 {
 }
 
 /// f32 e^x for every x: +inf above ~88.72, subnormals then +0 below
-/// ~-87.34 (0 below ~-103.97), NaN -> NaN. Max 0.67 ulp (every 7th f32 in
-/// [-104, 89]), 0.77 ulp of 2^-149 on subnormal results.
+/// ~-87.34 (0 below ~-103.97), NaN -> NaN. Exhaustive check over every f32
+/// in [-104, 89] against f64 exp: max 0.672 ulp on normal results, 0.780 ulp
+/// of 2^-149 on subnormal ones.
 #[inline(always)]
 pub fn exp_f32(x: f32) -> f32 {
     let xc = if x < -110.0 { -110.0 } else { x };
@@ -519,7 +520,8 @@ pub fn exp_f32(x: f32) -> f32 {
 }
 
 /// f32 ln x for x > 0, subnormals included; ln 0 = -inf, ln +inf = +inf,
-/// x < 0 or NaN -> NaN. Max 0.501 ulp (every 7th positive f32).
+/// x < 0 or NaN -> NaN. Exhaustive check over every positive finite f32
+/// against f64 ln: max 0.502 ulp.
 #[inline(always)]
 pub fn log_f32(x: f32) -> f32 {
     let (k, f, c15) = reduce_f32(x);
@@ -528,4 +530,109 @@ pub fn log_f32(x: f32) -> f32 {
     let r = if x == 0.0 { f32::NEG_INFINITY } else { r };
     let r = if x == f32::INFINITY { x } else { r };
     if x >= 0.0 { r } else { f32::NAN }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Spot checks against libm. The exhaustive accuracy runs (mpmath vectors at 72
+    //! digits, every f32) were made in the scratch crate this file comes from; these
+    //! keep the properties from regressing.
+    use super::*;
+
+    fn ulps(got: f64, want: f64) -> f64 {
+        if got == want {
+            return 0.0;
+        }
+        let ulp = f64::from_bits(want.abs().to_bits() + 1) - want.abs();
+        (got - want).abs() / ulp
+    }
+
+    /// A small deterministic generator (SplitMix64) for test inputs.
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn special_cases_are_exact() {
+        assert_eq!(pow_unit_f64(0.0, 1.0, 0.0), 1.0);
+        assert_eq!(pow_unit_f64(0.0, 1.0, 3.0), 0.0);
+        assert_eq!(pow_unit_f64(1.0, 0.0, 1e300), 1.0);
+        assert_eq!(pow_unit_f64(0.3, 0.7, 0.0), 1.0);
+        assert_eq!(pow_unit_f32(0.0, 1.0, 0.0), 1.0);
+        assert_eq!(pow_unit_f32(0.0, 1.0, 2.0), 0.0);
+        assert_eq!(pow_unit_f32(1.0, 0.0, 1e30), 1.0);
+        // Gradual underflow: 0.5^1074 is the smallest subnormal, 0.5^1075 rounds to 0.
+        assert_eq!(pow_unit_f64(0.5, 0.5, 1074.0), f64::from_bits(1));
+        assert_eq!(pow_unit_f64(0.5, 0.5, 1076.0), 0.0);
+    }
+
+    #[test]
+    fn pow_matches_libm_within_two_ulp() {
+        let mut s = 1;
+        for _ in 0..200_000 {
+            let x = uniform(&mut s);
+            let p = 10f64.powf(uniform(&mut s) * 5.0 - 2.0);
+            let want = x.powf(p);
+            if want < f64::MIN_POSITIVE || x == 0.0 {
+                continue;
+            }
+            let got = pow_unit_f64(x, 1.0 - x, p);
+            assert!(ulps(got, want) <= 2.0, "{x}^{p}: {got} vs {want}");
+            let x32 = x as f32;
+            let got32 = pow_unit_f32(x32, 1.0 - x32, p as f32);
+            let want32 = (x as f32 as f64).powf(p as f32 as f64);
+            if want32 > 1e-30 {
+                let rel = (f64::from(got32) - want32).abs() / want32;
+                assert!(
+                    rel < 4.0 * f64::from(f32::EPSILON),
+                    "f32 {x}^{p}: {got32} vs {want32}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn complement_keeps_accuracy_next_to_one() {
+        // x = 1 − d with d = 2^-k exact: (1 − d)^p = exp(p·log1p(−d)). That libm
+        // composition is itself off by up to ~|y| ulp (the roundings of log1p and of the
+        // product are magnified by exp); the fast pow is within 1 ulp of the truth.
+        for k in 10..60 {
+            let d = 2f64.powi(-k);
+            for p in [1.0, 7.3, 1e3, 1e6, 1e9, 1e12] {
+                let y = p * (-d).ln_1p();
+                if y < -700.0 {
+                    continue;
+                }
+                let want = y.exp();
+                let got = pow_unit_f64(1.0 - d, d, p);
+                assert!(
+                    ulps(got, want) <= 4.0 + 2.0 * y.abs(),
+                    "k={k} p={p}: {got} vs {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn exp_and_log_match_libm() {
+        let mut s = 7;
+        for _ in 0..100_000 {
+            let x = (uniform(&mut s) - 0.5) * 1400.0;
+            let want = x.exp();
+            if want.is_finite() && want > f64::MIN_POSITIVE {
+                assert!(ulps(exp_f64(x), want) <= 2.0, "exp({x})");
+            }
+            let y = 10f64.powf((uniform(&mut s) - 0.5) * 600.0);
+            assert!(ulps(log_f64(y), y.ln()) <= 2.0, "log({y})");
+            let yf = y as f32;
+            if yf > 0.0 && yf.is_finite() {
+                let rel = (f64::from(log_f32(yf)) - f64::from(yf).ln()).abs();
+                assert!(rel <= 4.0 * f64::from(f32::EPSILON) * f64::from(yf).ln().abs().max(1.0));
+            }
+        }
+    }
 }

@@ -19,6 +19,7 @@ use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
 use crate::models::{ModelKind, ParamKind, TangentUse};
+use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
 
 impl From<BrdfError> for PyErr {
@@ -259,11 +260,7 @@ fn albedo<'py>(
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<AlbedoArrays<'py>> {
     let kind = ModelKind::from_name(model)?;
-    let sampler = SamplerChoice::from_name(sampler).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "sampler: expected \"auto\", \"importance\", \"cosine\" or \"uniform\"; got {sampler:?}"
-        ))
-    })?;
+    let sampler = sampler_choice(sampler)?;
     let sequence = Sequence::from_name(sequence).ok_or_else(|| {
         PyValueError::new_err(format!(
             "sequence: expected \"sobol\" or \"random\"; got {sequence:?}"
@@ -318,6 +315,100 @@ fn albedo<'py>(
     ))
 }
 
+fn sampler_choice(name: &str) -> PyResult<SamplerChoice> {
+    SamplerChoice::from_name(name).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "sampler: expected \"auto\", \"importance\", \"cosine\" or \"uniform\"; got {name:?}"
+        ))
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn sampling_call<'py>(
+    py: Python<'py>,
+    model: &str,
+    wi: Arr<'py, f64>,
+    second: Arr<'py, f64>,
+    n: Option<Arr<'py, f64>>,
+    params: &Bound<'py, PyDict>,
+    sampler: &str,
+    sampling: bool,
+) -> PyResult<bsdf::batch::Output> {
+    let kind = ModelKind::from_name(model)?;
+    let sampler = sampler_choice(sampler)?;
+    let params = param_arrays::<f64>(params)?;
+    let inputs = bsdf::batch::Inputs {
+        wi: wi.as_array(),
+        second: second.as_array(),
+        n: n.as_ref().map(|a| a.as_array()),
+        params: params
+            .iter()
+            .map(|(k, a)| (k.as_str(), a.as_array()))
+            .collect(),
+    };
+    let run = || {
+        if sampling {
+            bsdf::batch::sample(kind, inputs, sampler)
+        } else {
+            bsdf::batch::pdf(kind, inputs, sampler)
+        }
+    };
+    Ok(py.detach(run)?)
+}
+
+fn shaped<'py>(
+    py: Python<'py>,
+    data: Vec<f64>,
+    shape: Vec<usize>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let a = numpy::ndarray::Array::from_shape_vec(shape, data)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+/// Draws directions from a model's sampler (see `brdf_rs.sample`): `(wo, weight, pdf)`.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn sample<'py>(
+    py: Python<'py>,
+    model: &str,
+    wi: Arr<'py, f64>,
+    u: Arr<'py, f64>,
+    n: Option<Arr<'py, f64>>,
+    params: &Bound<'py, PyDict>,
+    sampler: &str,
+) -> PyResult<Arrays3<'py>> {
+    let out = sampling_call(py, model, wi, u, n, params, sampler, true)?;
+    let mut vec_shape = out.batch.clone();
+    vec_shape.push(3);
+    Ok((
+        shaped(py, out.wo, vec_shape.clone())?,
+        shaped(py, out.weight, vec_shape)?,
+        shaped(py, out.pdf, out.batch)?,
+    ))
+}
+
+/// The sampler's density of `wo` (see `brdf_rs.pdf`).
+#[pyfunction]
+fn pdf<'py>(
+    py: Python<'py>,
+    model: &str,
+    wi: Arr<'py, f64>,
+    wo: Arr<'py, f64>,
+    n: Option<Arr<'py, f64>>,
+    params: &Bound<'py, PyDict>,
+    sampler: &str,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let out = sampling_call(py, model, wi, wo, n, params, sampler, false)?;
+    shaped(py, out.pdf, out.batch)
+}
+
+type Arrays3<'py> = (
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+);
+
 type AlbedoArrays<'py> = (
     Bound<'py, PyArrayDyn<f64>>,
     Bound<'py, PyArrayDyn<f64>>,
@@ -348,7 +439,8 @@ fn isa() -> &'static str {
 mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
-        albedo, check_params, eval_f32, eval_f64, isa, models, num_threads, set_num_threads,
+        albedo, check_params, eval_f32, eval_f64, isa, models, num_threads, pdf, sample,
+        set_num_threads,
     };
 
     #[pymodule_export]

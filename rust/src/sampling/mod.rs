@@ -7,6 +7,7 @@
 //! Densities are in 1/sr on the sphere; a warp never returns a direction its pdf
 //! calls impossible.
 
+pub mod bsdf;
 pub mod sobol;
 pub mod streams;
 

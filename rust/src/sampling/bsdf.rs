@@ -1,0 +1,368 @@
+//! Sampling a whole family-A model: a mixture of its lobes' importance samplers.
+//!
+//! The lobes come from the model's albedo decomposition ([`crate::models::albedo`]):
+//! diffuse terms are drawn cosine-weighted, Phong lobes about the mirror direction,
+//! Blinn / Torrance-Sparrow lobes through half vectors. A lobe is picked with probability
+//! proportional to its weight (its largest colour channel times its albedo where that is
+//! known exactly, else 1), and the density of the sample is the mixture's,
+//! `pdf = Σ_k p_k · pdf_k(wo)` (the one-sample balance heuristic), so `f·cos/pdf` stays
+//! bounded wherever any lobe covers the integrand.
+
+use glam::DVec3;
+
+use super::{Frame, Warp, one_minus_dot, reflect, reflected_pdf};
+use crate::integrate::SamplerChoice;
+use crate::models::albedo::{Importance, Integral, Term};
+
+/// One mixture component: a warp and its selection probability.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Component {
+    pub warp: Warp,
+    pub probability: f64,
+}
+
+/// The mixture of a parameter set's lobes (or a single uniform / cosine warp).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mixture {
+    pub components: Vec<Component>,
+}
+
+impl Mixture {
+    /// Builds the sampler for a model's terms.
+    pub fn new(terms: &[Term], sampler: SamplerChoice) -> Mixture {
+        let single = |warp| Mixture {
+            components: vec![Component {
+                warp,
+                probability: 1.0,
+            }],
+        };
+        match sampler {
+            SamplerChoice::Uniform => return single(Warp::UniformHemisphere),
+            SamplerChoice::Cosine => return single(Warp::CosineHemisphere),
+            SamplerChoice::Auto | SamplerChoice::Importance => {}
+        }
+        let mut comps: Vec<Component> = Vec::new();
+        for term in terms {
+            let strength = term.colour.iter().fold(0.0_f64, |a, &c| a.max(c.abs()));
+            let (warp, weight) = match term.integral {
+                Integral::Exact(v) => (Warp::CosineHemisphere, strength * v),
+                Integral::Lobe { importance, .. } => (
+                    match importance {
+                        Importance::Cosine => Warp::CosineHemisphere,
+                        Importance::PhongLobe { p } => Warp::PhongLobe { p },
+                        Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
+                    },
+                    strength,
+                ),
+            };
+            if !(weight > 0.0) {
+                continue;
+            }
+            match comps.iter_mut().find(|c| c.warp == warp) {
+                Some(c) => c.probability += weight,
+                None => comps.push(Component {
+                    warp,
+                    probability: weight,
+                }),
+            }
+        }
+        let total: f64 = comps.iter().map(|c| c.probability).sum();
+        if !(total > 0.0) {
+            // A black material: any valid sampler will do.
+            return single(Warp::CosineHemisphere);
+        }
+        for c in &mut comps {
+            c.probability /= total;
+        }
+        Mixture { components: comps }
+    }
+
+    /// Draws `wo` for `wi` (unit, any side) about unit normal `n` from `u` in `[0, 1)²`.
+    /// Returns `(wo, pdf)`; `pdf` is the mixture's density of `wo` (0 when the draw is
+    /// invalid, e.g. below the surface).
+    pub fn sample(&self, wi: DVec3, n: DVec3, u: [f64; 2]) -> (DVec3, f64) {
+        // Pick a component with u0, then stretch u0 back onto [0, 1).
+        let mut u0 = u[0];
+        let mut chosen = self.components.len() - 1;
+        for (k, c) in self.components.iter().enumerate() {
+            if u0 < c.probability || k + 1 == self.components.len() {
+                chosen = k;
+                u0 = (u0 / c.probability).min(1.0 - f64::EPSILON / 2.0);
+                break;
+            }
+            u0 -= c.probability;
+        }
+        let warp = self.components[chosen].warp;
+        let s = warp.sample([u0, u[1]]);
+        let wo = match warp {
+            Warp::BlinnHalf { .. } => reflect(wi, Frame::around(n).to_world(s.dir)),
+            Warp::PhongLobe { .. } => {
+                let mu_i = wi.dot(n);
+                Frame::around(n * (2.0 * mu_i) - wi).to_world(s.dir)
+            }
+            Warp::CosineHemisphere | Warp::UniformHemisphere => Frame::around(n).to_world(s.dir),
+        };
+        let wo = wo.normalize();
+        (wo, self.pdf(wi, wo, n))
+    }
+
+    /// Returns the mixture's density of `wo` given `wi` about normal `n` (all unit).
+    pub fn pdf(&self, wi: DVec3, wo: DVec3, n: DVec3) -> f64 {
+        let mu_o = wo.dot(n);
+        if !(mu_o > 0.0) || !(wi.dot(n) > 0.0) {
+            return 0.0;
+        }
+        let mut total = 0.0;
+        for c in &self.components {
+            let density = match c.warp {
+                Warp::BlinnHalf { .. } => {
+                    let s = wi + wo;
+                    if s.length_squared() == 0.0 {
+                        0.0
+                    } else {
+                        let h = s.normalize();
+                        reflected_pdf(c.warp.pdf(h.dot(n), one_minus_dot(h, n)), wo.dot(h))
+                    }
+                }
+                Warp::PhongLobe { .. } => {
+                    let r = n * (2.0 * wi.dot(n)) - wi;
+                    let r = r.normalize();
+                    c.warp.pdf(r.dot(wo), one_minus_dot(r, wo))
+                }
+                Warp::CosineHemisphere | Warp::UniformHemisphere => {
+                    c.warp.pdf(mu_o, one_minus_dot(n, wo))
+                }
+            };
+            total += c.probability * density;
+        }
+        total
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mixture_probabilities_follow_lobe_strength() {
+        let terms = crate::models::albedo::diffuse_and_lobe(
+            &[0.2, 0.2, 0.2, 0.6, 0.0, 0.0, 10.0, 1.5],
+            1.0,
+            Importance::BlinnHalf { p: 10.0 },
+        );
+        let m = Mixture::new(&terms, SamplerChoice::Auto);
+        assert_eq!(m.components.len(), 2);
+        assert!((m.components[0].probability - 0.25).abs() < 1e-15);
+        assert!((m.components[1].probability - 0.75).abs() < 1e-15);
+    }
+}
+
+/// Model-level sampling over broadcast arrays (`brdf_rs.sample` / `brdf_rs.pdf`).
+pub mod batch {
+    use super::Mixture;
+    use crate::error::{BrdfError, format_shape};
+    use crate::eval::engine::read_row;
+    use crate::eval::params::ParamRows;
+    use crate::eval::rows::Rows;
+    use crate::integrate::SamplerChoice;
+    use crate::math::Real;
+    use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
+    use crate::parallel;
+    use glam::DVec3;
+    use ndarray::ArrayViewD;
+    use rayon::prelude::*;
+
+    /// The inputs of a sampling call: `wi`, then `u` (sample) or `wo` (pdf), and `n`.
+    pub struct Inputs<'a> {
+        pub wi: ArrayViewD<'a, f64>,
+        /// `u` of shape `(..., 2)` for `sample`, `wo` of shape `(..., 3)` for `pdf`.
+        pub second: ArrayViewD<'a, f64>,
+        pub n: Option<ArrayViewD<'a, f64>>,
+        pub params: Vec<(&'a str, ArrayViewD<'a, f64>)>,
+    }
+
+    /// Results: the batch shape, and per element `wo` (3), `weight` (3), `pdf` (1).
+    #[derive(Debug, Default)]
+    pub struct Output {
+        pub batch: Vec<usize>,
+        pub wo: Vec<f64>,
+        pub weight: Vec<f64>,
+        pub pdf: Vec<f64>,
+    }
+
+    fn last_axis(
+        name: &str,
+        view: &ArrayViewD<'_, f64>,
+        len: usize,
+    ) -> Result<Vec<usize>, BrdfError> {
+        let shape = view.shape();
+        if shape.last() != Some(&len) {
+            return Err(BrdfError::Shape(format!(
+                "{name}: expected an array of shape (..., {len}); got shape {}",
+                format_shape(shape)
+            )));
+        }
+        Ok(shape[..shape.len() - 1].to_vec())
+    }
+
+    struct Run<'a> {
+        inputs: Inputs<'a>,
+        sampling: bool,
+        sampler: SamplerChoice,
+    }
+
+    impl KernelVisitor for Run<'_> {
+        type Output = Result<Output, BrdfError>;
+
+        fn visit<K: Kernel>(self) -> Result<Output, BrdfError> {
+            let Run {
+                inputs,
+                sampling,
+                sampler,
+            } = self;
+            let second_len = if sampling { 2 } else { 3 };
+            let second_name = if sampling { "u" } else { "wo" };
+            let mut named = vec![
+                ("wi", last_axis("wi", &inputs.wi, 3)?),
+                (
+                    second_name,
+                    last_axis(second_name, &inputs.second, second_len)?,
+                ),
+            ];
+            if let Some(n) = &inputs.n {
+                named.push(("n", last_axis("n", n, 3)?));
+            }
+            let params = ParamRows::<f64>::new(K::spec(), inputs.params, &named)?;
+            let batch = params.batch.clone();
+            let count = params.count();
+            let wi = Rows::new(inputs.wi, true, 3, &batch);
+            let second = Rows::new(inputs.second, true, second_len, &batch);
+            let n = inputs.n.map(|v| Rows::new(v, true, 3, &batch));
+            let mut out = Output {
+                batch,
+                wo: vec![0.0; 3 * count],
+                weight: vec![0.0; 3 * count],
+                pdf: vec![0.0; count],
+            };
+            let batch = &out.batch.clone();
+            let element =
+                |i: usize, wo_out: &mut [f64], weight_out: &mut [f64], pdf_out: &mut f64| {
+                    let mut slots = Vec::new();
+                    params.slots(i, &mut slots);
+                    let mut row = [0.0; 3];
+                    read_row(&wi, 3, batch, i, &mut row);
+                    let (wi_v, ok_i) = f64::normalize(DVec3::from_array(row));
+                    let mut row2 = [0.0; 3];
+                    read_row(&second, second_len, batch, i, &mut row2);
+                    let n_v = match &n {
+                        Some(rows) => {
+                            let mut r = [0.0; 3];
+                            read_row(rows, 3, batch, i, &mut r);
+                            f64::normalize(DVec3::from_array(r))
+                        }
+                        None => (DVec3::Z, true),
+                    };
+                    let terms = K::albedo_terms(&slots).unwrap_or_default();
+                    let mixture = Mixture::new(&terms, sampler);
+                    let (wo, pdf, ok) = if sampling {
+                        let u = [
+                            row2[0].clamp(0.0, 1.0 - f64::EPSILON / 2.0),
+                            row2[1].clamp(0.0, 1.0 - f64::EPSILON / 2.0),
+                        ];
+                        let (wo, pdf) = mixture.sample(wi_v, n_v.0, u);
+                        (
+                            wo,
+                            pdf,
+                            ok_i && n_v.1 && row2[0].is_finite() && row2[1].is_finite(),
+                        )
+                    } else {
+                        let (wo, ok_o) = f64::normalize(DVec3::from_array(row2));
+                        (wo, mixture.pdf(wi_v, wo, n_v.0), ok_i && ok_o && n_v.1)
+                    };
+                    let prepared = K::prepare::<f64, [f64]>(&slots);
+                    let d = Directions::<f64> {
+                        wi: wi_v,
+                        wo,
+                        n: n_v.0,
+                        t: DVec3::X,
+                    };
+                    let f = K::eval::<f64>(&prepared, &d);
+                    let mu_o = wo.dot(n_v.0);
+                    for c in 0..3 {
+                        let w = f[c] * mu_o / pdf;
+                        weight_out[c] = if !ok {
+                            f64::NAN
+                        } else if pdf > 0.0 && mu_o > 0.0 {
+                            w
+                        } else {
+                            0.0
+                        };
+                    }
+                    if sampling {
+                        wo_out.copy_from_slice(&(if ok { wo } else { DVec3::NAN }).to_array());
+                    }
+                    *pdf_out = if ok { pdf } else { f64::NAN };
+                };
+            let chunk = 4096;
+            parallel::install(|| {
+                out.wo
+                    .par_chunks_mut(3 * chunk)
+                    .zip(out.weight.par_chunks_mut(3 * chunk))
+                    .zip(out.pdf.par_chunks_mut(chunk))
+                    .enumerate()
+                    .for_each(|(c, ((wo, weight), pdf))| {
+                        for j in 0..pdf.len() {
+                            element(
+                                c * chunk + j,
+                                &mut wo[3 * j..3 * j + 3],
+                                &mut weight[3 * j..3 * j + 3],
+                                &mut pdf[j],
+                            );
+                        }
+                    })
+            });
+            Ok(out)
+        }
+    }
+
+    /// Draws one `wo` per element (`u` of shape `(..., 2)` in `[0, 1)²`); returns `wo`,
+    /// the RGB weight `f·cos θo / pdf` (0 for an invalid draw) and the mixture `pdf`.
+    pub fn sample(
+        kind: ModelKind,
+        inputs: Inputs<'_>,
+        sampler: SamplerChoice,
+    ) -> Result<Output, BrdfError> {
+        family_a(kind)?;
+        kind.visit(Run {
+            inputs,
+            sampling: true,
+            sampler,
+        })
+    }
+
+    /// Returns the sampler's density of `wo` per element (and `f·cos/pdf` as `weight`).
+    pub fn pdf(
+        kind: ModelKind,
+        inputs: Inputs<'_>,
+        sampler: SamplerChoice,
+    ) -> Result<Output, BrdfError> {
+        family_a(kind)?;
+        kind.visit(Run {
+            inputs,
+            sampling: false,
+            sampler,
+        })
+    }
+
+    fn family_a(kind: ModelKind) -> Result<(), BrdfError> {
+        if kind.spec().family == Family::A {
+            Ok(())
+        } else {
+            Err(BrdfError::InvalidArgument(format!(
+                "{}: sampling is defined for family-A BRDFs; {} is a family-B shading term",
+                kind.name(),
+                kind.name()
+            )))
+        }
+    }
+}
