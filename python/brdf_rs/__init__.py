@@ -10,6 +10,7 @@ from . import reference
 from ._albedo import Albedo, Energy, Table, albedo, albedo_table, dfg_table, energy
 from ._api import Model, eval, isa, models, num_threads, set_num_threads
 from ._brdf_rs import __version__
+from ._sampling import pdf, sample
 
 __all__ = [
     "Albedo",
@@ -25,6 +26,8 @@ __all__ = [
     "isa",
     "models",
     "num_threads",
+    "pdf",
     "reference",
+    "sample",
     "set_num_threads",
 ]
