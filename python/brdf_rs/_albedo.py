@@ -85,6 +85,7 @@ def albedo(
     replicates: int = DEFAULT_REPLICATES,
     progress: Callable[[int, int], None] | None = None,
     cell_ids: np.ndarray | None = None,
+    fold_azimuth: bool = True,
     **params: Any,
 ) -> Albedo:
     """Directional albedo ``R(mu) = ∫ f(wi, wo)·cos θo dωo`` of a family-A model.
@@ -104,6 +105,8 @@ def albedo(
             (doubling its samples, up to ``max_samples``, default max(samples, 2^24)).
         progress: called as ``progress(cells_done, samples_done)`` about every 0.1 s.
         cell_ids: uint64 ids keying each cell's stream (default: the flat cell index).
+        fold_azimuth: draw azimuths on [0, π) only, using the integrand's symmetry about
+            the plane of incidence (default); ``False`` covers the full circle.
         **params: the model's parameters (MODELS.md names), scalars or arrays
             broadcasting against ``mu``.
 
@@ -127,6 +130,7 @@ def albedo(
         options["replicates"],
         ids,
         progress,
+        bool(fold_azimuth),
     )
     return Albedo(value=value, stderr=stderr, samples=drawn)
 

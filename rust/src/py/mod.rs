@@ -242,7 +242,7 @@ fn run_interruptible<'py, T: Send>(
 /// Directional albedo of every cell of `mu` broadcast with `params` (see
 /// `brdf_rs.albedo`). Returns `(value, stderr, samples)`.
 #[pyfunction]
-#[pyo3(signature = (model, mu, params, samples, sampler, sequence, seed, tol, max_samples, replicates, cell_ids=None, progress=None))]
+#[pyo3(signature = (model, mu, params, samples, sampler, sequence, seed, tol, max_samples, replicates, cell_ids=None, progress=None, fold_azimuth=true))]
 #[allow(clippy::too_many_arguments)]
 fn albedo<'py>(
     py: Python<'py>,
@@ -258,6 +258,7 @@ fn albedo<'py>(
     replicates: u32,
     cell_ids: Option<PyReadonlyArrayDyn<'py, u64>>,
     progress: Option<Bound<'py, PyAny>>,
+    fold_azimuth: bool,
 ) -> PyResult<AlbedoArrays<'py>> {
     let kind = ModelKind::from_name(model)?;
     let sampler = sampler_choice(sampler)?;
@@ -274,6 +275,7 @@ fn albedo<'py>(
         tol,
         max_samples: max_samples.unwrap_or_else(|| samples.max(1 << 24)),
         replicates,
+        fold_azimuth,
     };
     let params = param_arrays::<f64>(params)?;
     let views = params
