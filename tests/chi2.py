@@ -505,10 +505,11 @@ def chi2_test(
     # made conservative by the quadrature error; a density whose integral exceeds one is
     # no density of any sampler.
     valid = n_samples - invalid_observed
-    if integral > 1.0 + qerr + 1e-12:
+    slack = qerr + 1e-10  # the quadrature's error estimate and its rounding (~1e-12)
+    if integral > 1.0 + slack:
         p_mass = 0.0
     else:
-        hi, lo = min(1.0, integral + qerr), max(0.0, min(1.0, integral - qerr))
+        hi, lo = min(1.0, integral + slack), max(0.0, min(1.0, integral - slack))
         p_mass = min(
             1.0,
             2.0 * float(stats.binom.sf(valid - 1, n_samples, hi)),

@@ -12,6 +12,7 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -80,6 +81,116 @@ def cmd_eval(args: argparse.Namespace) -> int:
     return 0
 
 
+def _axis(text: str) -> tuple[str, np.ndarray]:
+    """Parses an axis: ``name=start:stop:count`` (linear, ends included),
+    ``name=mid:start:stop:count`` (cell midpoints), ``name=log:start:stop:count`` or
+    ``name=v1,v2,...``."""
+    if "=" not in text:
+        raise argparse.ArgumentTypeError(f"expected name=spec, got {text!r}")
+    name, _, spec = text.partition("=")
+    name = name.strip()
+    parts = spec.split(":")
+    try:
+        if len(parts) == 1:
+            values = np.array([float(x) for x in spec.split(",")])
+        else:
+            kind = parts[0] if parts[0] in ("lin", "log", "mid") else "lin"
+            nums = parts[1:] if parts[0] in ("lin", "log", "mid") else parts
+            if len(nums) != 3:
+                raise ValueError("need start:stop:count")
+            start, stop, count = float(nums[0]), float(nums[1]), int(nums[2])
+            if count < 1:
+                raise ValueError("count must be at least 1")
+            if kind == "log":
+                values = np.geomspace(start, stop, count)
+            elif kind == "mid":
+                values = start + (stop - start) * (np.arange(count) + 0.5) / count
+            else:
+                values = np.linspace(start, stop, count)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"axis {name}: {exc} (in {spec!r})") from None
+    return name, values
+
+
+DEFAULT_TABLE = {
+    "model": "torrance_sparrow",
+    "axes": ["mu=mid:0:1:32", "p=log:1:10000:32"],
+    "params": ["kd=0", "ks=1", "eta=1.5"],
+    "tol": 1e-4,
+}
+
+
+def cmd_table(args: argparse.Namespace) -> int:
+    from . import _albedo
+
+    defaulted = args.model is None
+    model = DEFAULT_TABLE["model"] if defaulted else args.model
+    default_axes = DEFAULT_TABLE["axes"] if defaulted else DEFAULT_TABLE["axes"][:1]
+    axes = dict(args.axis) or dict(_axis(a) for a in default_axes)
+    params = dict(args.param)
+    if defaulted and not args.param:
+        params = dict(_param(p) for p in DEFAULT_TABLE["params"])
+    tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
+    out = Path(args.output or f"albedo_{model}.npz")
+    cells = int(np.prod([len(v) for v in axes.values()]))
+    bar = _progress_bar(cells, args.quiet)
+    last = [0, 0]
+
+    def progress(done: int, samples: int) -> None:
+        if bar is not None:
+            bar.update(done - last[0])
+            bar.set_postfix_str(f"{(samples - last[1]) / 0.1 / 1e6:.0f} M samples/s")
+        last[0], last[1] = done, samples
+
+    try:
+        table = _albedo.albedo_table(
+            model,
+            axes,
+            samples=args.samples,
+            sampler=args.sampler,
+            sequence=args.sequence,
+            seed=args.seed,
+            tol=tol,
+            max_samples=args.max_samples,
+            progress=progress,
+            **params,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    path = table.save(out)
+    summary = {
+        "model": model,
+        "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
+        "params": params,
+        "output": str(path.resolve()),
+        "samples": int(table.samples.sum()),
+        "max_stderr": float(table.stderr.max()),
+        "albedo_range": [float(table.value.min()), float(table.value.max())],
+    }
+    if args.json:
+        _print_json(summary)
+    else:
+        shape = " x ".join(f"{k}[{len(v)}]" for k, v in table.axes.items())
+        print(f"{model} albedo table {shape}: wrote {path.resolve()}")
+        print(
+            f"  albedo in [{summary['albedo_range'][0]:.4g}, {summary['albedo_range'][1]:.4g}],"
+            f" largest standard error {summary['max_stderr']:.2g},"
+            f" {summary['samples']:,} samples"
+        )
+    return 0
+
+
+def _progress_bar(total: int, quiet: bool):
+    if quiet:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, unit="cell", file=sys.stderr, dynamic_ncols=True)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="brdf-rs",
@@ -102,6 +213,38 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(run=cmd_eval)
+
+    p = sub.add_parser(
+        "table",
+        help="build an albedo table (the main job)",
+        description="Tabulate the directional albedo R(mu) over axes of mu and parameters. "
+        "With no arguments: a 32x32 torrance_sparrow table over mu and p, tol 1e-4; "
+        "with a model and no --axis: 32 incidences mu.",
+    )
+    p.add_argument("model", nargs="?", default=None, help="a family-A model")
+    p.add_argument(
+        "--axis",
+        type=_axis,
+        action="append",
+        default=[],
+        help="name=start:stop:count | name=mid:start:stop:count | name=log:start:stop:count"
+        " | name=v1,v2,... (repeat; mu and parameters)",
+    )
+    p.add_argument(
+        "--param", "-p", type=_param, action="append", default=[], help="fixed name=value"
+    )
+    p.add_argument(
+        "--samples", type=int, default=4096, help="samples per cell (first round with --tol)"
+    )
+    p.add_argument("--tol", type=float, default=None, help="stop each cell at this standard error")
+    p.add_argument("--max-samples", type=int, default=None, help="cap per cell with --tol")
+    p.add_argument("--sampler", default="auto", choices=["auto", "importance", "cosine", "uniform"])
+    p.add_argument("--sequence", default="sobol", choices=["sobol", "random"])
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("-o", "--output", default=None, help="table.npz | table.exr | table.png")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    p.set_defaults(run=cmd_table)
     return parser
 
 
