@@ -306,7 +306,8 @@ def integrate_sphere(
 
 
 def adaptive_theta_edges(theta: np.ndarray, n_theta: int) -> np.ndarray:
-    """θ band edges: 0, the pilot's θ quantiles at k/n_theta, then doubling up to π."""
+    """θ band edges: 0, the pilot's θ quantiles at k/n_theta, then doubling up to π, and
+    π/2."""
     theta = np.asarray(theta, dtype=np.float64)
     theta = theta[np.isfinite(theta)]
     if len(theta) < 10 * n_theta:
@@ -437,7 +438,8 @@ def chi2_test(
     theta_edges: np.ndarray | None = None,
     label: str = "",
 ) -> Chi2Result:
-    """Pearson's χ² test that ``sample`` draws directions with density ``pdf``.
+    """Tests that ``sample`` draws directions with density ``pdf`` (module docstring:
+    Pearson's χ², the valid-mass test and the empty-cell test, combined by Bonferroni).
 
     Args:
         sample: ``u`` of shape ``(M, 2)`` (uniform in [0, 1)) → ``(dirs (M, 3), valid (M,))``;
@@ -470,7 +472,10 @@ def chi2_test(
     # The tested sample.
     d, ok = sample(rng.random((n_samples, 2)))
     ok = np.asarray(ok, dtype=bool)
-    theta, phi = frame.to_polar(np.asarray(d)[ok])
+    d = np.asarray(d, dtype=np.float64)[ok]
+    if not np.all(np.isfinite(d)):
+        raise ValueError("sample returned a non-finite direction it calls valid")
+    theta, phi = frame.to_polar(d)
     it = np.clip(np.searchsorted(theta_edges, theta, side="right") - 1, 0, nt - 1)
     ip = np.minimum((phi * (n_phi / TWO_PI)).astype(np.int64), n_phi - 1)
     observed = np.bincount(it * n_phi + ip, minlength=nt * n_phi).reshape(nt, n_phi)
