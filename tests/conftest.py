@@ -24,6 +24,11 @@ FAMILY_A = [m for m in MODEL_NAMES if SPECS[m]["family"] == "A"]
 FAMILY_B = [m for m in MODEL_NAMES if SPECS[m]["family"] == "B"]
 
 
+def takes_tangent(model: str) -> bool:
+    """Whether the model reads a tangent (required or optional)."""
+    return bool(SPECS[model]["tangent"] or SPECS[model].get("tangent_optional"))
+
+
 def random_directions(rng: np.random.Generator, n: int, *, unnormalized: bool = True):
     """Random directions over the whole sphere, some with random lengths."""
     v = rng.normal(size=(n, 3))
@@ -54,6 +59,10 @@ def random_value(rng: np.random.Generator, model: str, spec: dict, size=None):
             return np.where(rng.random(size=size) < 0.05, 0.0, p)
         if name == "eta":
             return 10.0 ** rng.uniform(-0.7, 0.7, size=size)
+        if name in ("alpha", "alpha_x", "alpha_y"):
+            return 10.0 ** rng.uniform(-2, 0, size=size)
+        if name in ("nu", "nv"):
+            return 10.0 ** rng.uniform(0, 4, size=size)
         return rng.uniform(spec["min"], spec["max"], size=size)
     raise AssertionError(f"no varying generator for {model}.{name}")
 
@@ -95,10 +104,19 @@ def reference_rgb(model, wi, wo, n=(0.0, 0.0, 1.0), tangent=None, **params):
 
 
 def condition(model, wi, wo, n, tangent, params, rng, value, delta=1e-7, trials=3):
-    """Estimated relative condition number of the reference value at these inputs."""
+    """Estimated relative condition number of the reference value at these inputs.
+
+    Directions are nudged normwise (by ``delta·|v|`` in a random direction: what the
+    roundings inside any algorithm amount to), parameters relatively.
+    """
     worst = 0.0
+
+    def jitter(v):
+        g = rng.normal(size=3)
+        g *= delta * math.hypot(*v) / np.linalg.norm(g)
+        return [float(x + d) for x, d in zip(v, g, strict=True)]
+
     for _ in range(trials):
-        jitter = lambda v: [x * (1.0 + delta * rng.uniform(-1, 1)) for x in v]  # noqa: E731
         p2 = {}
         for k, v in params.items():
             if k in ("thresholds", "colors"):

@@ -17,6 +17,7 @@ from conftest import (
     random_params,
     reference_rgb,
     row_params,
+    takes_tangent,
 )
 
 EPS64 = np.finfo(np.float64).eps
@@ -40,7 +41,7 @@ def random_case(rng, model, count):
     n[: count // 4] = [0.0, 0.0, 1.0]
     wi = hemisphere_biased(rng, n, count)
     wo = hemisphere_biased(rng, n, count)
-    tangent = random_directions(rng, count) if SPECS[model]["tangent"] else None
+    tangent = random_directions(rng, count) if takes_tangent(model) else None
     return wi, wo, n, tangent
 
 
@@ -146,7 +147,7 @@ def _adversarial_params(model):
 @pytest.mark.parametrize("model", MODEL_NAMES)
 def test_adversarial_inputs_never_nan_and_match_reference(model):
     rng = np.random.default_rng(3)
-    tangent = (0.6, 0.0, 0.8) if SPECS[model]["tangent"] else None
+    tangent = (0.6, 0.0, 0.8) if takes_tangent(model) else None
     for plabel, params in _adversarial_params(model):
         for glabel, wi, wo, n in _adversarial_geometry():
             got = brdf_rs.eval(model, wi, wo, n, tangent=tangent, **params)

@@ -70,13 +70,14 @@ BLINN = (
     "torrance_sparrow",
 )
 DIFFUSE = ("lambert", "oren_nayar")
+MICROFACET = ("ggx", "beckmann", "ward", "ashikhmin_shirley")
 MUS = (0.05, 0.5, 0.95)
 EXPONENTS = (1.0, 10.0, 100.0, 1e3, 1e4)
 TILTED = (0.35, -0.25, 0.9)
 
 
 def test_the_model_lists_cover_family_a():
-    assert sorted(PHONG + BLINN + DIFFUSE) == sorted(FAMILY_A)
+    assert sorted(PHONG + BLINN + DIFFUSE + MICROFACET) == sorted(FAMILY_A)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -137,7 +138,19 @@ class Case:
 
 
 def _params(model: str, p: float, mixture: bool) -> dict:
-    """kd, ks (and eta, sigma) for a model: a single lobe (kd = 0) or a mixture."""
+    """kd, ks (and eta, sigma) for a model: a single lobe (kd = 0) or a mixture.
+
+    For the microfacet models ``p`` is the roughness: α for ggx and beckmann, (αx, αy) =
+    (p, 4p) for ward and (nu, nv) = (1/p, 100/p) for ashikhmin_shirley (anisotropic).
+    """
+    if model in ("ggx", "beckmann"):
+        return {"alpha": p, "kd": [0.3, 0.2, 0.1] if mixture else 0.0, "ks": [1.0, 0.8, 0.6]}
+    if model == "ward":
+        kd = [0.3, 0.2, 0.1] if mixture else 0.0
+        return {"alpha_x": p, "alpha_y": 4 * p, "kd": kd, "ks": [1.0, 0.8, 0.6]}
+    if model == "ashikhmin_shirley":
+        rd = [0.3, 0.2, 0.1] if mixture else 0.0
+        return {"nu": 1 / p, "nv": 100 / p, "Rd": rd, "Rs": [0.9, 0.5, 0.2]}
     if model in DIFFUSE:
         return {"kd": [0.8, 0.5, 0.3]} | ({"sigma": 0.5} if model == "oren_nayar" else {})
     out: dict = {"p": p, "kd": [0.3, 0.2, 0.1] if mixture else 0.0}
@@ -168,6 +181,16 @@ def _chi2_cases() -> list[Case]:
     for model, points in mixture_points.items():
         for mu, p in points:
             cases.append(Case.of(model, mu, **_params(model, p, mixture=True)))
+    # Microfacet models: grazing to normal incidence, smooth to sharp, single and mixed.
+    microfacet_points = {
+        "ggx": [(0.05, 0.02, False), (0.5, 0.3, True), (0.95, 1.0, False)],
+        "beckmann": [(0.05, 0.3, False), (0.5, 0.02, False), (0.95, 0.7, True)],
+        "ward": [(0.05, 0.05, False), (0.5, 0.2, True), (0.95, 0.02, False)],
+        "ashikhmin_shirley": [(0.05, 0.1, False), (0.5, 0.01, True), (0.95, 1.0, False)],
+    }
+    for model, points in microfacet_points.items():
+        for mu, roughness, mixture in points:
+            cases.append(Case.of(model, mu, **_params(model, roughness, mixture)))
     # Diffuse models; the single-warp samplers on lobe models.
     cases.append(Case.of("lambert", 0.05, **_params("lambert", 0, False)))
     cases.append(Case.of("oren_nayar", 0.5, **_params("oren_nayar", 0, False)))

@@ -57,6 +57,7 @@ def sample(
     wi: F64,
     u: F64,
     n: F64 | None,
+    tangent: F64 | None,
     params: dict[str, F64],
     sampler: str,
 ) -> tuple[F64, F64, F64]: ...
@@ -65,6 +66,7 @@ def pdf(
     wi: F64,
     wo: F64,
     n: F64 | None,
+    tangent: F64 | None,
     params: dict[str, F64],
     sampler: str,
 ) -> F64: ...

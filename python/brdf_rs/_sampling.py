@@ -18,6 +18,7 @@ def sample(
     u: Any,
     n: Any = None,
     *,
+    tangent: Any = None,
     sampler: str = "auto",
     **params: Any,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -33,6 +34,7 @@ def sample(
         wi: directions toward the light, shape ``(..., 3)`` (normalized here).
         u: uniform random numbers in ``[0, 1)``, shape ``(..., 2)``.
         n: normals (default +z).
+        tangent: tangents of anisotropic models (projected onto the tangent plane).
         **params: the model's parameters, broadcasting against the batch.
 
     Returns:
@@ -40,30 +42,43 @@ def sample(
         ``f(wi, wo)·cos θo / pdf`` (0 for a draw below the surface), and the mixture's
         density of ``wo`` in 1/sr (the same value :func:`pdf` returns).
     """
-    _, v = _arrays.directions(wi=wi, n=n)
+    _, v = _arrays.directions(wi=wi, n=n, tangent=tangent)
     return _core.sample(
         model,
-        np.asarray(v["wi"], np.float64),
+        _f64v(v["wi"]),
         _f64("u", u),
-        None if v["n"] is None else np.asarray(v["n"], np.float64),
+        _f64v(v["n"]),
+        _f64v(v["tangent"]),
         _arrays.parameters(params, np.float64),
         sampler,
     )
 
 
 def pdf(
-    model: str, wi: Any, wo: Any, n: Any = None, *, sampler: str = "auto", **params: Any
+    model: str,
+    wi: Any,
+    wo: Any,
+    n: Any = None,
+    *,
+    tangent: Any = None,
+    sampler: str = "auto",
+    **params: Any,
 ) -> np.ndarray:
     """Returns the density (1/sr) with which :func:`sample` draws ``wo`` given ``wi``."""
-    _, v = _arrays.directions(wi=wi, wo=wo, n=n)
+    _, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     return _core.pdf(
         model,
-        np.asarray(v["wi"], np.float64),
-        np.asarray(v["wo"], np.float64),
-        None if v["n"] is None else np.asarray(v["n"], np.float64),
+        _f64v(v["wi"]),
+        _f64v(v["wo"]),
+        _f64v(v["n"]),
+        _f64v(v["tangent"]),
         _arrays.parameters(params, np.float64),
         sampler,
     )
+
+
+def _f64v(value: np.ndarray | None) -> np.ndarray | None:
+    return None if value is None else np.asarray(value, np.float64)
 
 
 def _f64(name: str, value: Any) -> np.ndarray:

@@ -404,6 +404,164 @@ def torrance_sparrow(wi, wo, n, *, kd, ks, p, eta) -> RGB:
 
 
 # ---------------------------------------------------------------------------------------
+# Family A beyond the sources: GGX, Beckmann, Ward, Ashikhmin-Shirley
+# ---------------------------------------------------------------------------------------
+
+
+def _tangent_frame(n: Vector, t: Sequence[float] | None) -> tuple[Vector, Vector]:
+    """Returns ``(x, y)``: the tangent projected onto the tangent plane and normalized
+    (Gram-Schmidt; +x when no tangent is given), and ``y = n × x``. A tangent parallel to
+    ``n`` has no projection: then any unit vector perpendicular to ``n`` (Duff et al.)."""
+    t = (1.0, 0.0, 0.0) if t is None else _normalize(t)
+    d = _dot(t, n)
+    p = (t[0] - d * n[0], t[1] - d * n[1], t[2] - d * n[2])
+    length = math.hypot(*p)
+    if length > 1e-15:
+        x = (p[0] / length, p[1] / length, p[2] / length)
+    else:
+        sign = -1.0 if n[2] < 0.0 else 1.0
+        a = -1.0 / (sign + n[2])
+        b = n[0] * n[1] * a
+        x = (b, sign + n[1] * n[1] * a, -n[1])
+    y = (n[1] * x[2] - n[2] * x[1], n[2] * x[0] - n[0] * x[2], n[0] * x[1] - n[1] * x[0])
+    return x, y
+
+
+def _sin2(n: Vector, w: Vector) -> float:
+    """``sin²θ`` of unit ``w`` about unit ``n``, as ``|n × w|²`` (no cancellation)."""
+    c = (n[1] * w[2] - n[2] * w[1], n[2] * w[0] - n[0] * w[2], n[0] * w[1] - n[1] * w[0])
+    return _dot(c, c)
+
+
+def _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda) -> RGB:
+    """``kd/π + D·G2·F/(4 mu_i mu_o)`` with height-correlated Smith
+    ``G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))`` and Schlick's F (``ks`` is F0).
+
+    ``G2/(4 mu_i mu_o)`` is written ``1/(4(mu_i mu_o + mu_o·mu_iΛ(mu_i) + mu_i·mu_oΛ(mu_o)))``
+    with ``mu_lambda(μ, sin²θ) = μ·Λ(μ)``, which stays finite at grazing angles where
+    ``Λ`` itself overflows."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK
+    cos_th = max(0.0, _cos(n, h))
+    d = ndf(cos_th, _sin2(n, h))
+    l_i = mu_lambda(mu_i, _sin2(n, wi))
+    l_o = mu_lambda(mu_o, _sin2(n, wo))
+    g_over = 1.0 / (4.0 * (mu_i * mu_o + mu_o * l_i + mu_i * l_o))
+    schlick = (1.0 - _cos_b(wi, wo)) ** 5
+    return tuple(
+        kd_c / math.pi + (f0_c + (1.0 - f0_c) * schlick) * d * g_over
+        for kd_c, f0_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def ggx(wi, wo, n, *, kd, ks, alpha) -> RGB:
+    """GGX: ``D = α²/(π(cos_th²(α²−1)+1)²)``, ``Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2``.
+
+    The NDF's denominator ``cos_th²(α²−1)+1`` is written ``sin²θh + α²cos²θh`` (equal).
+    """
+    a2 = alpha * alpha
+
+    def ndf(cos_th: float, sin2_th: float) -> float:
+        return a2 / (math.pi * (sin2_th + a2 * cos_th * cos_th) ** 2)
+
+    def mu_lambda(mu: float, sin2: float) -> float:
+        # μΛ(μ) = (−μ + sqrt(μ² + α²(1−μ²)))/2
+        return (math.sqrt(mu * mu + a2 * sin2) - mu) / 2.0
+
+    return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
+
+
+def beckmann(wi, wo, n, *, kd, ks, alpha) -> RGB:
+    """Beckmann: ``D = exp(−tan²θh/α²)/(π α² cos⁴θh)``,
+    ``Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π))``, ``c = μ/(α·sqrt(1−μ²))``."""
+    a2 = alpha * alpha
+
+    def ndf(cos_th: float, sin2_th: float) -> float:
+        # tan²θh/α² beyond 745 makes exp underflow (before cos⁴ does): D = 0, never 0/0.
+        if sin2_th > 745.0 * a2 * cos_th * cos_th:
+            return 0.0
+        exponent = sin2_th / (a2 * cos_th * cos_th)
+        return math.exp(-exponent) / (math.pi * a2 * cos_th**4)
+
+    def mu_lambda(mu: float, sin2: float) -> float:
+        s = math.sqrt(sin2)
+        if s == 0.0:
+            return 0.0  # c = ∞: Λ = 0
+        c = mu / (alpha * s)
+        # μΛ(μ) = μ(erf(c)−1)/2 + α·s·exp(−c²)/(2 sqrt(π))
+        return mu * (math.erf(c) - 1.0) / 2.0 + alpha * s * math.exp(-c * c) / (
+            2.0 * math.sqrt(math.pi)
+        )
+
+    return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
+
+
+def ward(wi, wo, n, tangent=None, *, kd, ks, alpha_x, alpha_y) -> RGB:
+    """Ward: ``kd/π + ks·exp(−((h·x/αx)² + (h·y/αy)²)/cos_th²)/(4π·αx·αy·sqrt(mu_i·mu_o))``."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK
+    x, y = _tangent_frame(n, tangent)
+    cos_th = _cos(n, h)
+    numerator = (_dot(h, x) / alpha_x) ** 2 + (_dot(h, y) / alpha_y) ** 2
+    if numerator > 745.0 * cos_th * cos_th:
+        lobe = 0.0  # exp underflows (also where cos_th² does): never 0/0
+    else:
+        exponent = numerator / (cos_th * cos_th)
+        lobe = math.exp(-exponent) / (
+            4.0 * math.pi * alpha_x * alpha_y * math.sqrt(mu_i) * math.sqrt(mu_o)
+        )
+    return tuple(
+        kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def ashikhmin_shirley(wi, wo, n, tangent=None, *, Rd, Rs, nu, nv) -> RGB:
+    """Ashikhmin-Shirley (JGT 2000, eqs. 4-5): specular
+    ``sqrt((nu+1)(nv+1))/(8π)·(n·h)^((nu(h·u)²+nv(h·v)²)/(1−(n·h)²))/((h·k)·max(n·k1,n·k2))·F``,
+    ``F = Rs + (1−Rs)(1−h·k)^5``; diffuse
+    ``28·Rd/(23π)·(1−Rs)·(1−(1−n·k1/2)^5)·(1−(1−n·k2/2)^5)``.
+
+    ``1 − (n·h)²`` is written ``(h·u)² + (h·v)²`` (equal for an orthonormal frame).
+    """
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK
+    u, v = _tangent_frame(n, tangent)
+    a, b = _dot(h, u), _dot(h, v)
+    s2 = a * a + b * b
+    exponent = (nu * a * a + nv * b * b) / s2 if s2 > 0.0 else (nu + nv) / 2.0
+    cos_th = max(0.0, _cos(n, h))
+    k_dot_h = _cos_b(wi, wo)
+    lobe = (
+        math.sqrt((nu + 1.0) * (nv + 1.0))
+        / (8.0 * math.pi)
+        * _pow(cos_th, exponent)
+        / (k_dot_h * max(mu_i, mu_o))
+    )
+    schlick = (1.0 - k_dot_h) ** 5
+    coupling = (1.0 - (1.0 - mu_i / 2.0) ** 5) * (1.0 - (1.0 - mu_o / 2.0) ** 5)
+    return tuple(
+        (rs_c + (1.0 - rs_c) * schlick) * lobe
+        + 28.0 * rd_c / (23.0 * math.pi) * (1.0 - rs_c) * coupling
+        for rd_c, rs_c in zip(_rgb(Rd), _rgb(Rs), strict=True)
+    )
+
+
+# ---------------------------------------------------------------------------------------
 # Family B: scan-line shading terms s(l, v), including the light's cosine
 # ---------------------------------------------------------------------------------------
 
@@ -510,6 +668,10 @@ MODELS: dict[str, Callable[..., RGB]] = {
         normalized_blinn_phong,
         blinn_phong_fresnel,
         torrance_sparrow,
+        ggx,
+        beckmann,
+        ward,
+        ashikhmin_shirley,
         lambert_shading,
         oren_nayar_shading,
         toon_diffuse,
@@ -533,6 +695,10 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "normalized_blinn_phong": dict(_PHONG_DEFAULTS),
     "blinn_phong_fresnel": {"kd": 0.0, "ks": 0.04, "p": 32.0},
     "torrance_sparrow": {"kd": 0.0, "ks": 1.0, "p": 32.0, "eta": 1.5},
+    "ggx": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
+    "beckmann": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
+    "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
+    "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
     "lambert_shading": {"kd": 0.5},
     "oren_nayar_shading": {"kd": 0.5, "sigma": 0.5},
     "toon_diffuse": {},
@@ -550,6 +716,8 @@ _REQUIRED: dict[str, tuple[str, ...]] = {
 
 # Models that take the fibre tangent as a fourth positional argument.
 _NEEDS_TANGENT = frozenset({"kajiya_kay"})
+# Anisotropic models: a tangent when given (+x otherwise).
+_TAKES_TANGENT = frozenset({"ward", "ashikhmin_shirley"})
 
 
 def eval(
@@ -583,5 +751,7 @@ def eval(
     if model in _NEEDS_TANGENT:
         if tangent is None:
             raise TypeError(f"{model}: missing required argument 'tangent'")
+        return function(wi, wo, n, tangent, **kwargs)
+    if model in _TAKES_TANGENT:
         return function(wi, wo, n, tangent, **kwargs)
     return function(wi, wo, n, **kwargs)

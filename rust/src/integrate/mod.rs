@@ -238,6 +238,13 @@ impl<K: Kernel> CellIntegrand<K> {
                         }
                         (_, Importance::PhongLobe { p }) => Warp::PhongLobe { p },
                         (_, Importance::BlinnHalf { p }) => Warp::BlinnHalf { p },
+                        (_, Importance::GgxVisible { alpha }) => Warp::GgxVisible { alpha },
+                        (_, Importance::BeckmannHalf { alpha_x, alpha_y }) => {
+                            Warp::BeckmannHalf { alpha_x, alpha_y }
+                        }
+                        (_, Importance::AnisotropicPhongHalf { nu, nv }) => {
+                            Warp::AnisotropicPhongHalf { nu, nv }
+                        }
                     };
                     lobes.push(Lobe {
                         colour: term.colour,
@@ -267,17 +274,6 @@ impl<K: Kernel> CellIntegrand<K> {
     fn weights(&self, k: usize, u0: &[f64], u1: &[f64], w: &mut [f64]) {
         let lobe = &self.lobes[k];
         let wi = self.wi;
-        // Unfolded, φ = 2π·u1 covers the circle; by the integrand's symmetry about the
-        // plane of incidence that is the folded estimator at u1' = frac(2·u1).
-        let fold = self.fold;
-        let azimuth = |u: f64| {
-            if fold {
-                u
-            } else {
-                let v = 2.0 * u;
-                if v >= 1.0 { v - 1.0 } else { v }
-            }
-        };
         let eval = |wo: DVec3| {
             let d = Directions::<f64> {
                 wi,
@@ -287,44 +283,55 @@ impl<K: Kernel> CellIntegrand<K> {
             };
             K::eval::<f64>(&lobe.prepared, &d)[0]
         };
-        // One loop per warp, so each loop body is straight-line code.
-        macro_rules! about_axis {
-            ($warp:expr, $frame:expr) => {{
+        // One loop per warp and fold, so each loop body is straight-line code. Local
+        // frames: the normal's is the world frame (n = +z, tangent = +x); the Phong lobe's
+        // is the mirror direction's; half vectors are reflected about.
+        macro_rules! lobe_loop {
+            ($warp:expr, $fold:literal, $place:ident) => {{
                 let warp = $warp;
-                let frame = $frame;
                 for j in 0..w.len() {
-                    let s = warp.sample_folded([u0[j], azimuth(u1[j])]);
-                    let wo = frame.to_world(s.dir);
-                    let pdf = s.pdf;
+                    let u = [u0[j], u1[j]];
+                    let s = if $fold { warp.sample_folded(wi, u) } else { warp.sample(wi, u) };
+                    let (wo, pdf) = lobe_loop!(@$place, s);
                     let x = eval(wo) * wo.z / pdf;
                     w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
                 }
             }};
+            (@normal, $s:ident) => {
+                ($s.dir, $s.pdf)
+            };
+            (@mirror, $s:ident) => {
+                (self.mirror_frame.to_world($s.dir), $s.pdf)
+            };
+            (@half, $s:ident) => {{
+                let wo = reflect(wi, $s.dir);
+                (wo, reflected_pdf($s.pdf, wo.dot($s.dir)))
+            }};
+        }
+        macro_rules! both_folds {
+            ($warp:expr, $place:ident) => {
+                if self.fold {
+                    lobe_loop!($warp, true, $place)
+                } else {
+                    lobe_loop!($warp, false, $place)
+                }
+            };
         }
         match lobe.warp {
-            Warp::UniformHemisphere => about_axis!(Warp::UniformHemisphere, &NORMAL_FRAME),
-            Warp::CosineHemisphere => about_axis!(Warp::CosineHemisphere, &NORMAL_FRAME),
-            Warp::PhongLobe { p } => about_axis!(Warp::PhongLobe { p }, &self.mirror_frame),
-            Warp::BlinnHalf { p } => {
-                let warp = Warp::BlinnHalf { p };
-                for j in 0..w.len() {
-                    let s = warp.sample_folded([u0[j], azimuth(u1[j])]);
-                    let h = s.dir;
-                    let wo = reflect(wi, h);
-                    let pdf = reflected_pdf(s.pdf, wo.dot(h));
-                    let x = eval(wo) * wo.z / pdf;
-                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
-                }
+            Warp::UniformHemisphere => both_folds!(Warp::UniformHemisphere, normal),
+            Warp::CosineHemisphere => both_folds!(Warp::CosineHemisphere, normal),
+            Warp::PhongLobe { p } => both_folds!(Warp::PhongLobe { p }, mirror),
+            Warp::BlinnHalf { p } => both_folds!(Warp::BlinnHalf { p }, half),
+            Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
+            Warp::BeckmannHalf { alpha_x, alpha_y } => {
+                both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
+            }
+            Warp::AnisotropicPhongHalf { nu, nv } => {
+                both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)
             }
         }
     }
 }
-
-const NORMAL_FRAME: Frame = Frame {
-    x: DVec3::X,
-    y: DVec3::Y,
-    z: DVec3::Z,
-};
 
 /// Sums of lobe weights over points: `Σ (w_k − c_k)` and `Σ (w_k − c_k)(w_l − c_l)`,
 /// accumulated in `LANES` fixed partial sums (deterministic, and free to run in SIMD
@@ -459,7 +466,7 @@ fn integrate_cell<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    let terms = K::albedo_terms(slots).unwrap_or_default();
+    let terms = K::albedo_terms(slots, mu).unwrap_or_default();
     let (integrand, exact) = CellIntegrand::<K>::new(mu, &terms, options);
     if integrand.lobes.is_empty() {
         return CellResult {

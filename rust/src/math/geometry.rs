@@ -122,6 +122,41 @@ pub fn sine_from_cosine<F: Real>(c: F) -> F {
     max((F::ONE - c) * (F::ONE + c), F::ZERO).sqrt()
 }
 
+/// Returns the unit tangent `x` (tangent projected onto the plane normal to `n` and
+/// normalized: Gram-Schmidt) and `y = n × x`. A tangent parallel to `n` has no
+/// projection; then any unit vector perpendicular to `n` is used.
+#[inline(always)]
+pub fn tangent_frame<F: Real>(n: F::V3, t: F::V3) -> (F::V3, F::V3) {
+    let p = t - n * n.dot(t);
+    let len2 = p.length_squared();
+    let ok = len2 > F::from_f64(1e-30);
+    let scale = F::ONE / if ok { len2.sqrt() } else { F::ONE };
+    let fallback = n.any_orthonormal();
+    let x = F::V3::new(
+        if ok { p.x() * scale } else { fallback.x() },
+        if ok { p.y() * scale } else { fallback.y() },
+        if ok { p.z() * scale } else { fallback.z() },
+    );
+    (x, n.cross(x))
+}
+
+/// Returns Schlick's `F = F0 + (1 − F0)·w` per channel, `w = (1 − cos)^5`.
+#[inline(always)]
+pub fn schlick_rgb<F: Real>(f0: [F; 3], w: F) -> [F; 3] {
+    f0.map(|c| c + (F::ONE - c) * w)
+}
+
+/// `μ·Λ(μ)` of the GGX (Trowbridge-Reitz) Smith function, `Λ(μ) =
+/// (−1 + sqrt(1 + α²(1 − μ²)/μ²))/2`, written as `α² s²/(2(r + μ))` with
+/// `r = sqrt(μ² + α² s²)`, `s² = 1 − μ²`: finite and accurate at grazing angles (where
+/// `Λ` itself overflows) and near normal incidence (where `−1 + sqrt(1 + x)` cancels).
+#[inline(always)]
+pub fn ggx_mu_lambda<F: Real>(mu: F, sin2: F, alpha2: F) -> F {
+    let a2s2 = alpha2 * sin2;
+    let r = (mu * mu + a2s2).sqrt();
+    a2s2 / (F::TWO * (r + mu))
+}
+
 /// Zeroes an RGB value unless both directions are above the surface (family A).
 #[inline(always)]
 pub fn above_both<F: Real>(mu_i: F, mu_o: F, rgb: [F; 3]) -> [F; 3] {

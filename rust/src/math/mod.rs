@@ -35,6 +35,9 @@ pub trait Vector3<F>:
     fn cross(self, other: Self) -> Self;
     /// Returns the squared Euclidean length.
     fn length_squared(self) -> F;
+    /// Returns a unit vector orthogonal to the unit vector `self` (Duff et al. 2017,
+    /// branch-free).
+    fn any_orthonormal(self) -> Self;
 }
 
 macro_rules! impl_vector3 {
@@ -67,6 +70,14 @@ macro_rules! impl_vector3 {
             #[inline(always)]
             fn length_squared(self) -> $f {
                 <$v>::length_squared(self)
+            }
+            #[inline(always)]
+            fn any_orthonormal(self) -> Self {
+                // glam's any_orthonormal_vector, without its debug-build unit assertion.
+                let sign = if self.z < 0.0 { -1.0 } else { 1.0 };
+                let a = -1.0 / (sign + self.z);
+                let b = self.x * self.y * a;
+                <$v>::new(b, sign + self.y * self.y * a, -self.y)
             }
         }
     };
@@ -123,6 +134,8 @@ pub trait Real:
     fn exp(self) -> Self;
     /// Returns the natural logarithm.
     fn ln(self) -> Self;
+    /// Returns the error function (the `libm` crate's, a port of musl: scalar).
+    fn erf(self) -> Self;
     /// Returns `v / |v|` computed without overflow or underflow for any finite nonzero
     /// `v` (tiny 1e-300 and huge 1e300 vectors included), and whether `v` was usable
     /// (finite and nonzero). Unusable inputs give a non-finite vector.
@@ -175,7 +188,7 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 }
 
 macro_rules! impl_real {
-    ($f:ident, $v:ty, $pow:ident, $exp:ident, $log:ident, flush = $flush:expr,
+    ($f:ident, $v:ty, $pow:ident, $exp:ident, $log:ident, $erf:path, flush = $flush:expr,
      small = $small:expr, big = $big:expr, up = $up:expr, down = $down:expr) => {
         impl Real for $f {
             type V3 = $v;
@@ -230,6 +243,10 @@ macro_rules! impl_real {
                 fastmath::$log(self)
             }
             #[inline(always)]
+            fn erf(self) -> Self {
+                $erf(self)
+            }
+            #[inline(always)]
             fn flush_subnormal(x: Self) -> Self {
                 // 2^-100 for f32.
                 if $flush && x < 7.888609e-31 { 0.0 } else { x }
@@ -259,6 +276,7 @@ impl_real!(
     pow_unit_f64,
     exp_f64,
     log_f64,
+    libm::erf,
     flush = false,
     small = 3.054936363499605e-151, // 2^-500
     big = 3.273390607896142e150,    // 2^500
@@ -272,6 +290,7 @@ impl_real!(
     pow_unit_f32,
     exp_f32,
     log_f32,
+    libm::erff,
     flush = true,
     small = 9.094947e-13, // 2^-40
     big = 1.0995116e12,   // 2^40

@@ -22,12 +22,19 @@ pub enum Importance {
     PhongLobe { p: f64 },
     /// Half vectors from the Blinn NDF `∝ cos^p θh` (pdf_h `= D·cos θh`).
     BlinnHalf { p: f64 },
+    /// Half vectors from the GGX distribution of visible normals (Heitz 2018).
+    GgxVisible { alpha: f64 },
+    /// Half vectors from the (anisotropic) Beckmann / Ward NDF times `cos θh`
+    /// (Walter 2005): `tan²θh = −ln u / (cos²φ/αx² + sin²φ/αy²)`.
+    BeckmannHalf { alpha_x: f64, alpha_y: f64 },
+    /// Half vectors from Ashikhmin & Shirley's anisotropic Phong distribution (2000).
+    AnisotropicPhongHalf { nu: f64, nv: f64 },
 }
 
 /// One scalar integral of a decomposition.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integral {
-    /// Known exactly, for every incidence.
+    /// Known exactly (at the incidence the terms were asked for).
     Exact(f64),
     /// `∫ f(wi, wo; basis)·mu_o dωo` with the model evaluated at the grey `basis`
     /// parameters, sampled with `importance`.

@@ -70,7 +70,7 @@ impl Kernel for BlinnPhongFresnel {
 
     /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`: F is affine in F0, so two scalar
     /// integrals (the lobe, and the lobe times Schlick's weight) give every RGB F0.
-    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = colour(slots, 3);
         let importance = Importance::BlinnHalf { p: slots[6] };
         Some(vec![

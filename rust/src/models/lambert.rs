@@ -42,7 +42,7 @@ impl Kernel for Lambert {
         above_both(d.n.dot(d.wi), d.n.dot(d.wo), *kd_over_pi)
     }
 
-    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(vec![Term {
             colour: colour(slots, 0),
             integral: Integral::Exact(1.0),

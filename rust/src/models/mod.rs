@@ -12,9 +12,12 @@ pub mod albedo;
 pub mod lobes;
 pub mod spec;
 
+pub mod ashikhmin_shirley;
+pub mod beckmann;
 pub mod blinn_phong;
 pub mod blinn_phong_fresnel;
 pub mod blinn_specular;
+pub mod ggx;
 pub mod kajiya_kay;
 pub mod lambert;
 pub mod lambert_shading;
@@ -29,6 +32,7 @@ pub mod phong_specular;
 pub mod toon_diffuse;
 pub mod toon_specular;
 pub mod torrance_sparrow;
+pub mod ward;
 
 pub use spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 
@@ -81,10 +85,10 @@ pub trait Kernel: 'static {
     /// for family A (cosine excluded), the shading term `s(l, v)` for family B.
     fn eval<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
 
-    /// Returns the model's directional albedo as `Σ colour_k · I_k` for the raw
-    /// parameter slots (see [`albedo`]); `None` for family-B shading terms, which are
-    /// not integrated.
-    fn albedo_terms(_slots: &[f64]) -> Option<Vec<albedo::Term>> {
+    /// Returns the model's directional albedo at incidence `mu` as `Σ colour_k · I_k` for
+    /// the raw parameter slots (see [`albedo`]); `None` for family-B shading terms, which
+    /// are not integrated.
+    fn albedo_terms(_slots: &[f64], _mu: f64) -> Option<Vec<albedo::Term>> {
         None
     }
 }
@@ -130,6 +134,10 @@ declare_models! {
     NormalizedBlinnPhong => normalized_blinn_phong::NormalizedBlinnPhong,
     BlinnPhongFresnel => blinn_phong_fresnel::BlinnPhongFresnel,
     TorranceSparrow => torrance_sparrow::TorranceSparrow,
+    Ggx => ggx::Ggx,
+    Beckmann => beckmann::Beckmann,
+    Ward => ward::Ward,
+    AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
     LambertShading => lambert_shading::LambertShading,
     OrenNayarShading => oren_nayar_shading::OrenNayarShading,
     ToonDiffuse => toon_diffuse::ToonDiffuse,

@@ -48,7 +48,7 @@ impl Kernel for NormalizedBlinnPhong {
         above_both(mu_i, mu_o, rgb)
     }
 
-    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             1.0,

@@ -43,7 +43,7 @@ impl Kernel for NormalizedPhong {
         above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
     }
 
-    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             1.0,

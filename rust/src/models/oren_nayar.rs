@@ -62,7 +62,7 @@ impl Kernel for OrenNayar {
 
     /// One term: `kd·∫(A + B·g)/π·mu_o`, integrated with cosine sampling (the constant `A`
     /// part then adds no variance); exactly `kd·A` when `B = 0` (σ = 0).
-    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let (a, b) = oren_nayar_ab(slots[3]);
         let integral = if b == 0.0 {
             Integral::Exact(a)

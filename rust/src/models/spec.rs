@@ -28,6 +28,9 @@ pub enum TangentUse {
     None,
     /// The model needs `tangent=`.
     Required,
+    /// The model uses a tangent when given (anisotropic models); without one it is +x
+    /// (projected onto the tangent plane).
+    Optional,
 }
 
 /// The shape of a parameter's value.
@@ -111,6 +114,13 @@ impl ValidRange {
     pub const SIGNED_UNIT: ValidRange = ValidRange {
         min: -1.0,
         max: 1.0,
+        min_open: false,
+        max_open: false,
+    };
+    /// `[1e-7, 1e7]`: a microfacet roughness (α² stays a normal number in `f32`).
+    pub const ROUGHNESS: ValidRange = ValidRange {
+        min: 1e-7,
+        max: 1e7,
         min_open: false,
         max_open: false,
     };
@@ -212,6 +222,35 @@ pub const fn sigma(slot: usize) -> ParamSpec {
         default: Some(0.5),
         range: ValidRange::QUARTER_TURN,
         doc: "roughness: standard deviation of the facet slope angle, radians",
+        slot,
+    }
+}
+
+/// `alpha`: a microfacet roughness.
+pub const fn roughness(
+    name: &'static str,
+    default: f64,
+    slot: usize,
+    doc: &'static str,
+) -> ParamSpec {
+    ParamSpec {
+        name,
+        kind: ParamKind::Scalar,
+        default: Some(default),
+        range: ValidRange::ROUGHNESS,
+        doc,
+        slot,
+    }
+}
+
+/// `ks` as Schlick's F0: a colour in [0, 1].
+pub const fn f0(default: f64, slot: usize) -> ParamSpec {
+    ParamSpec {
+        name: "ks",
+        kind: ParamKind::Colour,
+        default: Some(default),
+        range: ValidRange::UNIT,
+        doc: "F0: specular reflectance at normal incidence (RGB, in [0, 1]; 1 gives F = 1)",
         slot,
     }
 }

@@ -98,7 +98,7 @@ impl Kernel for TorranceSparrow {
         above_both(mu_i, mu_o, rgb)
     }
 
-    fn albedo_terms(slots: &[f64]) -> Option<Vec<Term>> {
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             1.0,

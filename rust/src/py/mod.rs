@@ -192,6 +192,7 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         d.set_item("source", spec.source)?;
         d.set_item("reciprocal", spec.reciprocal)?;
         d.set_item("tangent", spec.tangent == TangentUse::Required)?;
+        d.set_item("tangent_optional", spec.tangent == TangentUse::Optional)?;
         d.set_item("params", params)?;
         list.append(d)?;
     }
@@ -332,6 +333,7 @@ fn sampling_call<'py>(
     wi: Arr<'py, f64>,
     second: Arr<'py, f64>,
     n: Option<Arr<'py, f64>>,
+    tangent: Option<Arr<'py, f64>>,
     params: &Bound<'py, PyDict>,
     sampler: &str,
     sampling: bool,
@@ -343,6 +345,7 @@ fn sampling_call<'py>(
         wi: wi.as_array(),
         second: second.as_array(),
         n: n.as_ref().map(|a| a.as_array()),
+        tangent: tangent.as_ref().map(|a| a.as_array()),
         params: params
             .iter()
             .map(|(k, a)| (k.as_str(), a.as_array()))
@@ -377,10 +380,11 @@ fn sample<'py>(
     wi: Arr<'py, f64>,
     u: Arr<'py, f64>,
     n: Option<Arr<'py, f64>>,
+    tangent: Option<Arr<'py, f64>>,
     params: &Bound<'py, PyDict>,
     sampler: &str,
 ) -> PyResult<Arrays3<'py>> {
-    let out = sampling_call(py, model, wi, u, n, params, sampler, true)?;
+    let out = sampling_call(py, model, wi, u, n, tangent, params, sampler, true)?;
     let mut vec_shape = out.batch.clone();
     vec_shape.push(3);
     Ok((
@@ -392,16 +396,18 @@ fn sample<'py>(
 
 /// The sampler's density of `wo` (see `brdf_rs.pdf`).
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 fn pdf<'py>(
     py: Python<'py>,
     model: &str,
     wi: Arr<'py, f64>,
     wo: Arr<'py, f64>,
     n: Option<Arr<'py, f64>>,
+    tangent: Option<Arr<'py, f64>>,
     params: &Bound<'py, PyDict>,
     sampler: &str,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let out = sampling_call(py, model, wi, wo, n, params, sampler, false)?;
+    let out = sampling_call(py, model, wi, wo, n, tangent, params, sampler, false)?;
     shaped(py, out.pdf, out.batch)
 }
 

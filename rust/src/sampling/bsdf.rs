@@ -14,6 +14,18 @@ use super::{Frame, Warp, one_minus_dot, reflect, reflected_pdf};
 use crate::integrate::SamplerChoice;
 use crate::models::albedo::{Importance, Integral, Term};
 
+/// Returns the warp that draws a lobe with importance `importance`.
+pub fn warp_of(importance: Importance) -> Warp {
+    match importance {
+        Importance::Cosine => Warp::CosineHemisphere,
+        Importance::PhongLobe { p } => Warp::PhongLobe { p },
+        Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
+        Importance::GgxVisible { alpha } => Warp::GgxVisible { alpha },
+        Importance::BeckmannHalf { alpha_x, alpha_y } => Warp::BeckmannHalf { alpha_x, alpha_y },
+        Importance::AnisotropicPhongHalf { nu, nv } => Warp::AnisotropicPhongHalf { nu, nv },
+    }
+}
+
 /// One mixture component: a warp and its selection probability.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Component {
@@ -46,14 +58,7 @@ impl Mixture {
             let strength = term.colour.iter().fold(0.0_f64, |a, &c| a.max(c.abs()));
             let (warp, weight) = match term.integral {
                 Integral::Exact(v) => (Warp::CosineHemisphere, strength * v),
-                Integral::Lobe { importance, .. } => (
-                    match importance {
-                        Importance::Cosine => Warp::CosineHemisphere,
-                        Importance::PhongLobe { p } => Warp::PhongLobe { p },
-                        Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
-                    },
-                    strength,
-                ),
+                Integral::Lobe { importance, .. } => (warp_of(importance), strength),
             };
             if !(weight > 0.0) {
                 continue;
@@ -77,10 +82,11 @@ impl Mixture {
         Mixture { components: comps }
     }
 
-    /// Draws `wo` for `wi` (unit, any side) about unit normal `n` from `u` in `[0, 1)²`.
-    /// Returns `(wo, pdf)`; `pdf` is the mixture's density of `wo` (0 when the draw is
-    /// invalid, e.g. below the surface).
-    pub fn sample(&self, wi: DVec3, n: DVec3, u: [f64; 2]) -> (DVec3, f64) {
+    /// Draws `wo` for `wi` (unit, any side) in the shading frame `frame` (z = the normal,
+    /// x = the tangent) from `u` in `[0, 1)²`. Returns `(wo, pdf)`; `pdf` is the
+    /// mixture's density of `wo` (0 when the draw is invalid, e.g. below the surface).
+    pub fn sample(&self, wi: DVec3, frame: &Frame, u: [f64; 2]) -> (DVec3, f64) {
+        let n = frame.z;
         // Pick a component with u0, then stretch u0 back onto [0, 1).
         let mut u0 = u[0];
         let mut chosen = self.components.len() - 1;
@@ -93,45 +99,46 @@ impl Mixture {
             u0 -= c.probability;
         }
         let warp = self.components[chosen].warp;
-        let s = warp.sample([u0, u[1]]);
-        let wo = match warp {
-            Warp::BlinnHalf { .. } => reflect(wi, Frame::around(n).to_world(s.dir)),
-            Warp::PhongLobe { .. } => {
-                let mu_i = wi.dot(n);
-                Frame::around(n * (2.0 * mu_i) - wi).to_world(s.dir)
-            }
-            Warp::CosineHemisphere | Warp::UniformHemisphere => Frame::around(n).to_world(s.dir),
+        let wi_local = frame.to_local(wi);
+        let s = warp.sample(wi_local, [u0, u[1]]);
+        let wo = if warp.half_vector() {
+            reflect(wi, frame.to_world(s.dir))
+        } else if let Warp::PhongLobe { .. } = warp {
+            let mu_i = wi.dot(n);
+            Frame::around((n * (2.0 * mu_i) - wi).normalize()).to_world(s.dir)
+        } else {
+            frame.to_world(s.dir)
         };
         let wo = wo.normalize();
-        (wo, self.pdf(wi, wo, n))
+        (wo, self.pdf(wi, wo, frame))
     }
 
-    /// Returns the mixture's density of `wo` given `wi` about normal `n` (all unit).
-    pub fn pdf(&self, wi: DVec3, wo: DVec3, n: DVec3) -> f64 {
+    /// Returns the mixture's density of `wo` given `wi` in the shading frame `frame`.
+    pub fn pdf(&self, wi: DVec3, wo: DVec3, frame: &Frame) -> f64 {
+        let n = frame.z;
         let mu_o = wo.dot(n);
         if !(mu_o > 0.0) || !(wi.dot(n) > 0.0) {
             return 0.0;
         }
         let mut total = 0.0;
         for c in &self.components {
-            let density = match c.warp {
-                Warp::BlinnHalf { .. } => {
-                    let s = wi + wo;
-                    if s.length_squared() == 0.0 {
-                        0.0
-                    } else {
-                        let h = s.normalize();
-                        reflected_pdf(c.warp.pdf(h.dot(n), one_minus_dot(h, n)), wo.dot(h))
-                    }
+            let density = if c.warp.half_vector() {
+                let s = wi + wo;
+                if s.length_squared() == 0.0 {
+                    0.0
+                } else {
+                    let h = s.normalize();
+                    let d = frame.to_local(h);
+                    let pdf_h = c
+                        .warp
+                        .pdf_local(frame.to_local(wi), d, d.z, one_minus_dot(h, n));
+                    reflected_pdf(pdf_h, wo.dot(h))
                 }
-                Warp::PhongLobe { .. } => {
-                    let r = n * (2.0 * wi.dot(n)) - wi;
-                    let r = r.normalize();
-                    c.warp.pdf(r.dot(wo), one_minus_dot(r, wo))
-                }
-                Warp::CosineHemisphere | Warp::UniformHemisphere => {
-                    c.warp.pdf(mu_o, one_minus_dot(n, wo))
-                }
+            } else if let Warp::PhongLobe { .. } = c.warp {
+                let r = (n * (2.0 * wi.dot(n)) - wi).normalize();
+                c.warp.pdf(r.dot(wo), one_minus_dot(r, wo))
+            } else {
+                c.warp.pdf(mu_o, one_minus_dot(n, wo))
             };
             total += c.probability * density;
         }
@@ -166,8 +173,10 @@ pub mod batch {
     use crate::eval::rows::Rows;
     use crate::integrate::SamplerChoice;
     use crate::math::Real;
-    use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
+    use crate::math::geometry::tangent_frame;
+    use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind, TangentUse};
     use crate::parallel;
+    use crate::sampling::Frame;
     use glam::DVec3;
     use ndarray::ArrayViewD;
     use rayon::prelude::*;
@@ -178,6 +187,7 @@ pub mod batch {
         /// `u` of shape `(..., 2)` for `sample`, `wo` of shape `(..., 3)` for `pdf`.
         pub second: ArrayViewD<'a, f64>,
         pub n: Option<ArrayViewD<'a, f64>>,
+        pub tangent: Option<ArrayViewD<'a, f64>>,
         pub params: Vec<(&'a str, ArrayViewD<'a, f64>)>,
     }
 
@@ -232,12 +242,24 @@ pub mod batch {
             if let Some(n) = &inputs.n {
                 named.push(("n", last_axis("n", n, 3)?));
             }
+            if let Some(t) = &inputs.tangent {
+                if K::spec().tangent == TangentUse::None {
+                    return Err(BrdfError::UnknownParameter {
+                        model: K::spec().name,
+                        name: "tangent".into(),
+                        suggestion: None,
+                        known: K::spec().param_names(),
+                    });
+                }
+                named.push(("tangent", last_axis("tangent", t, 3)?));
+            }
             let params = ParamRows::<f64>::new(K::spec(), inputs.params, &named)?;
             let batch = params.batch.clone();
             let count = params.count();
             let wi = Rows::new(inputs.wi, true, 3, &batch);
             let second = Rows::new(inputs.second, true, second_len, &batch);
             let n = inputs.n.map(|v| Rows::new(v, true, 3, &batch));
+            let tangent = inputs.tangent.map(|v| Rows::new(v, true, 3, &batch));
             let mut out = Output {
                 batch,
                 wo: vec![0.0; 3 * count],
@@ -262,14 +284,28 @@ pub mod batch {
                         }
                         None => (DVec3::Z, true),
                     };
-                    let terms = K::albedo_terms(&slots).unwrap_or_default();
+                    let t_v = match &tangent {
+                        Some(rows) => {
+                            let mut r = [0.0; 3];
+                            read_row(rows, 3, batch, i, &mut r);
+                            DVec3::from_array(r)
+                        }
+                        None => DVec3::X,
+                    };
+                    let (x, _) = tangent_frame::<f64>(n_v.0, t_v);
+                    let frame = Frame {
+                        x,
+                        y: n_v.0.cross(x),
+                        z: n_v.0,
+                    };
+                    let terms = K::albedo_terms(&slots, wi_v.dot(n_v.0)).unwrap_or_default();
                     let mixture = Mixture::new(&terms, sampler);
                     let (wo, pdf, ok) = if sampling {
                         let u = [
                             row2[0].clamp(0.0, 1.0 - f64::EPSILON / 2.0),
                             row2[1].clamp(0.0, 1.0 - f64::EPSILON / 2.0),
                         ];
-                        let (wo, pdf) = mixture.sample(wi_v, n_v.0, u);
+                        let (wo, pdf) = mixture.sample(wi_v, &frame, u);
                         (
                             wo,
                             pdf,
@@ -277,14 +313,14 @@ pub mod batch {
                         )
                     } else {
                         let (wo, ok_o) = f64::normalize(DVec3::from_array(row2));
-                        (wo, mixture.pdf(wi_v, wo, n_v.0), ok_i && ok_o && n_v.1)
+                        (wo, mixture.pdf(wi_v, wo, &frame), ok_i && ok_o && n_v.1)
                     };
                     let prepared = K::prepare::<f64, [f64]>(&slots);
                     let d = Directions::<f64> {
                         wi: wi_v,
                         wo,
                         n: n_v.0,
-                        t: DVec3::X,
+                        t: t_v,
                     };
                     let f = K::eval::<f64>(&prepared, &d);
                     let mu_o = wo.dot(n_v.0);

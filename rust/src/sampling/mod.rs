@@ -57,7 +57,7 @@ impl Frame {
 }
 
 /// A sampled local direction, its polar cosine's accurate complement `1 - dir.z`, and
-/// its density (the same value [`Warp::pdf`] returns, computed without a power).
+/// its density (the same value [`Warp::pdf_local`] returns, computed without a power).
 #[derive(Clone, Copy, Debug)]
 pub struct Sampled {
     pub dir: DVec3,
@@ -65,12 +65,21 @@ pub struct Sampled {
     pub pdf: f64,
 }
 
-/// A direction at polar cosine `cos` (with `1 - cos` given accurately) and azimuth
-/// `φ = π·a` (`a` in `[0, 1)`: the half range), of density `pdf`.
+/// Returns `(sin φ, cos φ)` for `φ = π·a` (`full = false`: the half circle) or
+/// `φ = 2π·a` (`full = true`), `a` in `[0, 1)`.
 #[inline(always)]
-fn spherical(cos: f64, one_minus_cos: f64, a: f64, pdf: f64) -> Sampled {
+fn azimuth(a: f64, full: bool) -> (f64, f64) {
+    let x = if full { 2.0 * a } else { a };
+    let upper = x >= 1.0;
+    let (s, c) = sin_cos_pi(if upper { x - 1.0 } else { x });
+    if upper { (-s, -c) } else { (s, c) }
+}
+
+/// A direction at polar cosine `cos` (with `1 - cos` given accurately) and azimuth with
+/// cosine and sine `(c, s)`, of density `pdf`.
+#[inline(always)]
+fn spherical(cos: f64, one_minus_cos: f64, (s, c): (f64, f64), pdf: f64) -> Sampled {
     let sin = (one_minus_cos * (1.0 + cos)).max(0.0).sqrt();
-    let (s, c) = sin_cos_pi(a);
     Sampled {
         dir: DVec3::new(sin * c, sin * s, cos),
         one_minus_cos,
@@ -84,7 +93,31 @@ fn one_minus_root(u: f64, k: f64) -> f64 {
     -expm1_f64(log_f64(u) / k)
 }
 
-/// A warp of the unit square onto directions about the local +z axis.
+/// Returns `(c, s)` normalized (an azimuth's cosine and sine from a scaled pair).
+#[inline(always)]
+fn unit_pair(c: f64, s: f64) -> (f64, f64) {
+    let inv = 1.0 / (c * c + s * s).sqrt();
+    (s * inv, c * inv)
+}
+
+/// The GGX NDF `α²/(π (sin²θ + α² cos²θ)²)` of a local unit direction.
+#[inline(always)]
+fn ggx_ndf(alpha2: f64, cos: f64, one_minus_cos: f64) -> f64 {
+    let sin2 = one_minus_cos * (1.0 + cos);
+    let d = sin2 + alpha2 * cos * cos;
+    alpha2 * FRAC_1_PI / (d * d)
+}
+
+/// `G1(wi) / wi.z = 1/(mu + μΛ(μ))` of GGX, for the visible-normal density.
+#[inline(always)]
+fn ggx_g1_over_mu(alpha2: f64, wi: DVec3) -> f64 {
+    let sin2 = wi.x * wi.x + wi.y * wi.y;
+    1.0 / (wi.z + crate::math::geometry::ggx_mu_lambda(wi.z, sin2, alpha2))
+}
+
+/// A warp of the unit square onto directions about the local +z axis (the normal or
+/// the mirror direction); the half-vector warps return the half vector `h`, to be
+/// reflected into `wo` (density `pdf_h / (4 |wo·h|)`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Warp {
     /// Uniform on the upper hemisphere: pdf `1/(2π)`.
@@ -97,66 +130,168 @@ pub enum Warp {
     /// A half vector from the Blinn NDF: pdf_h `= (p+2)/(2π)·cos^(p+1) θh`, i.e.
     /// `D(h)·cos θh` with `D = (p+2)/(2π)·cos^p θh`.
     BlinnHalf { p: f64 },
+    /// A half vector from GGX's distribution of visible normals for `wi` (Heitz 2018,
+    /// "Sampling the GGX Distribution of Visible Normals"): pdf_h `= G1(wi)·(wi·h)·D(h)/mu_i`.
+    GgxVisible { alpha: f64 },
+    /// A half vector from the anisotropic Beckmann NDF times `cos θh` (Walter 2005):
+    /// pdf_h `= exp(−tan²θh (cos²φ/αx² + sin²φ/αy²)) / (π αx αy cos³θh)`.
+    BeckmannHalf { alpha_x: f64, alpha_y: f64 },
+    /// A half vector from Ashikhmin & Shirley's distribution (2000, §3):
+    /// pdf_h `= sqrt((nu+1)(nv+1))/(2π) · cos θh^(nu cos²φ + nv sin²φ)`.
+    AnisotropicPhongHalf { nu: f64, nv: f64 },
 }
 
 impl Warp {
-    /// Returns the local direction for `u` in `[0, 1)²` (the warp's own density).
+    /// Returns whether the warp draws half vectors (to be reflected into `wo`).
     #[inline(always)]
-    pub fn sample(&self, u: [f64; 2]) -> Sampled {
-        // φ = 2π·u1: the half-range direction, turned by π on the upper half of u1.
-        let upper = u[1] >= 0.5;
-        let s = self.sample_folded([u[0], if upper { 2.0 * u[1] - 1.0 } else { 2.0 * u[1] }]);
-        let flip = if upper { -1.0 } else { 1.0 };
-        Sampled {
-            dir: DVec3::new(flip * s.dir.x, flip * s.dir.y, s.dir.z),
-            ..s
-        }
+    pub fn half_vector(&self) -> bool {
+        matches!(
+            self,
+            Warp::BlinnHalf { .. }
+                | Warp::GgxVisible { .. }
+                | Warp::BeckmannHalf { .. }
+                | Warp::AnisotropicPhongHalf { .. }
+        )
     }
 
-    /// Returns the local direction for `u` with the azimuth folded onto `[0, π)`: for
-    /// integrands even in azimuth (about the frame's xz plane) this covers the same
-    /// integral with twice the point density; the density is `2·pdf` on that half.
+    /// Returns the local direction for `u` in `[0, 1)²` (the warp's own density); `wi`
+    /// is the incident direction in the same local frame (only the visible-normal warp
+    /// reads it).
     #[inline(always)]
-    pub fn sample_folded(&self, u: [f64; 2]) -> Sampled {
-        self.sample_azimuth(u[0], u[1])
+    pub fn sample(&self, wi: DVec3, u: [f64; 2]) -> Sampled {
+        self.sample_azimuth(wi, u[0], u[1], true)
+    }
+
+    /// Returns the local direction for `u` with the azimuth folded onto half the circle
+    /// (the side `y >= 0`, or `x·y`-symmetric equivalent for the visible normals): for
+    /// integrands symmetric about the frame's xz plane this covers the same integral with
+    /// twice the point density; the density is `2·pdf` on that half.
+    #[inline(always)]
+    pub fn sample_folded(&self, wi: DVec3, u: [f64; 2]) -> Sampled {
+        self.sample_azimuth(wi, u[0], u[1], false)
     }
 
     #[inline(always)]
-    fn sample_azimuth(&self, u0: f64, phi: f64) -> Sampled {
+    fn sample_azimuth(&self, wi: DVec3, u0: f64, a: f64, full: bool) -> Sampled {
         // 1 - u0 lies in (0, 1]: no log(0), no zero-length directions.
         let v = 1.0 - u0;
         // The lobes draw cos^k = v, so the density's cos^(k−1) is v / cos: no power.
         match *self {
-            Warp::UniformHemisphere => spherical(v, u0, phi, 0.5 * FRAC_1_PI),
+            Warp::UniformHemisphere => spherical(v, u0, azimuth(a, full), 0.5 * FRAC_1_PI),
             Warp::CosineHemisphere => {
                 // cos θ = sqrt(1 - u0) = sqrt(v); 1 - cos θ = u0 / (1 + sqrt(v)).
                 let cos = v.sqrt();
-                spherical(cos, u0 / (1.0 + cos), phi, cos * FRAC_1_PI)
+                spherical(cos, u0 / (1.0 + cos), azimuth(a, full), cos * FRAC_1_PI)
             }
             Warp::PhongLobe { p } => {
                 let omc = one_minus_root(v, p + 1.0);
                 let cos = 1.0 - omc;
-                spherical(cos, omc, phi, (p + 1.0) * 0.5 * FRAC_1_PI * (v / cos))
+                let pdf = (p + 1.0) * 0.5 * FRAC_1_PI * (v / cos);
+                spherical(cos, omc, azimuth(a, full), pdf)
             }
             Warp::BlinnHalf { p } => {
                 let omc = one_minus_root(v, p + 2.0);
                 let cos = 1.0 - omc;
-                spherical(cos, omc, phi, (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos))
+                let pdf = (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos);
+                spherical(cos, omc, azimuth(a, full), pdf)
+            }
+            Warp::BeckmannHalf { alpha_x, alpha_y } => {
+                // φ with tan φ = (αy/αx) tan ψ, then tan²θ = −ln v / A(φ).
+                let (s_psi, c_psi) = azimuth(a, full);
+                let (s, c) = unit_pair(alpha_x * c_psi, alpha_y * s_psi);
+                let big_a = c * c / (alpha_x * alpha_x) + s * s / (alpha_y * alpha_y);
+                let tan2 = -log_f64(v) / big_a;
+                let cos = 1.0 / (1.0 + tan2).sqrt();
+                let omc = tan2 / ((1.0 + tan2) + (1.0 + tan2).sqrt());
+                let pdf = v * FRAC_1_PI / (alpha_x * alpha_y * cos * cos * cos);
+                spherical(cos, omc, (s, c), pdf)
+            }
+            Warp::AnisotropicPhongHalf { nu, nv } => {
+                let (s_psi, c_psi) = azimuth(a, full);
+                let (s, c) = unit_pair((nv + 1.0).sqrt() * c_psi, (nu + 1.0).sqrt() * s_psi);
+                let e = nu * c * c + nv * s * s;
+                let omc = one_minus_root(v, e + 1.0);
+                let cos = 1.0 - omc;
+                let pdf = ((nu + 1.0) * (nv + 1.0)).sqrt() * 0.5 * FRAC_1_PI * (v / cos);
+                spherical(cos, omc, (s, c), pdf)
+            }
+            Warp::GgxVisible { alpha } => {
+                // Heitz 2018: warp to the hemisphere configuration (α = 1), sample the
+                // projected disk, warp back. The folded half is t1 >= 0.
+                let vh = DVec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
+                let lensq = vh.x * vh.x + vh.y * vh.y;
+                let t1v = if lensq > 0.0 {
+                    DVec3::new(-vh.y, vh.x, 0.0) * (1.0 / lensq.sqrt())
+                } else {
+                    DVec3::X
+                };
+                let t2v = vh.cross(t1v);
+                let r = u0.sqrt();
+                let (s_phi, c_phi) = if full {
+                    azimuth(a, true)
+                } else {
+                    let (s, c) = sin_cos_pi(a);
+                    (-c, s) // φ in [−π/2, π/2): cos φ >= 0
+                };
+                let t1 = r * c_phi;
+                let s_mix = 0.5 * (1.0 + vh.z);
+                let t2 = (1.0 - s_mix) * (1.0 - t1 * t1).max(0.0).sqrt() + s_mix * r * s_phi;
+                let nh = t1v * t1 + t2v * t2 + vh * (1.0 - t1 * t1 - t2 * t2).max(0.0).sqrt();
+                let h = DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize();
+                let omc = 0.5 * (h - DVec3::Z).length_squared();
+                let alpha2 = alpha * alpha;
+                let pdf =
+                    ggx_g1_over_mu(alpha2, wi) * wi.dot(h).max(0.0) * ggx_ndf(alpha2, h.z, omc);
+                Sampled {
+                    dir: h,
+                    one_minus_cos: omc,
+                    pdf,
+                }
             }
         }
     }
 
-    /// Returns the density of local direction `w` (unit), given `w.z` and `1 - w.z`.
+    /// Returns the density of local direction `w` (unit), given `w.z` and `1 - w.z`:
+    /// for the warps that depend only on the polar angle.
     #[inline(always)]
     pub fn pdf(&self, cos: f64, one_minus_cos: f64) -> f64 {
+        self.pdf_local(DVec3::Z, DVec3::new(0.0, 0.0, cos), cos, one_minus_cos)
+    }
+
+    /// Returns the density of the local unit direction `d` (for half-vector warps, of
+    /// `h`), given `cos = d.z`, `1 − d.z` and the local incident direction `wi`.
+    #[inline(always)]
+    pub fn pdf_local(&self, wi: DVec3, d: DVec3, cos: f64, one_minus_cos: f64) -> f64 {
+        let c = cos.max(0.0);
         let density = match *self {
             Warp::UniformHemisphere => 0.5 * FRAC_1_PI,
             Warp::CosineHemisphere => cos * FRAC_1_PI,
             Warp::PhongLobe { p } => {
-                (p + 1.0) * 0.5 * FRAC_1_PI * pow_unit_f64(cos.max(0.0), one_minus_cos, p)
+                (p + 1.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p)
             }
             Warp::BlinnHalf { p } => {
-                (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(cos.max(0.0), one_minus_cos, p + 1.0)
+                (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p + 1.0)
+            }
+            Warp::BeckmannHalf { alpha_x, alpha_y } => {
+                let e = ((d.x / alpha_x).powi(2) + (d.y / alpha_y).powi(2)) / (c * c);
+                let value = (-e).exp() * FRAC_1_PI / (alpha_x * alpha_y * c * c * c);
+                if e < 700.0 { value } else { 0.0 }
+            }
+            Warp::AnisotropicPhongHalf { nu, nv } => {
+                let s2 = d.x * d.x + d.y * d.y;
+                let e = if s2 > 0.0 {
+                    (nu * d.x * d.x + nv * d.y * d.y) / s2
+                } else {
+                    0.5 * (nu + nv)
+                };
+                ((nu + 1.0) * (nv + 1.0)).sqrt()
+                    * 0.5
+                    * FRAC_1_PI
+                    * pow_unit_f64(c, one_minus_cos, e)
+            }
+            Warp::GgxVisible { alpha } => {
+                let alpha2 = alpha * alpha;
+                ggx_g1_over_mu(alpha2, wi) * wi.dot(d).max(0.0) * ggx_ndf(alpha2, c, one_minus_cos)
             }
         };
         if cos > 0.0 { density } else { 0.0 }
@@ -193,15 +328,19 @@ mod tests {
 
     /// Integrates a warp's pdf over the sphere by a fine midpoint rule.
     fn pdf_integral(w: Warp) -> f64 {
-        let (nt, np) = (4000, 8);
+        let (nt, np) = (3000, 96);
+        let wi = DVec3::new(0.6, 0.0, 0.8);
         let mut sum = 0.0;
         for i in 0..nt {
             let theta = (i as f64 + 0.5) / nt as f64 * PI;
-            let cos = theta.cos();
+            let (st, ct) = theta.sin_cos();
             let omc = 2.0 * (theta / 2.0).sin().powi(2);
-            sum += w.pdf(cos, omc) * theta.sin() * (PI / nt as f64) * TAU;
+            for j in 0..np {
+                let phi = (j as f64 + 0.5) / np as f64 * TAU;
+                let d = DVec3::new(st * phi.cos(), st * phi.sin(), ct);
+                sum += w.pdf_local(wi, d, ct, omc) * st * (PI / nt as f64) * (TAU / np as f64);
+            }
         }
-        let _ = np;
         sum
     }
 
@@ -215,9 +354,20 @@ mod tests {
             Warp::PhongLobe { p: 300.0 },
             Warp::BlinnHalf { p: 1.0 },
             Warp::BlinnHalf { p: 300.0 },
+            Warp::GgxVisible { alpha: 0.5 },
+            Warp::BeckmannHalf {
+                alpha_x: 0.3,
+                alpha_y: 0.6,
+            },
+            Warp::AnisotropicPhongHalf {
+                nu: 20.0,
+                nv: 200.0,
+            },
         ] {
             let total = pdf_integral(w);
-            assert!((total - 1.0).abs() < 1e-5, "{w:?}: {total}");
+            // Midpoint-rule error for the narrowest lobe (p = 300) is ~1.4e-5; a wrong
+            // normalization (p instead of p + 1) would be off by 3e-3.
+            assert!((total - 1.0).abs() < 5e-5, "{w:?}: {total}");
         }
     }
 
@@ -230,11 +380,21 @@ mod tests {
             Warp::PhongLobe { p: 1e5 },
             Warp::BlinnHalf { p: 0.0 },
             Warp::BlinnHalf { p: 700.0 },
+            Warp::GgxVisible { alpha: 0.3 },
+            Warp::BeckmannHalf {
+                alpha_x: 0.2,
+                alpha_y: 0.5,
+            },
+            Warp::AnisotropicPhongHalf {
+                nu: 10.0,
+                nv: 300.0,
+            },
         ] {
             for i in 0..200 {
                 let u = [(i as f64 + 0.5) / 200.0, (i * 37 % 200) as f64 / 200.0];
-                let s = w.sample(u);
-                let want = w.pdf(s.dir.z, s.one_minus_cos);
+                let wi = DVec3::new(0.6, 0.0, 0.8);
+                let s = w.sample(wi, u);
+                let want = w.pdf_local(wi, s.dir, s.dir.z, s.one_minus_cos);
                 assert!(
                     (s.pdf - want).abs() <= 1e-12 * want,
                     "{w:?} {u:?}: {} {want}",
@@ -253,7 +413,7 @@ mod tests {
         ] {
             for i in 0..100 {
                 let u = [i as f64 / 100.0, (i * 37 % 100) as f64 / 100.0];
-                let d = w.sample(u).dir;
+                let d = w.sample(DVec3::Z, u).dir;
                 assert!((d.length() - 1.0).abs() < 1e-14, "{w:?} {u:?} {d}");
                 assert!(d.z >= 0.0);
             }
