@@ -1,0 +1,686 @@
+"""High-precision (mpmath) reference for the family-A and family-B models of ``MODELS.md``.
+
+This is the yardstick of the stress suite. It is written from ``MODELS.md`` alone,
+independently of :mod:`brdf_rs.reference`, so the two can be checked against each other.
+
+How it stays accurate everywhere, not only at ordinary inputs:
+
+- Every input float is taken exactly. Each direction (``wi``, ``wo``, ``n``, ``tangent``)
+  is scaled by a power of two to an integer vector (same direction, exact), and every
+  quantity MODELS.md builds from directions is rewritten in terms of exact integer dot
+  products: ``a = n·wi``, ``b = n·wo``, ``c = wi·wo``, ``|n|²``, ``|wi|²``, ... For example
+  ``mu_i = a / sqrt(|n|²|wi|²)`` and ``r·wo = (2ab − |n|²c) / (|n|² sqrt(|wi|²|wo|²))``.
+- So every decision is exact: the signs of ``mu_i``, ``mu_o`` (family-A gate, family-B
+  specular gate), ``wi + wo = 0`` (h undefined), a zero tangent-plane projection, and the
+  toon comparisons ``n·l ≥ t`` and ``v·r ≥ t`` (compared as ``x + y·sqrt(z)`` against 0
+  with integers ``x, y, z``, squaring only when the signs differ).
+- Every value is computed to full relative precision: a sum ``x·sqrt(p) + y·sqrt(q)`` whose
+  terms have opposite signs is evaluated as ``(x²p − y²q) / (x·sqrt(p) − y·sqrt(q))`` with an
+  exact integer numerator, which covers ``n·h`` near 0, ``1 − cos_b`` near ``wi = wo``,
+  ``|wi + wo|`` near ``wi = −wo`` and the Kajiya-Kay ``sin_l·sin_v − (l·t)(v·t)``; sines
+  come from ``|n × w|² = |n|²|w|² − (n·w)²`` (exact), never from ``1 − mu²``.
+- The rest (powers, ``tan``, division, π) runs at ``dps`` decimal digits (50 by default),
+  far beyond float64, so :func:`eval_float` is the correctly rounded float64 value.
+
+Public functions: :func:`eval_mp`, :func:`eval_float` and :func:`condition`. Parameters
+take the ``MODELS.md`` names and the package defaults; ranges are not checked (so that
+:func:`condition` may step a parameter past its bound), only names and required ones are.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import mpmath
+from mpmath import mpf
+from mpmath.libmp import from_man_exp
+
+__all__ = ["condition", "eval_float", "eval_mp"]
+
+Colour = tuple[mpf, mpf, mpf]
+IntVector = tuple[int, int, int]
+
+
+# ---------------------------------------------------------------------------------------
+# Exact inputs
+# ---------------------------------------------------------------------------------------
+
+
+def _man_exp(x: Any) -> tuple[int, int]:
+    """Returns ``(m, e)`` with ``x == m·2^e`` exactly (``m`` signed) for a finite binary value."""
+    if isinstance(x, mpf):
+        if not mpmath.isfinite(x):
+            raise ValueError(f"non-finite value {x}")
+        sign, man, exp, _ = x._mpf_
+        return (-man if sign else man), exp
+    if isinstance(x, int):
+        return x, 0
+    value = float(x)
+    if not math.isfinite(value):
+        raise ValueError(f"non-finite value {value}")
+    numerator, denominator = value.as_integer_ratio()
+    return numerator, 1 - denominator.bit_length()
+
+
+def _exact_mpf(x: Any) -> mpf:
+    """The number ``x`` as an mpf, exactly (not rounded to the working precision)."""
+    man, exp = _man_exp(x)
+    return mpmath.mp.make_mpf(from_man_exp(man, exp))
+
+
+def _integer_vector(v: Sequence[Any], name: str) -> IntVector:
+    """``v`` times a power of two, as integers: the same direction, held exactly."""
+    components = [_man_exp(x) for x in v]
+    if len(components) != 3:
+        raise ValueError(f"{name} must have 3 components, got {len(components)}")
+    exponents = [exp for man, exp in components if man]
+    if not exponents:
+        raise ValueError(f"{name} has zero length")
+    lowest = min(exponents)
+    x, y, z = (man << (exp - lowest) if man else 0 for man, exp in components)
+    return x, y, z
+
+
+def _dot(u: IntVector, v: IntVector) -> int:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _colour(value: Any, name: str) -> Colour:
+    """A colour parameter: a float (grey) or a 3-sequence, as three exact mpf values."""
+    if hasattr(value, "__len__"):
+        components = [_exact_mpf(x) for x in value]
+        if len(components) != 3:
+            raise ValueError(f"{name} must be a float or 3 values, got {len(components)}")
+        return components[0], components[1], components[2]
+    grey = _exact_mpf(value)
+    return grey, grey, grey
+
+
+# ---------------------------------------------------------------------------------------
+# Sums of square roots, signed exactly and evaluated without cancellation
+# ---------------------------------------------------------------------------------------
+
+
+def _sign_of_roots(x: int, p: int, y: int, q: int) -> int:
+    """The exact sign of ``x·sqrt(p) + y·sqrt(q)`` (integers, ``p, q ≥ 0``)."""
+    sign_x = (x > 0) - (x < 0) if p else 0
+    sign_y = (y > 0) - (y < 0) if q else 0
+    if sign_x == 0 or sign_y == 0 or sign_x == sign_y:
+        return sign_x or sign_y
+    difference = x * x * p - y * y * q
+    if difference == 0:
+        return 0
+    return sign_x if difference > 0 else sign_y
+
+
+def _sum_of_roots(x: int, p: int, y: int, q: int) -> mpf:
+    """``x·sqrt(p) + y·sqrt(q)`` to full relative precision (integers, ``p, q ≥ 0``)."""
+    first = x * mpmath.sqrt(p)
+    second = y * mpmath.sqrt(q)
+    if x == 0 or y == 0 or p == 0 or q == 0 or (x > 0) == (y > 0):
+        return first + second
+    numerator = x * x * p - y * y * q
+    if numerator == 0:
+        return mpf(0)
+    return numerator / (first - second)
+
+
+def _per_channel(function: Callable[..., mpf], *colours: Colour) -> Colour:
+    """``function`` applied channel by channel to the given colours."""
+    red, green, blue = (function(*values) for values in zip(*colours, strict=True))
+    return red, green, blue
+
+
+def _power(x: mpf, p: mpf) -> mpf:
+    """``x^p`` for ``x, p ≥ 0`` with ``0^0 = 1``."""
+    if p == 0:
+        return mpf(1)
+    if x <= 0:
+        return mpf(0)
+    return mpmath.power(x, p)
+
+
+# ---------------------------------------------------------------------------------------
+# The geometry of one direction pair, in exact integer dot products
+# ---------------------------------------------------------------------------------------
+
+
+class _Geometry:
+    """MODELS.md's notation for one (``wi``, ``wo``, ``n``[, tangent]) set.
+
+    Integer attributes are exact; ``mpf`` properties are computed lazily at the working
+    precision with full relative accuracy.
+    """
+
+    def __init__(self, wi: IntVector, wo: IntVector, n: IntVector) -> None:
+        self.n_n = _dot(n, n)
+        self.i_i = _dot(wi, wi)
+        self.o_o = _dot(wo, wo)
+        self.a = _dot(n, wi)  # sign of mu_i, exactly
+        self.b = _dot(n, wo)  # sign of mu_o, exactly
+        self.c = _dot(wi, wo)
+        self.i_o = self.i_i * self.o_o  # |wi|²|wo|²
+        self.wi = wi
+        self.wo = wo
+
+    # cosines and sines of θi, θo ------------------------------------------------------
+
+    @cached_property
+    def mu_i(self) -> mpf:
+        return self.a / mpmath.sqrt(self.n_n * self.i_i)
+
+    @cached_property
+    def mu_o(self) -> mpf:
+        return self.b / mpmath.sqrt(self.n_n * self.o_o)
+
+    @cached_property
+    def cross_i(self) -> int:
+        """``|n × wi|² = |n|²|wi|² − (n·wi)²``, exactly."""
+        return self.n_n * self.i_i - self.a * self.a
+
+    @cached_property
+    def cross_o(self) -> int:
+        return self.n_n * self.o_o - self.b * self.b
+
+    @cached_property
+    def sin_i(self) -> mpf:
+        return mpmath.sqrt(mpf(self.cross_i) / (self.n_n * self.i_i))
+
+    @cached_property
+    def sin_o(self) -> mpf:
+        return mpmath.sqrt(mpf(self.cross_o) / (self.n_n * self.o_o))
+
+    @cached_property
+    def cos_phi(self) -> mpf:
+        """cos(φi − φo) between the tangent-plane projections; 0 if one has zero length."""
+        if self.cross_i == 0 or self.cross_o == 0:
+            return mpf(0)
+        numerator = self.n_n * self.c - self.a * self.b
+        return numerator / mpmath.sqrt(mpf(self.cross_i) * self.cross_o)
+
+    # the mirror direction r ------------------------------------------------------------
+
+    @cached_property
+    def r_dot_wo_numerator(self) -> int:
+        """``r·wo = this / (|n|² sqrt(|wi|²|wo|²))``."""
+        return 2 * self.a * self.b - self.n_n * self.c
+
+    @cached_property
+    def r_dot_wo(self) -> mpf:
+        return self.r_dot_wo_numerator / (self.n_n * mpmath.sqrt(self.i_o))
+
+    # the half vector h -----------------------------------------------------------------
+
+    @cached_property
+    def h_defined(self) -> bool:
+        """False exactly when ``wi + wo = 0`` (after normalization)."""
+        return not (self.c < 0 and self.c * self.c == self.i_o)
+
+    @cached_property
+    def sum_length(self) -> mpf:
+        """``T = |wi||wo| + wi·wo``; ``|ŵi + ŵo|² = 2T / (|wi||wo|)``."""
+        return _sum_of_roots(1, self.i_o, self.c, 1)
+
+    @cached_property
+    def cos_th(self) -> mpf:
+        """``n·h``, signed."""
+        n_dot_sum = _sum_of_roots(self.a, self.o_o, self.b, self.i_i)  # a|wo| + b|wi|
+        scale = mpmath.sqrt(self.n_n) * mpmath.root(self.i_o, 4) * mpmath.sqrt(2 * self.sum_length)
+        return n_dot_sum / scale
+
+    @cached_property
+    def cos_b(self) -> mpf:
+        """``wi·h = wo·h``."""
+        return mpmath.sqrt(self.sum_length / (2 * mpmath.sqrt(self.i_o)))
+
+    @cached_property
+    def one_minus_cos_b(self) -> mpf:
+        """``1 − cos_b`` without cancellation: ``(1 − cos_b²) / (1 + cos_b)``."""
+        difference = _sum_of_roots(1, self.i_o, -self.c, 1)  # |wi||wo| − wi·wo
+        one_minus_square = difference / (2 * mpmath.sqrt(self.i_o))
+        return one_minus_square / (1 + self.cos_b)
+
+    # exact comparisons against a threshold t -----------------------------------------
+
+    def mu_i_at_least(self, threshold: mpf) -> bool:
+        """``mu_i ≥ t``, decided exactly."""
+        man, exp = _man_exp(threshold)
+        # sign(a − t·sqrt(|n|²|wi|²)), both sides scaled by 2^max(0, −exp)
+        x, y = (self.a << -exp, -man) if exp < 0 else (self.a, -(man << exp))
+        return _sign_of_roots(x, 1, y, self.n_n * self.i_i) >= 0
+
+    def r_dot_wo_at_least(self, threshold: mpf) -> bool:
+        """``r·wo ≥ t``, decided exactly."""
+        man, exp = _man_exp(threshold)
+        numerator = self.r_dot_wo_numerator
+        x, y = (
+            (numerator << -exp, -man * self.n_n)
+            if exp < 0
+            else (numerator, -(man << exp) * self.n_n)
+        )
+        return _sign_of_roots(x, 1, y, self.i_o) >= 0
+
+
+# ---------------------------------------------------------------------------------------
+# The models, formula by formula from MODELS.md
+# ---------------------------------------------------------------------------------------
+
+
+def _oren_nayar_factor(g: _Geometry, sigma: mpf) -> mpf:
+    """``A + B·max(0, cos(φi−φo))·sin a·tan b`` (needs ``max(mu_i, mu_o) > 0``)."""
+    s2 = sigma * sigma
+    big_a = 1 - mpf("0.5") * s2 / (s2 + mpf("0.33"))
+    big_b = mpf("0.45") * s2 / (s2 + mpf("0.09"))
+    azimuth = max(mpf(0), g.cos_phi)
+    if azimuth == 0 or big_b == 0:
+        return big_a
+    # a = max(θi, θo) is the angle with the smaller cosine, b the one with the larger.
+    if g.mu_i >= g.mu_o:
+        sin_a, tan_b = g.sin_o, g.sin_i / g.mu_i
+    else:
+        sin_a, tan_b = g.sin_i, g.sin_o / g.mu_o
+    return big_a + big_b * azimuth * sin_a * tan_b
+
+
+def _lambert(g: _Geometry, kd: Colour) -> Colour:
+    return _per_channel(lambda k: k / mpmath.pi, kd)
+
+
+def _oren_nayar(g: _Geometry, kd: Colour, sigma: mpf) -> Colour:
+    factor = _oren_nayar_factor(g, sigma)
+    return _per_channel(lambda k: k / mpmath.pi * factor, kd)
+
+
+def _cos_ar(g: _Geometry) -> mpf:
+    return max(mpf(0), g.r_dot_wo)
+
+
+def _phong(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = _power(_cos_ar(g), p) / g.mu_i
+    return _per_channel(lambda d, s: d + s * lobe, kd, ks)
+
+
+def _modified_phong(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = _power(_cos_ar(g), p)
+    return _per_channel(lambda d, s: d + s * lobe, kd, ks)
+
+
+def _normalized_phong(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = (p + 2) / (2 * mpmath.pi) * _power(_cos_ar(g), p)
+    return _per_channel(lambda d, s: d / mpmath.pi + s * lobe, kd, ks)
+
+
+def _blinn_lobe(g: _Geometry, p: mpf) -> mpf:
+    """``cos_th^p``; 0 where h is undefined (cannot happen in family A)."""
+    if not g.h_defined:
+        return mpf(0)
+    return _power(max(mpf(0), g.cos_th), p)
+
+
+def _blinn_phong(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = _blinn_lobe(g, p) / g.mu_i
+    return _per_channel(lambda d, s: d + s * lobe, kd, ks)
+
+
+def _modified_blinn_phong(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = _blinn_lobe(g, p)
+    return _per_channel(lambda d, s: d + s * lobe, kd, ks)
+
+
+def _normalized_blinn_phong(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = (p + 8) / (8 * mpmath.pi) * _blinn_lobe(g, p)
+    return _per_channel(lambda d, s: d / mpmath.pi + s * lobe, kd, ks)
+
+
+def _blinn_phong_fresnel(g: _Geometry, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    lobe = (p + 8) / (8 * mpmath.pi) * _blinn_lobe(g, p)
+    schlick = g.one_minus_cos_b**5
+    return _per_channel(lambda d, f0: d / mpmath.pi + (f0 + (1 - f0) * schlick) * lobe, kd, ks)
+
+
+def _torrance_sparrow(g: _Geometry, kd: Colour, ks: Colour, p: mpf, eta: mpf) -> Colour:
+    distribution = (p + 2) / (2 * mpmath.pi) * _blinn_lobe(g, p)
+    r0 = ((eta - 1) / (eta + 1)) ** 2
+    fresnel = r0 + (1 - r0) * g.one_minus_cos_b**5
+    masking = min(mpf(1), 2 * g.cos_th * g.mu_o / g.cos_b, 2 * g.cos_th * g.mu_i / g.cos_b)
+    specular = distribution * fresnel * masking / (4 * g.mu_i * g.mu_o)
+    return _per_channel(lambda d, s: d / mpmath.pi + s * specular, kd, ks)
+
+
+def _lambert_shading(g: _Geometry, kd: Colour) -> Colour:
+    cosine = max(mpf(0), g.mu_i)
+    return _per_channel(lambda k: k * cosine, kd)
+
+
+def _oren_nayar_shading(g: _Geometry, kd: Colour, sigma: mpf) -> Colour:
+    if g.a <= 0:  # clamp(n·l, 0, 1) = 0, and the factor stays bounded as n·l → 0+
+        return mpf(0), mpf(0), mpf(0)
+    weight = min(mpf(1), g.mu_i) * _oren_nayar_factor(g, sigma)
+    return _per_channel(lambda k: k * weight, kd)
+
+
+def _toon_diffuse(g: _Geometry, thresholds: tuple[mpf, ...], colors: tuple[Colour, ...]) -> Colour:
+    if len(colors) != len(thresholds) + 1:
+        raise ValueError(
+            f"toon_diffuse needs len(colors) == len(thresholds) + 1, "
+            f"got {len(colors)} and {len(thresholds)}"
+        )
+    band = sum(1 for t in thresholds if g.mu_i_at_least(t))
+    return colors[band]
+
+
+def _phong_specular(g: _Geometry, ks: Colour, p: mpf) -> Colour:
+    if g.a <= 0:
+        return mpf(0), mpf(0), mpf(0)
+    lobe = _power(min(mpf(1), max(mpf(0), g.r_dot_wo)), p)
+    return _per_channel(lambda s: s * lobe, ks)
+
+
+def _blinn_specular(g: _Geometry, ks: Colour, p: mpf) -> Colour:
+    if g.a <= 0 or not g.h_defined:
+        return mpf(0), mpf(0), mpf(0)
+    lobe = _power(min(mpf(1), max(mpf(0), g.cos_th)), p)
+    return _per_channel(lambda s: s * lobe, ks)
+
+
+def _toon_specular(g: _Geometry, threshold: mpf, high: Colour, low: Colour) -> Colour:
+    if g.a <= 0:
+        return mpf(0), mpf(0), mpf(0)
+    return high if g.r_dot_wo_at_least(threshold) else low
+
+
+def _kajiya_kay(g: _Geometry, tangent: IntVector, kd: Colour, ks: Colour, p: mpf) -> Colour:
+    if g.a <= 0:
+        return mpf(0), mpf(0), mpf(0)
+    t_t = _dot(tangent, tangent)
+    l_t = _dot(g.wi, tangent)
+    v_t = _dot(g.wo, tangent)
+    cross_l = g.i_i * t_t - l_t * l_t  # |l × t|², so sin_l = sqrt(cross_l / (|l|²|t|²))
+    cross_v = g.o_o * t_t - v_t * v_t
+    sin_l = mpmath.sqrt(mpf(cross_l) / (g.i_i * t_t))
+    # sin_l·sin_v − (l·t)(v·t) = (sqrt(cross_l·cross_v) − l_t·v_t) / (|t|² |l||v|)
+    difference = _sum_of_roots(1, cross_l * cross_v, -l_t * v_t, 1)
+    lobe = _power(max(mpf(0), difference / (t_t * mpmath.sqrt(g.i_o))), p)
+    return _per_channel(lambda d, s: d * sin_l + s * lobe, kd, ks)
+
+
+# ---------------------------------------------------------------------------------------
+# The model table
+# ---------------------------------------------------------------------------------------
+
+_COLOUR = "colour"
+_SCALAR = "scalar"
+_SCALARS = "scalar list"
+_COLOURS = "colour list"
+
+_KINDS = {
+    "kd": _COLOUR,
+    "ks": _COLOUR,
+    "high": _COLOUR,
+    "low": _COLOUR,
+    "p": _SCALAR,
+    "eta": _SCALAR,
+    "sigma": _SCALAR,
+    "threshold": _SCALAR,
+    "thresholds": _SCALARS,
+    "colors": _COLOURS,
+}
+
+
+@dataclass(frozen=True)
+class _Model:
+    family: str
+    function: Callable[..., Colour]
+    defaults: dict[str, Any]
+    required: tuple[str, ...] = ()
+    tangent: bool = False
+
+
+_LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
+
+_MODELS: dict[str, _Model] = {
+    "lambert": _Model("A", _lambert, {"kd": 0.5}),
+    "oren_nayar": _Model("A", _oren_nayar, {"kd": 0.5, "sigma": 0.5}),
+    "phong": _Model("A", _phong, _LOBE),
+    "modified_phong": _Model("A", _modified_phong, _LOBE),
+    "normalized_phong": _Model("A", _normalized_phong, _LOBE),
+    "blinn_phong": _Model("A", _blinn_phong, _LOBE),
+    "modified_blinn_phong": _Model("A", _modified_blinn_phong, _LOBE),
+    "normalized_blinn_phong": _Model("A", _normalized_blinn_phong, _LOBE),
+    "blinn_phong_fresnel": _Model("A", _blinn_phong_fresnel, {"kd": 0.0, "ks": 0.04, "p": 32.0}),
+    "torrance_sparrow": _Model("A", _torrance_sparrow, {**_LOBE, "eta": 1.5}),
+    "lambert_shading": _Model("B", _lambert_shading, {"kd": 0.5}),
+    "oren_nayar_shading": _Model("B", _oren_nayar_shading, {"kd": 0.5, "sigma": 0.5}),
+    "toon_diffuse": _Model("B", _toon_diffuse, {}, ("thresholds", "colors")),
+    "phong_specular": _Model("B", _phong_specular, {"ks": 1.0, "p": 32.0}),
+    "blinn_specular": _Model("B", _blinn_specular, {"ks": 1.0, "p": 32.0}),
+    "toon_specular": _Model("B", _toon_specular, {"high": 1.0, "low": 0.0}, ("threshold",)),
+    "kajiya_kay": _Model("B", _kajiya_kay, {"kd": 0.5, "ks": 0.5, "p": 32.0}, tangent=True),
+}
+
+
+def _spec(model: str) -> _Model:
+    try:
+        return _MODELS[model]
+    except KeyError:
+        raise ValueError(f"unknown model {model!r}; known: {', '.join(_MODELS)}") from None
+
+
+def _raw_parameters(model: str, params: dict[str, Any]) -> dict[str, Any]:
+    """The caller's parameters over the defaults, names checked, values untouched."""
+    spec = _spec(model)
+    unknown = sorted(set(params) - set(spec.defaults) - set(spec.required))
+    if unknown:
+        raise TypeError(f"{model}: unknown parameter(s) {', '.join(unknown)}")
+    missing = [name for name in spec.required if name not in params]
+    if missing:
+        raise TypeError(f"{model}: missing required parameter(s) {', '.join(missing)}")
+    return {**spec.defaults, **params}
+
+
+def _convert(name: str, value: Any) -> Any:
+    kind = _KINDS[name]
+    if kind == _COLOUR:
+        return _colour(value, name)
+    if kind == _SCALAR:
+        return _exact_mpf(value)
+    if kind == _SCALARS:
+        values = [value] if not hasattr(value, "__len__") else list(value)
+        return tuple(_exact_mpf(x) for x in values)
+    return tuple(_colour(x, name) for x in value)
+
+
+def _evaluate(model: str, wi: Any, wo: Any, n: Any, tangent: Any, params: dict[str, Any]) -> Colour:
+    """The model's RGB value at the current mpmath precision; ``params`` complete."""
+    spec = _spec(model)
+    geometry = _Geometry(
+        _integer_vector(wi, "wi"), _integer_vector(wo, "wo"), _integer_vector(n, "n")
+    )
+    zero = (mpf(0), mpf(0), mpf(0))
+    if spec.family == "A" and not (geometry.a > 0 and geometry.b > 0):
+        return zero
+    values = {name: _convert(name, value) for name, value in params.items()}
+    if spec.tangent:
+        if tangent is None:
+            raise TypeError(f"{model}: missing required argument 'tangent'")
+        values["tangent"] = _integer_vector(tangent, "tangent")
+    red, green, blue = spec.function(geometry, **values)
+    return +red, +green, +blue
+
+
+# ---------------------------------------------------------------------------------------
+# Public API
+# ---------------------------------------------------------------------------------------
+
+
+def eval_mp(
+    model: str,
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float] = (0.0, 0.0, 1.0),
+    tangent: Sequence[float] | None = None,
+    *,
+    dps: int = 50,
+    **params: Any,
+) -> tuple[mpf, mpf, mpf]:
+    """Returns the RGB value of ``model`` at ``dps`` decimal digits, as three mpf.
+
+    Inputs are taken exactly (any binary64 value, subnormal or huge, not normalized).
+    Family A gives ``f(wi, wo)`` in 1/sr, family B the shading term ``s(l, v)``. Values
+    beyond the float range (``1/mu_i`` models at tiny ``mu_i``) are returned as they are.
+
+    Raises ValueError for an unknown model or a zero-length / non-finite vector, and
+    TypeError for an unknown or missing parameter (or a missing tangent for
+    ``kajiya_kay``).
+    """
+    with mpmath.workdps(dps):
+        return _evaluate(model, wi, wo, n, tangent, _raw_parameters(model, params))
+
+
+def _nearest_float(x: mpf) -> float:
+    """``x`` rounded to the nearest binary64 (ties to even, subnormals, overflow to inf)."""
+    if not mpmath.isfinite(x):
+        return float(x)
+    sign, man, exp, bits = x._mpf_
+    if man == 0:
+        return 0.0
+    dropped = max(exp + bits - 53, -1074) - exp  # low bits below the binary64 quantum
+    if dropped > 0:
+        man, rest = divmod(man, 1 << dropped)
+        half = 1 << (dropped - 1)
+        if rest > half or (rest == half and man & 1):
+            man += 1
+        exp += dropped
+    try:
+        value = math.ldexp(man, exp)
+    except OverflowError:
+        value = math.inf
+    return -value if sign else value
+
+
+def eval_float(
+    model: str,
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float] = (0.0, 0.0, 1.0),
+    tangent: Sequence[float] | None = None,
+    **params: Any,
+) -> tuple[float, float, float]:
+    """Returns :func:`eval_mp` (50 digits) rounded to the nearest float64, per channel.
+
+    Values beyond the float range become ``inf``.
+    """
+    red, green, blue = eval_mp(model, wi, wo, n, tangent, **params)
+    return _nearest_float(red), _nearest_float(green), _nearest_float(blue)
+
+
+def _leaf_paths(value: Any, path: tuple[Any, ...]) -> list[tuple[Any, ...]]:
+    """Paths to every number inside nested dicts and sequences (the inputs to perturb)."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"unexpected string {value!r}")
+    if hasattr(value, "__len__"):
+        items = value.items() if isinstance(value, dict) else enumerate(value)
+        paths = []
+        for index, item in items:
+            paths.extend(_leaf_paths(item, (*path, index)))
+        return paths
+    return [path]
+
+
+def _replaced(value: Any, path: tuple[Any, ...], leaf: Any) -> Any:
+    """A copy of nested ``value`` (lists/tuples/dicts) with the number at ``path`` set."""
+    if not path:
+        return leaf
+    head, rest = path[0], path[1:]
+    if isinstance(value, dict):
+        return {**value, head: _replaced(value[head], rest, leaf)}
+    items = list(value)
+    items[head] = _replaced(items[head], rest, leaf)
+    return items
+
+
+def _leaf(value: Any, path: tuple[Any, ...]) -> Any:
+    for key in path:
+        value = value[key]
+    return value
+
+
+def condition(
+    model: str,
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float] = (0.0, 0.0, 1.0),
+    tangent: Sequence[float] | None = None,
+    *,
+    dps: int = 60,
+    **params: Any,
+) -> float:
+    """Returns the relative condition number κ of ``model`` at these inputs.
+
+    κ = max over channels of Σ_k |x_k·∂f/∂x_k| / |f| over every input float ``x_k``
+    (each component of ``wi``, ``wo``, ``n``, of ``tangent`` when the model uses it, and of
+    every parameter value). Each term is a one-sided difference under the relative steps
+    ``x_k·(1 ± 1e-20)``, the larger side (so a kink counts its steeper side). The same
+    differences at ``1e-30`` detect a discontinuity (a toon threshold, the horizon) or an
+    infinite slope: the slope growing as the step shrinks gives ``inf``. A channel whose
+    value is exactly 0 contributes 0 if every perturbation keeps it 0, else ``inf``.
+    Inputs equal to 0 stay 0 under relative perturbation and are skipped.
+
+    A float64 kernel can at best be off by about ``κ·2^-53`` relative.
+    """
+    spec = _spec(model)
+    inputs: dict[str, Any] = {"wi": wi, "wo": wo, "n": n, **_raw_parameters(model, params)}
+    if spec.tangent:
+        if tangent is None:
+            raise TypeError(f"{model}: missing required argument 'tangent'")
+        inputs["tangent"] = tangent
+
+    def value(arguments: dict[str, Any]) -> Colour:
+        arguments = dict(arguments)
+        return _evaluate(
+            model,
+            arguments.pop("wi"),
+            arguments.pop("wo"),
+            arguments.pop("n"),
+            arguments.pop("tangent", None),
+            arguments,
+        )
+
+    with mpmath.workdps(dps):
+        base = value(inputs)
+        steps = (mpf(10) ** -20, mpf(10) ** -30)
+        totals = [mpf(0)] * 3
+        moved_from_zero = [False] * 3
+        for path in _leaf_paths(inputs, ()):
+            x = _exact_mpf(_leaf(inputs, path))
+            if x == 0:
+                continue
+            slopes = []
+            for step in steps:
+                plus = value(_replaced(inputs, path, x * (1 + step)))
+                minus = value(_replaced(inputs, path, x * (1 - step)))
+                slope = []
+                for channel in range(3):
+                    if base[channel] == 0 and (plus[channel] != 0 or minus[channel] != 0):
+                        moved_from_zero[channel] = True
+                    up = abs(plus[channel] - base[channel])
+                    down = abs(base[channel] - minus[channel])
+                    slope.append(max(up, down) / step)
+                slopes.append(slope)
+            for channel in range(3):
+                coarse, fine = slopes[0][channel], slopes[1][channel]
+                if base[channel] != 0 and fine > 10 * coarse + abs(base[channel]) * mpf(10) ** -10:
+                    return math.inf  # the slope grows as the step shrinks: a jump
+                totals[channel] += max(coarse, fine)
+        worst = 0.0
+        for channel in range(3):
+            if base[channel] == 0:
+                if moved_from_zero[channel]:
+                    return math.inf
+                continue
+            worst = max(worst, float(totals[channel] / abs(base[channel])))
+        return worst
