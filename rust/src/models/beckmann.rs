@@ -47,7 +47,7 @@ pub struct Prepared<F> {
 
 /// `μ·Λ(μ)` of the Beckmann Smith function, from `μ` and `sin²θ`.
 #[inline(always)]
-fn mu_lambda<F: Real>(mu: F, sin2: F, alpha: F) -> F {
+pub fn mu_lambda<F: Real>(mu: F, sin2: F, alpha: F) -> F {
     let s = sin2.sqrt();
     let c = mu / (alpha * s);
     let e = (-(c * c)).exp();

@@ -102,7 +102,7 @@ fn unit_pair(c: f64, s: f64) -> (f64, f64) {
 
 /// The GGX NDF `α²/(π (sin²θ + α² cos²θ)²)` of a local unit direction.
 #[inline(always)]
-fn ggx_ndf(alpha2: f64, cos: f64, one_minus_cos: f64) -> f64 {
+pub fn ggx_ndf(alpha2: f64, cos: f64, one_minus_cos: f64) -> f64 {
     let sin2 = one_minus_cos * (1.0 + cos);
     let d = sin2 + alpha2 * cos * cos;
     alpha2 * FRAC_1_PI / (d * d)
@@ -368,6 +368,57 @@ mod tests {
             // Midpoint-rule error for the narrowest lobe (p = 300) is ~1.4e-5; a wrong
             // normalization (p instead of p + 1) would be off by 3e-3.
             assert!((total - 1.0).abs() < 5e-5, "{w:?}: {total}");
+        }
+    }
+
+    /// Integrates `g(h)` over the upper hemisphere (θ, φ midpoint rule, graded in θ).
+    fn hemisphere_integral(g: impl Fn(DVec3, f64) -> f64) -> f64 {
+        let (nt, np) = (20_000, 64);
+        let mut sum = 0.0;
+        for i in 0..nt {
+            // θ = (π/2)·t² concentrates nodes near the normal, where narrow NDFs live.
+            let t = (i as f64 + 0.5) / nt as f64;
+            let theta = 0.5 * PI * t * t;
+            let dtheta = PI * t / nt as f64;
+            let (st, ct) = theta.sin_cos();
+            let omc = 2.0 * (theta / 2.0).sin().powi(2);
+            for j in 0..np {
+                let phi = (j as f64 + 0.5) / np as f64 * TAU;
+                let h = DVec3::new(st * phi.cos(), st * phi.sin(), ct);
+                sum += g(h, omc) * st * dtheta * (TAU / np as f64);
+            }
+        }
+        sum
+    }
+
+    #[test]
+    fn ndfs_integrate_to_one_and_match_their_smith_functions() {
+        use crate::math::geometry::ggx_mu_lambda;
+        use crate::models::beckmann::mu_lambda as beckmann_mu_lambda;
+        for alpha in [0.05_f64, 0.3, 1.0] {
+            let a2 = alpha * alpha;
+            let ggx = |h: DVec3, omc: f64| ggx_ndf(a2, h.z, omc);
+            let beck = |h: DVec3, _omc: f64| {
+                let c2 = h.z * h.z;
+                let t = (h.x * h.x + h.y * h.y) / (a2 * c2);
+                (-t).exp() / (PI * a2 * c2 * c2)
+            };
+            // ∫ D cos θh dωh = 1.
+            let one = hemisphere_integral(|h, omc| ggx(h, omc) * h.z);
+            assert!((one - 1.0).abs() < 2e-4, "ggx alpha={alpha}: {one}");
+            let one = hemisphere_integral(|h, omc| beck(h, omc) * h.z);
+            assert!((one - 1.0).abs() < 2e-4, "beckmann alpha={alpha}: {one}");
+            // ∫ D ⟨wo·h⟩ dωh = (1 + Λ(mu_o))·mu_o = mu_o + μΛ(mu_o).
+            for mu in [0.2_f64, 0.7] {
+                let wo = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+                let s2 = 1.0 - mu * mu;
+                let lhs = hemisphere_integral(|h, omc| ggx(h, omc) * wo.dot(h).max(0.0));
+                let rhs = mu + ggx_mu_lambda(mu, s2, a2);
+                assert!((lhs - rhs).abs() < 2e-4 * rhs, "ggx alpha={alpha} mu={mu}: {lhs} {rhs}");
+                let lhs = hemisphere_integral(|h, omc| beck(h, omc) * wo.dot(h).max(0.0));
+                let rhs = mu + beckmann_mu_lambda(mu, s2, alpha);
+                assert!((lhs - rhs).abs() < 2e-4 * rhs, "beckmann alpha={alpha} mu={mu}: {lhs} {rhs}");
+            }
         }
     }
 
