@@ -22,6 +22,9 @@ SPECS = brdf_rs.models()
 MODEL_NAMES = list(SPECS)
 FAMILY_A = [m for m in MODEL_NAMES if SPECS[m]["family"] == "A"]
 FAMILY_B = [m for m in MODEL_NAMES if SPECS[m]["family"] == "B"]
+#: Models with a pure-Python reference (the multiple-scattering lobes interpolate tables
+#: computed by brdf-rs itself; they are tested by the white furnace instead).
+REFERENCE_MODELS = [m for m in MODEL_NAMES if not m.endswith("_ms")]
 
 
 def takes_tangent(model: str) -> bool:

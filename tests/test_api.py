@@ -156,7 +156,7 @@ def test_model_object_matches_eval(rng):
 
 def test_models_table_is_complete():
     specs = brdf_rs.models()
-    assert len(specs) == 21
+    assert len(specs) == 23
     ts = specs["torrance_sparrow"]
     assert ts["family"] == "A"
     assert "Summary eqs. 10" in ts["source"]

@@ -71,13 +71,14 @@ BLINN = (
 )
 DIFFUSE = ("lambert", "oren_nayar")
 MICROFACET = ("ggx", "beckmann", "ward", "ashikhmin_shirley")
+MULTIPLE_SCATTERING = ("ggx_ms", "beckmann_ms")
 MUS = (0.05, 0.5, 0.95)
 EXPONENTS = (1.0, 10.0, 100.0, 1e3, 1e4)
 TILTED = (0.35, -0.25, 0.9)
 
 
 def test_the_model_lists_cover_family_a():
-    assert sorted(PHONG + BLINN + DIFFUSE + MICROFACET) == sorted(FAMILY_A)
+    assert sorted(PHONG + BLINN + DIFFUSE + MICROFACET + MULTIPLE_SCATTERING) == sorted(FAMILY_A)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -121,7 +122,7 @@ class Case:
         t = chi2.Frame.around(n).x
         wi = self.mu * n + math.sqrt(1.0 - self.mu * self.mu) * t
         mirror = 2.0 * self.mu * n - wi
-        lobe = self.sampler == "auto" and self.model not in DIFFUSE
+        lobe = self.sampler == "auto" and self.model not in DIFFUSE + MULTIPLE_SCATTERING
         return wi, n, (mirror if lobe else n)
 
     def draw(self, u):
@@ -143,6 +144,8 @@ def _params(model: str, p: float, mixture: bool) -> dict:
     For the microfacet models ``p`` is the roughness: α for ggx and beckmann, (αx, αy) =
     (p, 4p) for ward and (nu, nv) = (1/p, 100/p) for ashikhmin_shirley (anisotropic).
     """
+    if model in MULTIPLE_SCATTERING:  # alpha within the table's range [1e-3, 1]
+        return {"alpha": min(max(p, 1e-3), 1.0), "ks": [1.0, 0.8, 0.6]}
     if model in ("ggx", "beckmann"):
         return {"alpha": p, "kd": [0.3, 0.2, 0.1] if mixture else 0.0, "ks": [1.0, 0.8, 0.6]}
     if model == "ward":
@@ -191,6 +194,9 @@ def _chi2_cases() -> list[Case]:
     for model, points in microfacet_points.items():
         for mu, roughness, mixture in points:
             cases.append(Case.of(model, mu, **_params(model, roughness, mixture)))
+    # The multiple-scattering lobes (diffuse-like: drawn cosine-weighted).
+    cases.append(Case.of("ggx_ms", 0.05, **_params("ggx_ms", 0.5, False)))
+    cases.append(Case.of("beckmann_ms", 0.7, **_params("beckmann_ms", 1.0, False)))
     # Diffuse models; the single-warp samplers on lobe models.
     cases.append(Case.of("lambert", 0.05, **_params("lambert", 0, False)))
     cases.append(Case.of("oren_nayar", 0.5, **_params("oren_nayar", 0, False)))

@@ -7,7 +7,17 @@ without the cosine factor, family-B shading terms include the light's cosine. Se
 """
 
 from . import reference
-from ._albedo import Albedo, Energy, Table, albedo, albedo_table, dfg_table, energy
+from ._albedo import (
+    Albedo,
+    Energy,
+    EnergyCompensation,
+    Table,
+    albedo,
+    albedo_table,
+    dfg_table,
+    energy,
+    energy_compensation_table,
+)
 from ._api import Model, eval, isa, models, num_threads, set_num_threads
 from ._brdf_rs import __version__
 from ._sampling import pdf, sample
@@ -15,6 +25,7 @@ from ._sampling import pdf, sample
 __all__ = [
     "Albedo",
     "Energy",
+    "EnergyCompensation",
     "Model",
     "Table",
     "__version__",
@@ -22,6 +33,7 @@ __all__ = [
     "albedo_table",
     "dfg_table",
     "energy",
+    "energy_compensation_table",
     "eval",
     "isa",
     "models",

@@ -17,10 +17,20 @@ from typing import Any
 
 import numpy as np
 
-from . import _arrays
+from . import _arrays, _normalization
 from . import _brdf_rs as _core
 
-__all__ = ["Albedo", "Energy", "Table", "albedo", "albedo_table", "dfg_table", "energy"]
+__all__ = [
+    "Albedo",
+    "Energy",
+    "EnergyCompensation",
+    "Table",
+    "albedo",
+    "albedo_table",
+    "dfg_table",
+    "energy",
+    "energy_compensation_table",
+]
 
 log = logging.getLogger("brdf_rs")
 
@@ -86,6 +96,7 @@ def albedo(
     progress: Callable[[int, int], None] | None = None,
     cell_ids: np.ndarray | None = None,
     fold_azimuth: bool = True,
+    normalization: str = "approximate",
     **params: Any,
 ) -> Albedo:
     """Directional albedo ``R(mu) = ∫ f(wi, wo)·cos θo dωo`` of a family-A model.
@@ -107,6 +118,7 @@ def albedo(
         cell_ids: uint64 ids keying each cell's stream (default: the flat cell index).
         fold_azimuth: draw azimuths on [0, π) only, using the integrand's symmetry about
             the plane of incidence (default); ``False`` covers the full circle.
+        normalization: ``"exact"`` for the exactly normalized lobe (see ``eval``).
         **params: the model's parameters (MODELS.md names), scalars or arrays
             broadcasting against ``mu``.
 
@@ -114,7 +126,7 @@ def albedo(
         :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
     """
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
-    p = _arrays.parameters(params, np.float64)
+    p = _arrays.parameters(_normalization.apply(model, params, normalization), np.float64)
     options = _options(samples, sampler, sequence, seed, tol, max_samples, replicates)
     ids = None if cell_ids is None else np.ascontiguousarray(cell_ids, dtype=np.uint64)
     value, stderr, drawn = _core.albedo(
@@ -348,7 +360,7 @@ def _core_models() -> dict[str, dict[str, Any]]:
 # ------------------------------------------------------------------------- DFG, energy
 
 #: The parameter that plays "roughness" in a split-sum table, per Schlick-Fresnel model.
-_DFG_ROUGHNESS = {"blinn_phong_fresnel": "p"}
+_DFG_ROUGHNESS = {"blinn_phong_fresnel": "p", "ggx": "alpha", "beckmann": "alpha"}
 
 
 def dfg_table(
@@ -461,3 +473,72 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
     k = int(np.argmax(all_value.max(axis=-1)))
     gains = bool(np.any(all_value[k] - 3 * all_err[k] > 1.0))
     return Energy(all_value[k], all_err[k], float(all_mu[k]), gains, all_mu, all_value)
+
+
+# ----------------------------------------------------------------- energy compensation
+
+#: Microfacet models with an energy-compensation table (F = 1: ks = 1, kd = 0).
+_COMPENSATED = ("ggx", "beckmann")
+
+
+@dataclasses.dataclass(frozen=True)
+class EnergyCompensation:
+    """Kulla & Conty's (2017) single-scattering energy tables of a microfacet model.
+
+    ``e[i, j]`` is the directional albedo ``E(mu_i, alpha_j)`` with F = 1, ``e_avg[j]`` the
+    cosine-weighted average ``E_avg(alpha) = 2 ∫ E(mu) mu dmu`` (a 32-point Gauss-Legendre
+    rule in mu), ``stderr`` and ``e_avg_stderr`` their standard errors. The missing energy
+    is restored by the lobe ``f_ms = (1 − E(mu_i))(1 − E(mu_o)) / (π (1 − E_avg))``, scaled
+    for a Schlick F0 by ``F_avg² E_avg / (1 − F_avg (1 − E_avg))``, ``F_avg = F0 + (1 − F0)/21``
+    (see :meth:`multiple_scattering`).
+    """
+
+    model: str
+    mu: np.ndarray
+    alpha: np.ndarray
+    e: np.ndarray
+    e_avg: np.ndarray
+    stderr: np.ndarray
+    e_avg_stderr: np.ndarray
+
+    def multiple_scattering(self, mu_i, mu_o, alpha_index, f0=1.0) -> np.ndarray:
+        """``f_ms`` for incidences on the table's mu grid (indices into ``mu``), RGB F0."""
+        e_i = self.e[mu_i, alpha_index]
+        e_o = self.e[mu_o, alpha_index]
+        e_avg = self.e_avg[alpha_index]
+        f_ms = (1 - e_i) * (1 - e_o) / (np.pi * (1 - e_avg))
+        f_avg = np.asarray(f0, dtype=np.float64) + (1 - np.asarray(f0, dtype=np.float64)) / 21
+        return np.multiply.outer(f_ms, f_avg**2 * e_avg / (1 - f_avg * (1 - e_avg)))
+
+
+def energy_compensation_table(
+    model: str,
+    mu: Sequence[float] | np.ndarray,
+    alpha: Sequence[float] | np.ndarray,
+    *,
+    samples: int = 1 << 12,
+    tol: float | None = 1e-5,
+    seed: int = 0,
+    **options: Any,
+) -> EnergyCompensation:
+    """Builds E(mu, alpha) and E_avg(alpha) for ``ggx`` or ``beckmann`` with F = 1."""
+    if model not in _COMPENSATED:
+        raise ValueError(f"{model}: energy compensation tables exist for {', '.join(_COMPENSATED)}")
+    mu = np.asarray(mu, dtype=np.float64)
+    alpha = np.asarray(alpha, dtype=np.float64)
+    if mu.ndim != 1 or alpha.ndim != 1 or mu.size == 0 or alpha.size == 0:
+        raise ValueError("mu, alpha: expected non-empty 1-D lists of values")
+    common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}
+    grid = albedo(model, mu[:, None], alpha=alpha[None, :], **common)
+    # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).
+    nodes, weights = np.polynomial.legendre.leggauss(32)
+    x, w = 0.5 * (nodes + 1), 0.5 * weights
+    ids = (
+        np.arange(x.size * alpha.size, dtype=np.uint64) + np.uint64(mu.size * alpha.size)
+    ).reshape(x.size, alpha.size)
+    avg = albedo(model, x[:, None], alpha=alpha[None, :], cell_ids=ids, **common)
+    e_avg = 2 * np.einsum("i,ij->j", w * x, avg.value[..., 0])
+    e_avg_se = 2 * np.sqrt(np.einsum("i,ij->j", (w * x) ** 2, avg.stderr[..., 0] ** 2))
+    return EnergyCompensation(
+        model, mu, alpha, grid.value[..., 0], e_avg, grid.stderr[..., 0], e_avg_se
+    )

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _arrays
+from . import _arrays, _normalization
 from . import _brdf_rs as _core
 
 __all__ = ["Model", "eval", "isa", "models", "num_threads", "set_num_threads"]
@@ -22,6 +22,7 @@ def eval(
     normalized: bool = False,
     check: bool = True,
     out: np.ndarray | None = None,
+    normalization: str = "approximate",
     **params: Any,
 ) -> np.ndarray:
     """Evaluates ``model`` for every pair of directions.
@@ -41,6 +42,8 @@ def eval(
         check: raise ``ValueError`` naming the argument and first bad index for NaN,
             infinite or zero-length vectors; with ``check=False`` such rows give NaN.
         out: optional C-contiguous array of the result's shape and dtype to write into.
+        normalization: ``"exact"`` gives ``normalized_blinn_phong`` the lobe factor that
+            makes its largest albedo exactly 1 (instead of RTR's ``(p+8)/(8π)``).
         **params: the model's parameters (MODELS.md names). Scalars, RGB triples for
             colours, or arrays broadcasting against the batch (colours with a trailing
             axis of 3) for spatially varying parameters.
@@ -50,7 +53,7 @@ def eval(
         input is float32 (computed by float32 kernels), float64 otherwise.
     """
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
-    p = _arrays.parameters(params, dtype)
+    p = _arrays.parameters(_normalization.apply(model, params, normalization), dtype)
     kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
     return kernel(model, v["wi"], v["wo"], v["n"], v["tangent"], p, normalized, check, True, out)
 

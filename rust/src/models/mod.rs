@@ -11,13 +11,16 @@
 pub mod albedo;
 pub mod lobes;
 pub mod spec;
+pub mod tables;
 
 pub mod ashikhmin_shirley;
 pub mod beckmann;
+pub mod beckmann_ms;
 pub mod blinn_phong;
 pub mod blinn_phong_fresnel;
 pub mod blinn_specular;
 pub mod ggx;
+pub mod ggx_ms;
 pub mod kajiya_kay;
 pub mod lambert;
 pub mod lambert_shading;
@@ -135,7 +138,9 @@ declare_models! {
     BlinnPhongFresnel => blinn_phong_fresnel::BlinnPhongFresnel,
     TorranceSparrow => torrance_sparrow::TorranceSparrow,
     Ggx => ggx::Ggx,
+    GgxMs => ggx_ms::GgxMs,
     Beckmann => beckmann::Beckmann,
+    BeckmannMs => beckmann_ms::BeckmannMs,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
     LambertShading => lambert_shading::LambertShading,

@@ -414,10 +414,16 @@ mod tests {
                 let s2 = 1.0 - mu * mu;
                 let lhs = hemisphere_integral(|h, omc| ggx(h, omc) * wo.dot(h).max(0.0));
                 let rhs = mu + ggx_mu_lambda(mu, s2, a2);
-                assert!((lhs - rhs).abs() < 2e-4 * rhs, "ggx alpha={alpha} mu={mu}: {lhs} {rhs}");
+                assert!(
+                    (lhs - rhs).abs() < 2e-4 * rhs,
+                    "ggx alpha={alpha} mu={mu}: {lhs} {rhs}"
+                );
                 let lhs = hemisphere_integral(|h, omc| beck(h, omc) * wo.dot(h).max(0.0));
                 let rhs = mu + beckmann_mu_lambda(mu, s2, alpha);
-                assert!((lhs - rhs).abs() < 2e-4 * rhs, "beckmann alpha={alpha} mu={mu}: {lhs} {rhs}");
+                assert!(
+                    (lhs - rhs).abs() < 2e-4 * rhs,
+                    "beckmann alpha={alpha} mu={mu}: {lhs} {rhs}"
+                );
             }
         }
     }

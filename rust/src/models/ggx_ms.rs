@@ -1,0 +1,115 @@
+//! `ggx_ms`: Kulla & Conty's multiple-scattering lobe for `ggx` (SIGGRAPH 2017 course,
+//! "Revisiting Physically Based Shading at Imageworks").
+//!
+//! `f_ms = (1 − E(mu_i))(1 − E(mu_o)) / (π (1 − E_avg)) · F_ms`, where `E(mu, alpha)` is
+//! GGX's directional albedo with F = 1, `E_avg = 2 ∫ E(mu) mu dmu`, and for a Schlick
+//! F0 = `ks` the colour factor `F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg))`,
+//! `F_avg = F0 + (1 − F0)/21` (1 for F = 1). `ggx + ggx_ms` with `ks = 1` has albedo 1 at
+//! every incidence (the white furnace). E and E_avg are interpolated from a 33 × 33
+//! table computed by brdf-rs itself (`scripts/gen_tables.py`); `alpha` in [1e-3, 1].
+
+use super::albedo::{Integral, Term};
+use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::tables::{EnergyTable, GGX};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::above_both;
+use crate::math::{Real, Vector3};
+
+/// The GGX multiple-scattering kernel.
+pub struct GgxMs;
+
+/// The table roughness range.
+pub const TABLE_ALPHA: ValidRange = ValidRange {
+    min: 1e-3,
+    max: 1.0,
+    min_open: false,
+    max_open: false,
+};
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "ggx_ms",
+    family: Family::A,
+    summary: "Kulla-Conty multiple-scattering lobe restoring the energy ggx loses",
+    formula: "f = (1−E(mu_i))(1−E(mu_o))/(π(1−E_avg))·F_avg²E_avg/(1−F_avg(1−E_avg)), \
+              F_avg = ks + (1−ks)/21",
+    source: "Kulla & Conty 2017 (Revisiting Physically Based Shading at Imageworks)",
+    params: &[
+        spec::f0(1.0, 0),
+        ParamSpec {
+            name: "alpha",
+            kind: ParamKind::Scalar,
+            default: Some(0.5),
+            range: TABLE_ALPHA,
+            doc: "roughness α of the ggx lobe it completes (table range [1e-3, 1])",
+            slot: 3,
+        },
+    ],
+    tangent: TangentUse::None,
+    reciprocal: true,
+};
+
+/// Prepared constants of a multiple-scattering lobe on a table.
+#[derive(Clone, Copy)]
+pub struct Prepared<F> {
+    alpha: super::tables::Node<F>,
+    /// `F_ms / (π (1 − E_avg))` per channel.
+    scale: [F; 3],
+}
+
+/// Prepares a multiple-scattering lobe: the alpha node and the channel scale.
+#[inline(always)]
+pub fn prepare_ms<F: Real, P: ParamSource<F> + ?Sized>(table: &EnergyTable, p: &P) -> Prepared<F> {
+    let f0 = p.colour(0);
+    let alpha = table.alpha_node(p.scalar(3));
+    let e_avg = table.e_avg(alpha);
+    let norm = F::FRAC_1_PI / (F::ONE - e_avg);
+    let scale = f0.map(|f| {
+        let f_avg = f + (F::ONE - f) * F::from_f64(1.0 / 21.0);
+        f_avg * f_avg * e_avg / (F::ONE - f_avg * (F::ONE - e_avg)) * norm
+    });
+    Prepared { alpha, scale }
+}
+
+/// Evaluates a multiple-scattering lobe on a table.
+#[inline(always)]
+pub fn eval_ms<F: Real>(table: &EnergyTable, pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    let mu_i = d.n.dot(d.wi);
+    let mu_o = d.n.dot(d.wo);
+    let loss = (F::ONE - table.e(mu_i, pp.alpha)) * (F::ONE - table.e(mu_o, pp.alpha));
+    above_both(mu_i, mu_o, pp.scale.map(|s| s * loss))
+}
+
+/// The albedo of a multiple-scattering lobe, `(1 − E(mu))·F_ms`, exactly.
+pub fn albedo_ms(table: &EnergyTable, slots: &[f64], mu: f64) -> Vec<Term> {
+    let pp = prepare_ms::<f64, [f64]>(table, slots);
+    let e_avg = table.e_avg(pp.alpha);
+    let loss = 1.0 - table.e(mu, pp.alpha);
+    // scale·π(1 − E_avg) is F_ms; the lobe's albedo is (1 − E(mu))·F_ms.
+    let f_ms = pp.scale.map(|s| s * std::f64::consts::PI * (1.0 - e_avg));
+    vec![Term {
+        colour: f_ms,
+        integral: Integral::Exact(loss),
+    }]
+}
+
+impl Kernel for GgxMs {
+    type Prepared<F: Real> = Prepared<F>;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
+        prepare_ms(&GGX, p)
+    }
+
+    #[inline(always)]
+    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        eval_ms(&GGX, pp, d)
+    }
+
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(albedo_ms(&GGX, slots, mu))
+    }
+}
