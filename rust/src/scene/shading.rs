@@ -1,0 +1,705 @@
+//! Materials: which kernels a material needs, which it can skip, and the batch loop that
+//! evaluates one kernel over the pixel-light pairs that survived culling.
+//!
+//! A material is one family-A BRDF (a light contributes `L·f(l, v)·(n·l)`) or a pair of
+//! family-B shading terms, diffuse and specular (a light contributes `L·s(l, v)`), as
+//! MODELS.md defines them. Preparing a material turns it into *parts*, each one kernel
+//! with its prepared constants ([`Kernel::prepare`] runs once per part, never per pixel):
+//!
+//! - a part whose colour parameters are all zero is dropped ([`is_zero_weight`]): a
+//!   Phong material with `ks = 0` costs what Lambert costs;
+//! - a family-A model whose specular colours are zero is evaluated as its diffuse term
+//!   alone ([`family_a_diffuse`]: `lambert` with `kd` or `π·kd`), so it too costs what
+//!   Lambert costs; the same split renders `--only diffuse` / `--only specular`;
+//! - each part knows whether it is zero whenever `n·l <= 0` ([`zero_when_unlit`]); lights
+//!   behind the surface are then culled before any kernel runs.
+//!
+//! The rules are exhaustive matches over [`ModelKind`], so a new model must state them;
+//! the tests check each rule against the kernels themselves.
+
+use std::marker::PhantomData;
+
+use glam::Vec3;
+
+use crate::error::BrdfError;
+use crate::eval::engine::{Isa, isa};
+use crate::eval::params::ParamRows;
+use crate::models::toon_diffuse::MAX_THRESHOLDS;
+use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
+
+/// Pixels per segment: the unit of work the renderer shades at once (one row is cut into
+/// segments). A batch of pixel-light pairs never holds more.
+pub const SEGMENT: usize = 256;
+
+/// Which components of the materials to render.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Component {
+    /// Everything.
+    Both,
+    /// Diffuse terms only; no specular kernel runs.
+    Diffuse,
+    /// Specular terms only; no diffuse kernel runs.
+    Specular,
+}
+
+impl Component {
+    /// Parses `"both"`, `"diffuse"` or `"specular"`.
+    pub fn from_name(name: &str) -> Result<Component, BrdfError> {
+        match name {
+            "both" => Ok(Component::Both),
+            "diffuse" => Ok(Component::Diffuse),
+            "specular" => Ok(Component::Specular),
+            _ => Err(BrdfError::InvalidArgument(format!(
+                "only: expected \"diffuse\" or \"specular\"; got {name:?}"
+            ))),
+        }
+    }
+}
+
+/// A model with checked parameters: the kernel's raw parameter slots.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Term {
+    pub kind: ModelKind,
+    pub slots: Vec<f64>,
+}
+
+impl Term {
+    /// Checks `params` against the model's spec (names, ranges, list rules) and lays
+    /// them out in slots. A scene's parameters are uniform: each must be a number, an
+    /// RGB triple or (for toon lists) a list.
+    pub fn new(
+        kind: ModelKind,
+        params: Vec<(&str, ndarray::ArrayViewD<'_, f64>)>,
+    ) -> Result<Term, BrdfError> {
+        let rows = ParamRows::new(kind.spec(), params, &[])?;
+        if !rows.batch.is_empty() {
+            return Err(BrdfError::Shape(format!(
+                "{}: a material's parameters are single values (a number, or an RGB triple \
+                 for a colour); got values that broadcast to shape {}",
+                kind.name(),
+                crate::error::format_shape(&rows.batch)
+            )));
+        }
+        let mut slots = Vec::new();
+        rows.slots(0, &mut slots);
+        Ok(Term { kind, slots })
+    }
+
+    /// Returns the slots of parameter `name` (empty if the model has none).
+    fn param_slots(&self, name: &str) -> std::ops::Range<usize> {
+        self.kind
+            .spec()
+            .param(name)
+            .map_or(0..0, |p| p.slot..p.slot + p.kind.slots())
+    }
+}
+
+/// A material as described in a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialDesc {
+    /// One family-A BRDF: a light contributes `L·f(l, v)·(n·l)`.
+    Brdf(Term),
+    /// Family-B shading terms: a light contributes `L·s(l, v)` for each term given.
+    Shading {
+        diffuse: Option<Term>,
+        specular: Option<Term>,
+    },
+}
+
+impl MaterialDesc {
+    /// Checks that the models belong where they are: a BRDF of family A, shading terms of
+    /// family B.
+    pub fn check(&self) -> Result<(), BrdfError> {
+        let family_of = |t: &Term, want: Family, role: &str| {
+            if t.kind.spec().family == want {
+                Ok(())
+            } else {
+                Err(BrdfError::InvalidArgument(format!(
+                    "{role}: {} is a family-{} model; expected family {}",
+                    t.kind.name(),
+                    t.kind.spec().family.letter(),
+                    want.letter()
+                )))
+            }
+        };
+        match self {
+            MaterialDesc::Brdf(t) => family_of(t, Family::A, "model"),
+            MaterialDesc::Shading { diffuse, specular } => {
+                if let Some(t) = diffuse {
+                    family_of(t, Family::B, "diffuse")?;
+                }
+                if let Some(t) = specular {
+                    family_of(t, Family::B, "specular")?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Returns whether any kernel of the material reads a tangent.
+    pub fn needs_tangent(&self) -> bool {
+        let uses = |t: &Term| t.kind.spec().tangent != crate::models::TangentUse::None;
+        match self {
+            MaterialDesc::Brdf(t) => uses(t),
+            MaterialDesc::Shading { diffuse, specular } => {
+                diffuse.as_ref().is_some_and(uses) || specular.as_ref().is_some_and(uses)
+            }
+        }
+    }
+}
+
+/// What a part computes, for statistics and `--only`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// A whole family-A BRDF.
+    Brdf,
+    /// A diffuse term (family B), or a family-A model's diffuse term alone.
+    Diffuse,
+    /// A specular term (family B), or a family-A model without its diffuse term.
+    Specular,
+}
+
+impl Role {
+    /// Returns `"brdf"`, `"diffuse"` or `"specular"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Role::Brdf => "brdf",
+            Role::Diffuse => "diffuse",
+            Role::Specular => "specular",
+        }
+    }
+}
+
+/// Returns the names of the parameters a model's value is linear in with no constant
+/// term — the value is exactly 0 when they are all 0 — or `None` when no such set
+/// exists (`blinn_phong_fresnel`: its `ks` is F0, and `F = F0 + (1 − F0)(1 − cos_b)^5`
+/// does not vanish at F0 = 0).
+pub fn weight_params(kind: ModelKind) -> Option<&'static [&'static str]> {
+    use ModelKind::*;
+    match kind {
+        Lambert | OrenNayar | LambertShading | OrenNayarShading => Some(&["kd"]),
+        Phong | ModifiedPhong | NormalizedPhong | BlinnPhong | ModifiedBlinnPhong
+        | NormalizedBlinnPhong | TorranceSparrow | KajiyaKay => Some(&["kd", "ks"]),
+        PhongSpecular | BlinnSpecular => Some(&["ks"]),
+        ToonDiffuse => Some(&["colors"]),
+        ToonSpecular => Some(&["high", "low"]),
+        BlinnPhongFresnel => None,
+    }
+}
+
+/// Returns whether a term is zero everywhere because its weight colours are all zero.
+pub fn is_zero_weight(term: &Term) -> bool {
+    let Some(names) = weight_params(term.kind) else {
+        return false;
+    };
+    names
+        .iter()
+        .all(|name| term.slots[term.param_slots(name)].iter().all(|&x| x == 0.0))
+}
+
+/// Returns whether a term is 0 for every light with `n·l <= 0`, so such lights can be
+/// culled before the kernel runs. True for every family-A model (zero unless
+/// `mu_i > 0`) and every family-B term but `toon_diffuse`, whose bands count thresholds
+/// against the signed `n·l`: it is zero there only if every band reachable for
+/// `n·l` in `[−1, 0]` is black.
+pub fn zero_when_unlit(term: &Term) -> bool {
+    use ModelKind::*;
+    match term.kind {
+        Lambert | OrenNayar | Phong | ModifiedPhong | NormalizedPhong | BlinnPhong
+        | ModifiedBlinnPhong | NormalizedBlinnPhong | BlinnPhongFresnel | TorranceSparrow
+        | LambertShading | OrenNayarShading | PhongSpecular | BlinnSpecular | ToonSpecular
+        | KajiyaKay => true,
+        ToonDiffuse => {
+            let thresholds = &term.slots[term.param_slots("thresholds")];
+            let colours = &term.slots[term.param_slots("colors")];
+            debug_assert_eq!(thresholds.len(), MAX_THRESHOLDS);
+            let band = |cos_l: f64| thresholds.iter().filter(|&&t| t <= cos_l).count();
+            (band(-1.0)..=band(0.0)).all(|j| colours[3 * j..3 * j + 3].iter().all(|&c| c == 0.0))
+        }
+    }
+}
+
+/// How a family-A model's diffuse term is evaluated on its own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DiffuseTerm {
+    /// The whole model is diffuse (`lambert`, `oren_nayar`).
+    Whole,
+    /// The diffuse term is `lambert` with `kd` scaled by this factor: 1 for the models
+    /// that add `kd/π`, π for the BRDF Summary's non-normalized models that add `kd`.
+    Lambert(f64),
+}
+
+/// Returns how a family-A model's diffuse term is evaluated alone (`None` for family B).
+/// Every family-A model is `diffuse(kd) + rest(other parameters)` (MODELS.md); the tests
+/// check `f(kd, ...) − f(0, ...) = lambert(scale·kd)` for each.
+pub fn family_a_diffuse(kind: ModelKind) -> Option<DiffuseTerm> {
+    use ModelKind::*;
+    match kind {
+        Lambert | OrenNayar => Some(DiffuseTerm::Whole),
+        Phong | ModifiedPhong | BlinnPhong | ModifiedBlinnPhong => {
+            Some(DiffuseTerm::Lambert(std::f64::consts::PI))
+        }
+        NormalizedPhong | NormalizedBlinnPhong | BlinnPhongFresnel | TorranceSparrow => {
+            Some(DiffuseTerm::Lambert(1.0))
+        }
+        LambertShading | OrenNayarShading | ToonDiffuse | PhongSpecular | BlinnSpecular
+        | ToonSpecular | KajiyaKay => None,
+    }
+}
+
+/// One kernel a material needs, before preparation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartDesc {
+    pub term: Term,
+    pub role: Role,
+}
+
+/// Returns the kernels a material needs to render `component`, zero-weight terms left out.
+pub fn material_parts(material: &MaterialDesc, component: Component) -> Vec<PartDesc> {
+    let mut parts = Vec::new();
+    let mut push = |term: Term, role: Role| {
+        if !is_zero_weight(&term) {
+            parts.push(PartDesc { term, role });
+        }
+    };
+    match material {
+        MaterialDesc::Shading { diffuse, specular } => {
+            if component != Component::Specular {
+                if let Some(t) = diffuse {
+                    push(t.clone(), Role::Diffuse);
+                }
+            }
+            if component != Component::Diffuse {
+                if let Some(t) = specular {
+                    push(t.clone(), Role::Specular);
+                }
+            }
+        }
+        MaterialDesc::Brdf(term) => match family_a_diffuse(term.kind) {
+            Some(DiffuseTerm::Whole) | None => {
+                if component != Component::Specular {
+                    push(term.clone(), Role::Brdf);
+                }
+            }
+            Some(DiffuseTerm::Lambert(scale)) => {
+                let kd = term.param_slots("kd");
+                let diffuse = Term {
+                    kind: ModelKind::Lambert,
+                    slots: term.slots[kd.clone()].iter().map(|c| c * scale).collect(),
+                };
+                let mut rest = term.clone();
+                rest.slots[kd].fill(0.0);
+                let rest_is_zero = is_zero_weight(&rest);
+                match component {
+                    Component::Both if rest_is_zero => push(diffuse, Role::Diffuse),
+                    Component::Both => push(term.clone(), Role::Brdf),
+                    Component::Diffuse => push(diffuse, Role::Diffuse),
+                    Component::Specular => push(rest, Role::Specular),
+                }
+            }
+        },
+    }
+    parts
+}
+
+/// Pixel-light pairs to shade with one kernel, structure of arrays: the directions (unit
+/// vectors), the weight each value is multiplied by (light colour × falloff, × `n·l` for
+/// family A) and the segment pixel each pair adds into.
+pub struct Batch {
+    pub len: usize,
+    pub wi: [[f32; SEGMENT]; 3],
+    pub wo: [[f32; SEGMENT]; 3],
+    pub n: [[f32; SEGMENT]; 3],
+    pub t: [[f32; SEGMENT]; 3],
+    pub weight: [[f32; SEGMENT]; 3],
+    pub pixel: [u16; SEGMENT],
+}
+
+impl Batch {
+    /// Returns an empty batch.
+    pub fn new() -> Batch {
+        Batch {
+            len: 0,
+            wi: [[0.0; SEGMENT]; 3],
+            wo: [[0.0; SEGMENT]; 3],
+            n: [[0.0; SEGMENT]; 3],
+            t: [[1.0; SEGMENT]; 3],
+            weight: [[0.0; SEGMENT]; 3],
+            pixel: [0; SEGMENT],
+        }
+    }
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        Batch::new()
+    }
+}
+
+/// Radiance accumulated per segment pixel, RGB structure of arrays.
+pub type Accumulator = [[f32; SEGMENT]; 3];
+
+/// A prepared kernel, its type erased: adds `weight·value` of every pair of a batch into
+/// the accumulator.
+trait BatchKernel: Send + Sync {
+    fn shade(&self, batch: &Batch, acc: &mut Accumulator);
+}
+
+/// The batch loop: the kernel over every pair (a straight loop over structure-of-arrays
+/// that vectorizes across pairs), then the weighted values added into their pixels.
+#[inline(always)]
+fn shade_batch<K: Kernel>(prepared: &K::Prepared<f32>, b: &Batch, acc: &mut Accumulator) {
+    let len = b.len.min(SEGMENT);
+    let mut rgb = [[0.0f32; SEGMENT]; 3];
+    for j in 0..len {
+        let d = Directions::<f32> {
+            wi: Vec3::new(b.wi[0][j], b.wi[1][j], b.wi[2][j]),
+            wo: Vec3::new(b.wo[0][j], b.wo[1][j], b.wo[2][j]),
+            n: Vec3::new(b.n[0][j], b.n[1][j], b.n[2][j]),
+            t: Vec3::new(b.t[0][j], b.t[1][j], b.t[2][j]),
+        };
+        let s = K::eval(prepared, &d);
+        for c in 0..3 {
+            rgb[c][j] = s[c] * b.weight[c][j];
+        }
+    }
+    for j in 0..len {
+        let p = b.pixel[j] as usize % SEGMENT;
+        for c in 0..3 {
+            acc[c][p] += rgb[c][j];
+        }
+    }
+}
+
+type BatchFn<K> = unsafe fn(&<K as Kernel>::Prepared<f32>, &Batch, &mut Accumulator);
+
+fn batch_baseline<K: Kernel>(p: &K::Prepared<f32>, b: &Batch, acc: &mut Accumulator) {
+    shade_batch::<K>(p, b, acc)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+fn batch_avx2<K: Kernel>(p: &K::Prepared<f32>, b: &Batch, acc: &mut Accumulator) {
+    shade_batch::<K>(p, b, acc)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+fn batch_avx512<K: Kernel>(p: &K::Prepared<f32>, b: &Batch, acc: &mut Accumulator) {
+    shade_batch::<K>(p, b, acc)
+}
+
+struct Typed<K: Kernel> {
+    prepared: K::Prepared<f32>,
+    run: BatchFn<K>,
+    _kernel: PhantomData<fn() -> K>,
+}
+
+impl<K: Kernel> BatchKernel for Typed<K> {
+    fn shade(&self, batch: &Batch, acc: &mut Accumulator) {
+        // SAFETY: `run` was compiled for the instruction set `isa()` found on this CPU.
+        unsafe { (self.run)(&self.prepared, batch, acc) }
+    }
+}
+
+/// Prepares a kernel from raw slots (once per material part) and picks its batch loop.
+struct Prepare<'a> {
+    slots: &'a [f32],
+    isa: Isa,
+}
+
+impl KernelVisitor for Prepare<'_> {
+    type Output = Box<dyn BatchKernel>;
+
+    fn visit<K: Kernel>(self) -> Box<dyn BatchKernel> {
+        let run: BatchFn<K> = match self.isa {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => batch_avx512::<K>,
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => batch_avx2::<K>,
+            _ => batch_baseline::<K>,
+        };
+        Box::new(Typed::<K> {
+            prepared: K::prepare::<f32, [f32]>(self.slots),
+            run,
+            _kernel: PhantomData,
+        })
+    }
+}
+
+/// A material part ready to shade.
+pub struct Part {
+    pub kind: ModelKind,
+    pub role: Role,
+    /// Family A: each value is multiplied by `n·l`.
+    pub cosine_weighted: bool,
+    /// Zero whenever `n·l <= 0`: lights behind the surface are culled for this part.
+    pub lit_only: bool,
+    kernel: Box<dyn BatchKernel>,
+}
+
+impl Part {
+    /// Prepares a part: the kernel's constants are derived here, once.
+    pub fn prepare(desc: &PartDesc) -> Part {
+        let slots: Vec<f32> = desc.term.slots.iter().map(|&x| x as f32).collect();
+        let kernel = desc.term.kind.visit(Prepare {
+            slots: &slots,
+            isa: isa(),
+        });
+        Part {
+            kind: desc.term.kind,
+            role: desc.role,
+            cosine_weighted: desc.term.kind.spec().family == Family::A,
+            lit_only: zero_when_unlit(&desc.term),
+            kernel,
+        }
+    }
+
+    /// Adds `weight·value` of every pair of `batch` into `acc`.
+    pub fn shade(&self, batch: &Batch, acc: &mut Accumulator) {
+        self.kernel.shade(batch, acc)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// A deterministic stream of numbers in [0, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn unit(&mut self) -> DVec3 {
+            loop {
+                let v = DVec3::new(
+                    2.0 * self.next() - 1.0,
+                    2.0 * self.next() - 1.0,
+                    2.0 * self.next() - 1.0,
+                );
+                let l = v.length();
+                if l > 0.1 && l < 1.0 {
+                    return v / l;
+                }
+            }
+        }
+    }
+
+    fn term(kind: ModelKind, given: &[(&str, Vec<f64>)]) -> Term {
+        let arrays: Vec<(&str, ndarray::ArrayD<f64>)> = given
+            .iter()
+            .map(|(k, v)| {
+                let a = if v.len() == 1 {
+                    ndarray::ArrayD::from_elem(ndarray::IxDyn(&[]), v[0])
+                } else {
+                    ndarray::ArrayD::from_shape_vec(ndarray::IxDyn(&[v.len()]), v.clone()).unwrap()
+                };
+                (*k, a)
+            })
+            .collect();
+        let views = arrays.iter().map(|(k, a)| (*k, a.view())).collect();
+        Term::new(kind, views).unwrap()
+    }
+
+    fn toon_required(kind: ModelKind) -> Vec<(&'static str, Vec<f64>)> {
+        match kind {
+            ModelKind::ToonDiffuse => vec![
+                ("thresholds", vec![-0.3, 0.5]),
+                ("colors", vec![0.2, 0.5, 0.9]),
+            ],
+            ModelKind::ToonSpecular => vec![("threshold", vec![0.8])],
+            _ => vec![],
+        }
+    }
+
+    fn eval64(t: &Term, d: &Directions<f64>) -> [f64; 3] {
+        struct Eval<'a>(&'a [f64], &'a Directions<f64>);
+        impl KernelVisitor for Eval<'_> {
+            type Output = [f64; 3];
+            fn visit<K: Kernel>(self) -> [f64; 3] {
+                K::eval(&K::prepare::<f64, [f64]>(self.0), self.1)
+            }
+        }
+        t.kind.visit(Eval(&t.slots, d))
+    }
+
+    fn directions(rng: &mut Lcg) -> Directions<f64> {
+        let n = rng.unit();
+        Directions {
+            wi: rng.unit(),
+            wo: rng.unit(),
+            n,
+            t: rng.unit(),
+        }
+    }
+
+    #[test]
+    fn zero_weight_terms_are_zero_everywhere() {
+        let mut rng = Lcg(7);
+        for &kind in ModelKind::ALL {
+            let mut given = toon_required(kind);
+            let Some(names) = weight_params(kind) else {
+                // blinn_phong_fresnel: black colours still reflect at grazing angles.
+                let t = term(kind, &[("kd", vec![0.0]), ("ks", vec![0.0])]);
+                assert!(!is_zero_weight(&t));
+                let d = Directions {
+                    wi: DVec3::new(0.9, 0.0, 0.1).normalize(),
+                    wo: DVec3::new(-0.9, 0.0, 0.1).normalize(),
+                    n: DVec3::Z,
+                    t: DVec3::X,
+                };
+                assert!(eval64(&t, &d)[0] > 0.0);
+                continue;
+            };
+            for name in names {
+                given.retain(|(k, _)| k != name);
+                let zeros = if *name == "colors" {
+                    vec![0.0; 3]
+                } else {
+                    vec![0.0]
+                };
+                given.push((name, zeros));
+            }
+            let t = term(kind, &given);
+            assert!(is_zero_weight(&t), "{}", kind.name());
+            for _ in 0..2000 {
+                let d = directions(&mut rng);
+                assert_eq!(eval64(&t, &d), [0.0; 3], "{}", kind.name());
+            }
+        }
+    }
+
+    #[test]
+    fn lit_only_terms_are_zero_for_lights_behind() {
+        let mut rng = Lcg(11);
+        for &kind in ModelKind::ALL {
+            let t = term(kind, &toon_required(kind));
+            if kind == ModelKind::ToonDiffuse {
+                // Its darkest band is lit from behind: not culled.
+                assert!(!zero_when_unlit(&t));
+                continue;
+            }
+            assert!(zero_when_unlit(&t), "{}", kind.name());
+            for _ in 0..2000 {
+                let mut d = directions(&mut rng);
+                if d.n.dot(d.wi) > 0.0 {
+                    d.wi = d.wi - d.n * (2.0 * d.n.dot(d.wi));
+                }
+                assert_eq!(eval64(&t, &d), [0.0; 3], "{}", kind.name());
+            }
+        }
+        // Toon diffuse with black bands for n·l <= 0 is culled; one reachable colour is not.
+        let dark = term(
+            ModelKind::ToonDiffuse,
+            &[
+                ("thresholds", vec![0.1, 0.6]),
+                ("colors", vec![0.0, 0.5, 1.0]),
+            ],
+        );
+        assert!(zero_when_unlit(&dark));
+        let negative = term(
+            ModelKind::ToonDiffuse,
+            &[
+                ("thresholds", vec![-0.5, 0.6]),
+                ("colors", vec![0.0, 0.5, 1.0]),
+            ],
+        );
+        assert!(!zero_when_unlit(&negative));
+        let edge = term(
+            ModelKind::ToonDiffuse,
+            &[
+                ("thresholds", vec![0.0, 0.6]),
+                ("colors", vec![0.0, 0.5, 1.0]),
+            ],
+        );
+        assert!(
+            !zero_when_unlit(&edge),
+            "n·l = 0 reaches the band of threshold 0"
+        );
+    }
+
+    #[test]
+    fn family_a_diffuse_terms_are_exact() {
+        let mut rng = Lcg(3);
+        for &kind in ModelKind::ALL {
+            let Some(DiffuseTerm::Lambert(scale)) = family_a_diffuse(kind) else {
+                continue;
+            };
+            let given = vec![
+                ("kd", vec![0.3, 0.6, 0.9]),
+                ("ks", vec![0.4, 0.2, 0.7]),
+                ("p", vec![20.0]),
+            ];
+            let full = term(kind, &given);
+            let mut rest = full.clone();
+            rest.slots[0..3].fill(0.0);
+            let lambert = term(
+                ModelKind::Lambert,
+                &[("kd", vec![0.3 * scale, 0.6 * scale, 0.9 * scale])],
+            );
+            for _ in 0..2000 {
+                let d = directions(&mut rng);
+                let (a, b, c) = (eval64(&full, &d), eval64(&rest, &d), eval64(&lambert, &d));
+                for ch in 0..3 {
+                    let want = b[ch] + c[ch];
+                    assert!(
+                        (a[ch] - want).abs() <= 1e-12 * want.abs().max(1.0),
+                        "{}: {a:?} vs {b:?} + {c:?}",
+                        kind.name()
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn parts_skip_what_is_not_needed() {
+        let lambert_d = term(ModelKind::LambertShading, &[("kd", vec![0.5])]);
+        let phong_s0 = term(ModelKind::PhongSpecular, &[("ks", vec![0.0])]);
+        let m = MaterialDesc::Shading {
+            diffuse: Some(lambert_d.clone()),
+            specular: Some(phong_s0),
+        };
+        let parts = material_parts(&m, Component::Both);
+        assert_eq!(parts.len(), 1);
+        assert_eq!(parts[0].term, lambert_d);
+
+        let phong_a = term(ModelKind::Phong, &[("kd", vec![0.5]), ("ks", vec![0.0])]);
+        let parts = material_parts(&MaterialDesc::Brdf(phong_a.clone()), Component::Both);
+        assert_eq!(parts.len(), 1);
+        assert_eq!(parts[0].term.kind, ModelKind::Lambert);
+        assert!((parts[0].term.slots[0] - 0.5 * std::f64::consts::PI).abs() < 1e-15);
+        assert!(material_parts(&MaterialDesc::Brdf(phong_a), Component::Specular).is_empty());
+
+        let ts = term(
+            ModelKind::TorranceSparrow,
+            &[("kd", vec![0.2]), ("ks", vec![0.8])],
+        );
+        let m = MaterialDesc::Brdf(ts);
+        assert_eq!(material_parts(&m, Component::Both)[0].role, Role::Brdf);
+        assert_eq!(
+            material_parts(&m, Component::Diffuse)[0].term.kind,
+            ModelKind::Lambert
+        );
+        let spec = &material_parts(&m, Component::Specular)[0];
+        assert_eq!(spec.term.kind, ModelKind::TorranceSparrow);
+        assert_eq!(&spec.term.slots[0..3], &[0.0; 3]);
+    }
+
+    #[test]
+    fn toon_band_reachability_uses_signed_cosine() {
+        // The unit check of the helper: thresholds padded with +inf.
+        let t = term(
+            ModelKind::ToonDiffuse,
+            &[("thresholds", vec![0.5]), ("colors", vec![0.0, 1.0])],
+        );
+        assert!(zero_when_unlit(&t));
+        assert!(t.slots[1].is_infinite());
+    }
+}
