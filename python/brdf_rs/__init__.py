@@ -11,11 +11,24 @@ from ._albedo import Albedo, Energy, Table, albedo, albedo_table, dfg_table, ene
 from ._api import Model, eval, isa, models, num_threads, set_num_threads
 from ._brdf_rs import __version__
 from ._sampling import pdf, sample
+from .scene import (
+    Scene,
+    SceneError,
+    load_scene,
+    parse_scene,
+    render,
+    save_image,
+    scene_tables,
+    shade,
+    tonemap,
+)
 
 __all__ = [
     "Albedo",
     "Energy",
     "Model",
+    "Scene",
+    "SceneError",
     "Table",
     "__version__",
     "albedo",
@@ -24,10 +37,17 @@ __all__ = [
     "energy",
     "eval",
     "isa",
+    "load_scene",
     "models",
     "num_threads",
+    "parse_scene",
     "pdf",
     "reference",
+    "render",
     "sample",
+    "save_image",
+    "scene_tables",
     "set_num_threads",
+    "shade",
+    "tonemap",
 ]
