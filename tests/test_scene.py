@@ -323,17 +323,29 @@ def test_culled_lights_are_not_evaluated():
     assert after["renders"] == before["renders"] + 1
 
 
-def test_toon_dark_bands_keep_lights_behind_the_surface():
+def test_toon_dark_bands_are_added_for_lights_behind_without_a_kernel():
     # toon_diffuse counts thresholds against the signed n·l: a light behind the surface
-    # still shows the darkest band (MODELS.md), so it is not culled for that term...
-    toon = 'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [0.1, 0.8] }'
-    behind = KEY + BEHIND.format(i=1)
-    _, stats = brdf_rs.render(_scene(toon, behind), tonemap="none", stats=True)
-    assert stats["evaluations"] == 2 * stats["hits"]
-    # ... unless every band reachable for n·l <= 0 is black.
+    # shows the darkest band (MODELS.md). With no threshold in (-1, 0] that band is one
+    # constant colour, added as L·colour without running the kernel.
+    toon = 'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [[0.1, 0.2, 0.3], 0.8] }'
+    key_only, s1 = brdf_rs.render(_scene(toon), tonemap="none", stats=True)
+    behind = KEY + BEHIND.format(i=2)
+    image, stats = brdf_rs.render(_scene(toon, behind), tonemap="none", stats=True)
+    assert stats["evaluations"] == s1["evaluations"] == s1["hits"] - s1["pairs_backfacing"]
+    # Every visible pixel faces away from the back light (it travels toward the camera).
+    assert stats["pairs_constant"] == s1["pairs_constant"] + stats["hits"]
+    hit = np.any(key_only != 0, axis=-1)
+    assert hit.sum() == stats["hits"]
+    np.testing.assert_allclose(
+        (image - key_only)[hit], np.broadcast_to([0.2, 0.4, 0.6], (hit.sum(), 3)), rtol=1e-6
+    )
+    # Black dark bands: the light is culled; a threshold in (-1, 0]: the kernel runs.
     dark = 'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [0, 0.8] }'
     _, stats = brdf_rs.render(_scene(dark, behind), tonemap="none", stats=True)
-    assert stats["evaluations"] == stats["hits"] - stats["pairs_backfacing"] + stats["hits"]
+    assert stats["evaluations"] == s1["evaluations"] and stats["pairs_constant"] == 0
+    varies = 'diffuse = { model = "toon_diffuse", thresholds = [-0.5, 0.5], colors = [0.1, 0.5, 0.8] }'
+    _, stats = brdf_rs.render(_scene(varies, behind), tonemap="none", stats=True)
+    assert stats["evaluations"] == 2 * stats["hits"] and stats["pairs_constant"] == 0
 
 
 def test_point_lights_beyond_their_range_are_culled():
@@ -352,7 +364,8 @@ def test_point_lights_beyond_their_range_are_culled():
 
 def test_pixels_that_miss_cost_only_the_ray_test():
     _, stats = brdf_rs.render(_scene('model = "lambert"'), stats=True)
-    assert stats["ray_tests"] == stats["pixels"] * 1 == 60 * 40
+    # Rows and segments that cannot reach the sphere skip its ray test.
+    assert stats["hits"] < stats["ray_tests"] < stats["pixels"] == 60 * 40
     assert 0 < stats["hits"] < stats["pixels"]
     assert stats["pairs"] == stats["hits"]
     assert stats["evaluations"] <= stats["hits"]

@@ -238,6 +238,7 @@ fn stats_dict<'py>(py: Python<'py>, stats: &RenderStats) -> PyResult<Bound<'py, 
     d.set_item("pairs", stats.pairs)?;
     d.set_item("pairs_out_of_range", stats.pairs_out_of_range)?;
     d.set_item("pairs_backfacing", stats.pairs_backfacing)?;
+    d.set_item("pairs_constant", stats.pairs_constant)?;
     d.set_item("evaluations", stats.evaluations())?;
     let parts = PyList::empty(py);
     for p in &stats.parts {

@@ -18,6 +18,7 @@
 
 use glam::Vec3;
 
+use super::camera::SegmentBounds;
 use super::shading::SEGMENT;
 use crate::error::BrdfError;
 
@@ -138,6 +139,16 @@ impl Object {
             material,
             tangent: TangentField::Fixed(tangent),
         })
+    }
+
+    /// Returns false only if no ray of a segment can hit the object (spheres outside the
+    /// region the rays sweep); planes are always tested.
+    #[inline]
+    pub fn may_hit(&self, bounds: &SegmentBounds) -> bool {
+        match self.shape {
+            Shape::Sphere { center, radius } => bounds.may_reach(center, radius),
+            Shape::Plane { .. } => true,
+        }
     }
 
     /// Lowers `t_best` to this object's nearest hit distance `t > 0` for every ray of

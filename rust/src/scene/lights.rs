@@ -102,8 +102,10 @@ impl Light {
 }
 
 /// One light seen from every pixel of a segment: `wi`, the falloff, `n·l`, and whether
-/// the pixel is within the light's reach.
+/// the pixel is within the light's reach. A directional light is the same everywhere:
+/// its `wi` is kept once (`constant`) and only `n·l` is computed per pixel.
 pub struct LightField {
+    pub constant: Option<Vec3>,
     pub wi: [[f32; SEGMENT]; 3],
     pub falloff: [f32; SEGMENT],
     pub cos_l: [f32; SEGMENT],
@@ -114,34 +116,71 @@ impl LightField {
     /// Returns an empty field.
     pub fn new() -> LightField {
         LightField {
+            constant: None,
             wi: [[0.0; SEGMENT]; 3],
-            falloff: [0.0; SEGMENT],
+            falloff: [1.0; SEGMENT],
             cos_l: [0.0; SEGMENT],
-            in_range: [false; SEGMENT],
+            in_range: [true; SEGMENT],
         }
     }
 
-    /// Computes the light at every pixel (positions `p`, unit normals `n`). Straight
-    /// loops over the whole segment: they vectorize; unused pixels are masked later.
+    /// Returns `wi` at pixel `j`.
     #[inline(always)]
-    pub fn compute(&mut self, light: &Light, p: &[[f32; SEGMENT]; 3], n: &[[f32; SEGMENT]; 3]) {
+    pub fn wi(&self, j: usize) -> Vec3 {
+        match self.constant {
+            Some(wi) => wi,
+            None => Vec3::new(self.wi[0][j], self.wi[1][j], self.wi[2][j]),
+        }
+    }
+
+    /// Returns the falloff at pixel `j` (1 for a directional light).
+    #[inline(always)]
+    pub fn falloff(&self, j: usize) -> f32 {
+        if self.constant.is_some() {
+            1.0
+        } else {
+            self.falloff[j]
+        }
+    }
+
+    /// Returns whether pixel `j` is within reach (always, for a directional light).
+    #[inline(always)]
+    pub fn in_range(&self, j: usize) -> bool {
+        self.constant.is_some() || self.in_range[j]
+    }
+
+    /// Computes the light at pixels `span` (positions `p`, unit normals `n`) and returns
+    /// how many pixels with `hit` set it reaches, and how many of those it lights from
+    /// the front (`n·l > 0`). Every hit pixel must lie in `span`. Straight loops: they
+    /// vectorize.
+    #[inline(always)]
+    pub fn compute(
+        &mut self,
+        light: &Light,
+        p: &[[f32; SEGMENT]; 3],
+        n: &[[f32; SEGMENT]; 3],
+        hit: &[bool; SEGMENT],
+        span: std::ops::Range<usize>,
+    ) -> (u32, u32) {
+        let span = span.start.min(SEGMENT)..span.end.min(SEGMENT);
+        let (mut reached, mut lit) = (0u32, 0u32);
         match *light {
             Light::Directional { direction, .. } => {
                 let wi = -direction;
-                for j in 0..SEGMENT {
-                    self.wi[0][j] = wi.x;
-                    self.wi[1][j] = wi.y;
-                    self.wi[2][j] = wi.z;
-                    self.falloff[j] = 1.0;
-                    self.in_range[j] = true;
-                    self.cos_l[j] = n[0][j] * wi.x + n[1][j] * wi.y + n[2][j] * wi.z;
+                self.constant = Some(wi);
+                for j in span.clone() {
+                    let c = n[0][j] * wi.x + n[1][j] * wi.y + n[2][j] * wi.z;
+                    self.cos_l[j] = c;
+                    reached += hit[j] as u32;
+                    lit += (hit[j] & (c > 0.0)) as u32;
                 }
             }
             Light::Point {
                 position, range, ..
             } => {
+                self.constant = None;
                 let range2 = range * range;
-                for j in 0..SEGMENT {
+                for j in span.clone() {
                     let dx = position.x - p[0][j];
                     let dy = position.y - p[1][j];
                     let dz = position.z - p[2][j];
@@ -152,12 +191,17 @@ impl LightField {
                     self.wi[1][j] = y;
                     self.wi[2][j] = z;
                     self.falloff[j] = 1.0 / d2;
-                    // NaN (an unused pixel) fails both comparisons.
-                    self.in_range[j] = d2 > 0.0 && d2 <= range2 && d2 < f32::INFINITY;
-                    self.cos_l[j] = n[0][j] * x + n[1][j] * y + n[2][j] * z;
+                    // NaN (an unused pixel) fails every comparison.
+                    let reach = (d2 > 0.0) & (d2 <= range2) & (d2 < f32::INFINITY);
+                    let c = n[0][j] * x + n[1][j] * y + n[2][j] * z;
+                    self.in_range[j] = reach;
+                    self.cos_l[j] = c;
+                    reached += (hit[j] & reach) as u32;
+                    lit += (hit[j] & reach & (c > 0.0)) as u32;
                 }
             }
         }
+        (reached, lit)
     }
 }
 

@@ -1,14 +1,17 @@
 //! Rendering: rays, nearest hits, then shading of every hit pixel under every light.
 //!
 //! Work is split in rows (in parallel), each row in segments of [`SEGMENT`] pixels. Per
-//! segment: camera rays and the ray test against every object (vectorized loops); if no
-//! ray hit, the segment is background and nothing else runs. Otherwise hit points,
-//! normals and (only when a material needs them) tangents are computed, and the hit
-//! pixels are grouped by material. Then, per light: `wi`, falloff and `n·l` for every
-//! pixel (vectorized); pixels out of the light's reach, and those with `n·l <= 0` for
-//! parts that are zero there, are culled — if none is left the light costs nothing more
-//! for this segment; the survivors are packed into a batch per material and each of the
-//! material's parts runs its kernel over the batch.
+//! segment: the objects the segment's rays can reach (a sphere outside the wedge or strip
+//! they sweep is skipped; if nothing is left, the segment is background and not even its
+//! rays are made), then camera rays and the ray tests (vectorized loops); if no ray hit,
+//! nothing else runs. Otherwise hit points, normals and (only when a material needs
+//! them) tangents are computed, and the hit pixels are grouped by material. Then, per
+//! light: `wi`, falloff and `n·l` for every pixel (vectorized); pixels out of the light's
+//! reach, and those with `n·l <= 0` for parts that are zero there, are culled — if none
+//! is left the light costs nothing more for this segment; the survivors are packed into
+//! a batch per material and each of the material's parts runs its kernel over the
+//! batch. A part that is one constant colour for lights behind the surface (a toon dark
+//! band) gets `L·colour` added there without a kernel.
 //!
 //! Every pixel's value is the same sum in the same order (parts in order, lights in
 //! order) whatever the thread count: output is deterministic.
@@ -21,7 +24,7 @@ use super::camera::Camera;
 use super::geometry::Object;
 use super::lights::{Light, LightField};
 use super::shading::{
-    Accumulator, Batch, Component, MaterialDesc, Part, Role, SEGMENT, material_parts,
+    Accumulator, Batch, Component, MaterialDesc, Part, Role, SEGMENT, Unlit, material_parts,
 };
 use crate::error::BrdfError;
 use crate::models::ModelKind;
@@ -43,7 +46,7 @@ pub struct Scene {
 pub struct RenderStats {
     /// Pixels rendered.
     pub pixels: u64,
-    /// Ray-object tests (pixels × objects).
+    /// Ray-object tests (each segment's pixels × the objects its rays may reach).
     pub ray_tests: u64,
     /// Pixels whose ray hit an object.
     pub hits: u64,
@@ -53,12 +56,14 @@ pub struct RenderStats {
     pub lights_dropped: u64,
     /// Materials prepared (those some object uses).
     pub materials_prepared: u64,
-    /// Hit pixel × light pairs.
+    /// Hit pixel × light pairs (of segments where some material has a kernel to run).
     pub pairs: u64,
     /// Pairs beyond a point light's range (or at the light itself): never shaded.
     pub pairs_out_of_range: u64,
     /// Pairs with `n·l <= 0` (culled for every part that is zero there).
     pub pairs_backfacing: u64,
+    /// Backfacing pairs shaded by a constant, without a kernel (toon dark bands).
+    pub pairs_constant: u64,
     /// Kernel evaluations per prepared part.
     pub parts: Vec<PartStats>,
 }
@@ -76,6 +81,7 @@ impl RenderStats {
         self.pairs += other.pairs;
         self.pairs_out_of_range += other.pairs_out_of_range;
         self.pairs_backfacing += other.pairs_backfacing;
+        self.pairs_constant += other.pairs_constant;
         for (a, b) in self.parts.iter_mut().zip(&other.parts) {
             a.evaluations += b.evaluations;
         }
@@ -171,9 +177,19 @@ struct Prepared {
     first_stat: usize,
     /// Family A: values are weighted by `n·l`.
     cosine_weighted: bool,
-    /// Some part is nonzero for lights behind the surface (toon bands).
-    any_unlit: bool,
-    any_lit_only: bool,
+    /// Some part's kernel runs for lights behind the surface (its value varies there).
+    any_varies: bool,
+    /// Some part's kernel runs only for lights in front (zero or constant behind).
+    any_front: bool,
+    /// The sum of the parts' constant values for lights behind the surface, if any.
+    unlit_constant: Option<[f32; 3]>,
+}
+
+impl Prepared {
+    /// Returns whether lights behind the surface need any work for this material.
+    fn needs_unlit(&self) -> bool {
+        self.any_varies || self.unlit_constant.is_some()
+    }
 }
 
 /// Prepares the materials in `used` (others stay `None`: never prepared).
@@ -204,10 +220,20 @@ fn prepare(
             });
         }
         stats.materials_prepared += 1;
+        let mut constant: Option<[f32; 3]> = None;
+        for p in &parts {
+            if let Unlit::Constant(c) = p.unlit {
+                let sum = constant.get_or_insert([0.0; 3]);
+                for k in 0..3 {
+                    sum[k] += c[k] as f32;
+                }
+            }
+        }
         out.push(Some(Prepared {
             cosine_weighted: matches!(desc, MaterialDesc::Brdf(_)),
-            any_unlit: parts.iter().any(|p| !p.lit_only),
-            any_lit_only: parts.iter().any(|p| p.lit_only),
+            any_varies: parts.iter().any(|p| p.unlit == Unlit::Varies),
+            any_front: parts.iter().any(|p| p.unlit != Unlit::Varies),
+            unlit_constant: constant,
             first_stat,
             parts,
         }));
@@ -227,6 +253,9 @@ struct Scratch {
     tangent: [[f32; SEGMENT]; 3],
     hit: [bool; SEGMENT],
     material: [u32; SEGMENT],
+    /// Objects the segment's rays may hit, and whether each was hit.
+    candidates: Vec<u32>,
+    object_hit: Vec<bool>,
     /// Hit pixels sorted by material, and where each material's run starts.
     order: [u16; SEGMENT],
     starts: Vec<usize>,
@@ -257,6 +286,8 @@ impl Scratch {
             tangent: [[1.0; SEGMENT]; 3],
             hit: [false; SEGMENT],
             material: [0; SEGMENT],
+            candidates: Vec::new(),
+            object_hit: Vec::new(),
             order: [0; SEGMENT],
             starts: vec![0; materials + 1],
             next: vec![0; materials],
@@ -299,20 +330,36 @@ impl Scratch {
         }
         self.group_by_material(len);
         let hits = self.hit[..len].iter().filter(|&&h| h).count() as u64;
-        let any_unlit = materials.iter().flatten().any(|m| m.any_unlit);
-        for light in lights {
-            self.light.compute(light, &self.p, &self.n);
-            let (mut in_range, mut lit) = (0u64, 0u64);
-            for j in 0..len {
-                let reach = self.hit[j] && self.light.in_range[j];
-                in_range += reach as u64;
-                lit += (reach && self.light.cos_l[j] > 0.0) as u64;
+        // The pixels from the first hit to the last: per-light work covers only them.
+        let first = self.hit[..len].iter().position(|&h| h).unwrap_or(0);
+        let last = self.hit[..len]
+            .iter()
+            .rposition(|&h| h)
+            .map_or(0, |j| j + 1);
+        // What the materials present here need: any kernel at all, and any for lights
+        // behind the surface.
+        let (mut any_parts, mut any_unlit) = (false, false);
+        for (k, m) in materials.iter().enumerate() {
+            if let Some(m) = m {
+                if self.starts[k] < self.starts[k + 1] {
+                    any_parts |= !m.parts.is_empty();
+                    any_unlit |= m.needs_unlit();
+                }
             }
+        }
+        if !any_parts {
+            return;
+        }
+        for light in lights {
+            let (in_range, lit) =
+                self.light
+                    .compute(light, &self.p, &self.n, &self.hit, first..last);
+            let (in_range, lit) = (in_range as u64, lit as u64);
             self.stats.pairs += hits;
             self.stats.pairs_out_of_range += hits - in_range;
             self.stats.pairs_backfacing += in_range - lit;
-            // Nothing this light reaches can show it: no kernel runs.
-            if lit == 0 && !(any_unlit && in_range > 0) {
+            // Nothing this light reaches can show it: no work at all.
+            if lit == 0 && !(any_unlit && in_range > lit) {
                 continue;
             }
             let intensity = light.intensity();
@@ -322,21 +369,24 @@ impl Scratch {
                 if start == end {
                     continue;
                 }
-                for lit_only in [true, false] {
-                    let wanted = if lit_only {
-                        material.any_lit_only
+                if let Some(colour) = material.unlit_constant {
+                    self.add_unlit_constant(start, end, intensity, colour);
+                }
+                for front_only in [true, false] {
+                    let wanted = if front_only {
+                        material.any_front
                     } else {
-                        material.any_unlit
+                        material.any_varies
                     };
                     if !wanted {
                         continue;
                     }
-                    self.fill_batch(start, end, lit_only, material.cosine_weighted, intensity);
+                    self.fill_batch(start, end, front_only, material.cosine_weighted, intensity);
                     if self.batch.len == 0 {
                         continue;
                     }
                     for (i, part) in material.parts.iter().enumerate() {
-                        if part.lit_only == lit_only {
+                        if (part.unlit != Unlit::Varies) == front_only {
                             part.shade(&self.batch, &mut self.acc);
                             self.stats.parts[material.first_stat + i].evaluations +=
                                 self.batch.len as u64;
@@ -347,14 +397,40 @@ impl Scratch {
         }
     }
 
-    /// Packs the pixels `order[start..end]` that the light reaches (and, if `lit_only`,
-    /// lights from the front) into the batch.
+    /// Adds `L·falloff·colour` at the pixels `order[start..end]` the light reaches from
+    /// behind (`n·l <= 0`): terms constant there need no kernel.
+    #[inline(always)]
+    fn add_unlit_constant(
+        &mut self,
+        start: usize,
+        end: usize,
+        intensity: [f32; 3],
+        colour: [f32; 3],
+    ) {
+        let light = &self.light;
+        let weight = [0, 1, 2].map(|c| intensity[c] * colour[c]);
+        let mut count = 0;
+        for &j in &self.order[start..end] {
+            let j = j as usize;
+            // Branch-free: pixels lit from the front add 0.
+            let behind = light.in_range(j) & !(light.cos_l[j] > 0.0);
+            let f = if behind { light.falloff(j) } else { 0.0 };
+            for c in 0..3 {
+                self.acc[c][j] += weight[c] * f;
+            }
+            count += behind as u64;
+        }
+        self.stats.pairs_constant += count;
+    }
+
+    /// Packs the pixels `order[start..end]` that the light reaches (and, if
+    /// `front_only`, lights from the front) into the batch.
     #[inline(always)]
     fn fill_batch(
         &mut self,
         start: usize,
         end: usize,
-        lit_only: bool,
+        front_only: bool,
         cosine_weighted: bool,
         intensity: [f32; 3],
     ) {
@@ -363,7 +439,7 @@ impl Scratch {
         let mut k = 0;
         for &j in &self.order[start..end] {
             let j = j as usize;
-            let keep = light.in_range[j] && (!lit_only || light.cos_l[j] > 0.0);
+            let keep = light.in_range(j) & (!front_only | (light.cos_l[j] > 0.0));
             b.pixel[k] = j as u16;
             k += keep as usize;
         }
@@ -371,12 +447,13 @@ impl Scratch {
         for k in 0..b.len {
             let j = b.pixel[k] as usize;
             let scale = if cosine_weighted {
-                light.falloff[j] * light.cos_l[j]
+                light.falloff(j) * light.cos_l[j]
             } else {
-                light.falloff[j]
+                light.falloff(j)
             };
+            let wi = light.wi(j);
             for c in 0..3 {
-                b.wi[c][k] = light.wi[c][j];
+                b.wi[c][k] = wi[c];
                 b.wo[c][k] = self.v[c][j];
                 b.n[c][k] = self.n[c][j];
                 b.t[c][k] = self.tangent[c][j];
@@ -403,21 +480,40 @@ fn render_row_impl(frame: &Frame<'_>, y: usize, row: &mut [f32], s: &mut Scratch
     let width = frame.camera.width;
     for x0 in (0..width).step_by(SEGMENT) {
         let len = SEGMENT.min(width - x0);
+        let bounds = frame.camera.segment_bounds(y, x0, len);
+        s.candidates.clear();
+        for (i, object) in frame.objects.iter().enumerate() {
+            if object.may_hit(&bounds) {
+                s.candidates.push(i as u32);
+            }
+        }
+        s.stats.pixels += len as u64;
+        let out = &mut row[3 * x0..3 * (x0 + len)];
+        if s.candidates.is_empty() {
+            // No ray of the segment can hit anything: background, without even rays.
+            for px in out.chunks_exact_mut(3) {
+                px.copy_from_slice(&frame.background);
+            }
+            continue;
+        }
         frame.camera.rays(y, x0, &mut s.origin, &mut s.dir);
         s.t.fill(f32::INFINITY);
         s.id.fill(u32::MAX);
-        for (i, object) in frame.objects.iter().enumerate() {
-            object.intersect(i as u32, &s.origin, &s.dir, &mut s.t, &mut s.id);
+        for &i in &s.candidates {
+            frame.objects[i as usize].intersect(i, &s.origin, &s.dir, &mut s.t, &mut s.id);
         }
-        s.stats.pixels += len as u64;
-        s.stats.ray_tests += (len * frame.objects.len()) as u64;
+        s.stats.ray_tests += (len * s.candidates.len()) as u64;
         let mut hits = 0;
+        s.object_hit.clear();
+        s.object_hit.resize(frame.objects.len(), false);
         for j in 0..SEGMENT {
             s.hit[j] = j < len && s.id[j] != u32::MAX;
             hits += s.hit[j] as usize;
+            if s.hit[j] {
+                s.object_hit[s.id[j] as usize] = true;
+            }
         }
         s.stats.hits += hits as u64;
-        let out = &mut row[3 * x0..3 * (x0 + len)];
         if hits == 0 {
             for px in out.chunks_exact_mut(3) {
                 px.copy_from_slice(&frame.background);
@@ -430,7 +526,12 @@ fn render_row_impl(frame: &Frame<'_>, y: usize, row: &mut [f32], s: &mut Scratch
                 s.v[c][j] = -s.dir[c][j];
             }
         }
-        for (i, object) in frame.objects.iter().enumerate() {
+        for &i in &s.candidates {
+            let i = i as usize;
+            if !s.object_hit[i] {
+                continue;
+            }
+            let object = &frame.objects[i];
             object.normals(i as u32, &s.id, &s.p, &s.dir, &mut s.n);
             if frame.object_tangent[i] {
                 object.tangents(i as u32, &s.id, &s.n, &mut s.tangent);

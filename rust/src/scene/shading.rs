@@ -11,8 +11,9 @@
 //! - a family-A model whose specular colours are zero is evaluated as its diffuse term
 //!   alone ([`family_a_diffuse`]: `lambert` with `kd` or `π·kd`), so it too costs what
 //!   Lambert costs; the same split renders `--only diffuse` / `--only specular`;
-//! - each part knows whether it is zero whenever `n·l <= 0` ([`zero_when_unlit`]); lights
-//!   behind the surface are then culled before any kernel runs.
+//! - each part knows what it is for lights behind the surface ([`unlit_behaviour`]):
+//!   zero (such lights are culled before any kernel runs), a constant (a toon dark band:
+//!   added without a kernel), or varying (the kernel runs).
 //!
 //! The rules are exhaustive matches over [`ModelKind`], so a new model must state them;
 //! the tests check each rule against the kernels themselves.
@@ -197,26 +198,60 @@ pub fn is_zero_weight(term: &Term) -> bool {
         .all(|name| term.slots[term.param_slots(name)].iter().all(|&x| x == 0.0))
 }
 
-/// Returns whether a term is 0 for every light with `n·l <= 0`, so such lights can be
-/// culled before the kernel runs. True for every family-A model (zero unless
-/// `mu_i > 0`) and every family-B term but `toon_diffuse`, whose bands count thresholds
-/// against the signed `n·l`: it is zero there only if every band reachable for
-/// `n·l` in `[−1, 0]` is black.
-pub fn zero_when_unlit(term: &Term) -> bool {
+/// What a term is for lights behind the surface (`n·l <= 0`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Unlit {
+    /// Zero: such lights are culled before any kernel runs.
+    Zero,
+    /// The same colour for every such light and view: added as `L·colour`, no kernel.
+    Constant([f64; 3]),
+    /// Depends on the directions: the kernel runs.
+    Varies,
+}
+
+/// Returns what a term is for lights behind the surface. Every family-A model is zero
+/// there (zero unless `mu_i > 0`), and so is every family-B term but `toon_diffuse`,
+/// whose bands count thresholds against the signed `n·l` (MODELS.md): when no threshold
+/// lies in `(−1, 0]` every `n·l` in `[−1, 0]` falls in the same band, whose colour (read
+/// from the kernel itself at `n·l = −1`) is the term's constant value there.
+pub fn unlit_behaviour(term: &Term) -> Unlit {
     use ModelKind::*;
     match term.kind {
         Lambert | OrenNayar | Phong | ModifiedPhong | NormalizedPhong | BlinnPhong
         | ModifiedBlinnPhong | NormalizedBlinnPhong | BlinnPhongFresnel | TorranceSparrow
         | LambertShading | OrenNayarShading | PhongSpecular | BlinnSpecular | ToonSpecular
-        | KajiyaKay => true,
+        | KajiyaKay => Unlit::Zero,
         ToonDiffuse => {
             let thresholds = &term.slots[term.param_slots("thresholds")];
-            let colours = &term.slots[term.param_slots("colors")];
             debug_assert_eq!(thresholds.len(), MAX_THRESHOLDS);
             let band = |cos_l: f64| thresholds.iter().filter(|&&t| t <= cos_l).count();
-            (band(-1.0)..=band(0.0)).all(|j| colours[3 * j..3 * j + 3].iter().all(|&c| c == 0.0))
+            if band(-1.0) != band(0.0) {
+                return Unlit::Varies;
+            }
+            let behind = Directions::<f64> {
+                wi: glam::DVec3::NEG_Z,
+                wo: glam::DVec3::Z,
+                n: glam::DVec3::Z,
+                t: glam::DVec3::X,
+            };
+            match eval_f64(term, &behind) {
+                [0.0, 0.0, 0.0] => Unlit::Zero,
+                colour => Unlit::Constant(colour),
+            }
         }
     }
+}
+
+/// Returns the term's value for one set of directions, in `f64`.
+pub fn eval_f64(term: &Term, d: &Directions<f64>) -> [f64; 3] {
+    struct Eval<'a>(&'a [f64], &'a Directions<f64>);
+    impl KernelVisitor for Eval<'_> {
+        type Output = [f64; 3];
+        fn visit<K: Kernel>(self) -> [f64; 3] {
+            K::eval(&K::prepare::<f64, [f64]>(self.0), self.1)
+        }
+    }
+    term.kind.visit(Eval(&term.slots, d))
 }
 
 /// How a family-A model's diffuse term is evaluated on its own.
@@ -433,8 +468,8 @@ pub struct Part {
     pub role: Role,
     /// Family A: each value is multiplied by `n·l`.
     pub cosine_weighted: bool,
-    /// Zero whenever `n·l <= 0`: lights behind the surface are culled for this part.
-    pub lit_only: bool,
+    /// What the part is for lights behind the surface.
+    pub unlit: Unlit,
     kernel: Box<dyn BatchKernel>,
 }
 
@@ -450,7 +485,7 @@ impl Part {
             kind: desc.term.kind,
             role: desc.role,
             cosine_weighted: desc.term.kind.spec().family == Family::A,
-            lit_only: zero_when_unlit(&desc.term),
+            unlit: unlit_behaviour(&desc.term),
             kernel,
         }
     }
@@ -519,14 +554,7 @@ mod tests {
     }
 
     fn eval64(t: &Term, d: &Directions<f64>) -> [f64; 3] {
-        struct Eval<'a>(&'a [f64], &'a Directions<f64>);
-        impl KernelVisitor for Eval<'_> {
-            type Output = [f64; 3];
-            fn visit<K: Kernel>(self) -> [f64; 3] {
-                K::eval(&K::prepare::<f64, [f64]>(self.0), self.1)
-            }
-        }
-        t.kind.visit(Eval(&t.slots, d))
+        eval_f64(t, d)
     }
 
     fn directions(rng: &mut Lcg) -> Directions<f64> {
@@ -575,26 +603,49 @@ mod tests {
         }
     }
 
+    /// Directions with the light behind the surface (`n·l <= 0`).
+    fn behind(rng: &mut Lcg) -> Directions<f64> {
+        let mut d = directions(rng);
+        if d.n.dot(d.wi) > 0.0 {
+            d.wi = d.wi - d.n * (2.0 * d.n.dot(d.wi));
+        }
+        d
+    }
+
     #[test]
-    fn lit_only_terms_are_zero_for_lights_behind() {
+    fn unlit_behaviour_matches_the_kernels() {
         let mut rng = Lcg(11);
         for &kind in ModelKind::ALL {
-            let t = term(kind, &toon_required(kind));
             if kind == ModelKind::ToonDiffuse {
-                // Its darkest band is lit from behind: not culled.
-                assert!(!zero_when_unlit(&t));
                 continue;
             }
-            assert!(zero_when_unlit(&t), "{}", kind.name());
+            let t = term(kind, &toon_required(kind));
+            assert_eq!(unlit_behaviour(&t), Unlit::Zero, "{}", kind.name());
             for _ in 0..2000 {
-                let mut d = directions(&mut rng);
-                if d.n.dot(d.wi) > 0.0 {
-                    d.wi = d.wi - d.n * (2.0 * d.n.dot(d.wi));
-                }
-                assert_eq!(eval64(&t, &d), [0.0; 3], "{}", kind.name());
+                assert_eq!(eval64(&t, &behind(&mut rng)), [0.0; 3], "{}", kind.name());
             }
         }
-        // Toon diffuse with black bands for n·l <= 0 is culled; one reachable colour is not.
+        // Toon diffuse: constant when no threshold lies in (-1, 0], whatever the colours.
+        for _ in 0..50 {
+            let k = 1 + (rng.next() * 4.0) as usize;
+            let mut thresholds: Vec<f64> = (0..k).map(|_| 1e-6 + rng.next()).collect();
+            thresholds.sort_by(f64::total_cmp);
+            let colours: Vec<f64> = (0..3 * (k + 1)).map(|_| rng.next()).collect();
+            let mut t = term(
+                ModelKind::ToonDiffuse,
+                &[("thresholds", thresholds), ("colors", vec![0.0; k + 1])],
+            );
+            let c = t.param_slots("colors").start;
+            t.slots[c..c + colours.len()].copy_from_slice(&colours);
+            let Unlit::Constant(value) = unlit_behaviour(&t) else {
+                panic!("{:?}", unlit_behaviour(&t));
+            };
+            assert_eq!(value, [colours[0], colours[1], colours[2]]);
+            for _ in 0..200 {
+                assert_eq!(eval64(&t, &behind(&mut rng)), value);
+            }
+        }
+        // Black dark bands are zero; a threshold in (-1, 0] makes the value vary.
         let dark = term(
             ModelKind::ToonDiffuse,
             &[
@@ -602,26 +653,23 @@ mod tests {
                 ("colors", vec![0.0, 0.5, 1.0]),
             ],
         );
-        assert!(zero_when_unlit(&dark));
-        let negative = term(
+        assert_eq!(unlit_behaviour(&dark), Unlit::Zero);
+        for thresholds in [vec![-0.5, 0.6], vec![0.0, 0.6]] {
+            let t = term(
+                ModelKind::ToonDiffuse,
+                &[("thresholds", thresholds), ("colors", vec![0.0, 0.5, 1.0])],
+            );
+            assert_eq!(unlit_behaviour(&t), Unlit::Varies);
+        }
+        // Thresholds at or below -1 are passed by every n·l: the band is constant again.
+        let low = term(
             ModelKind::ToonDiffuse,
             &[
-                ("thresholds", vec![-0.5, 0.6]),
-                ("colors", vec![0.0, 0.5, 1.0]),
+                ("thresholds", vec![-1.0, 0.5]),
+                ("colors", vec![0.0, 0.25, 1.0]),
             ],
         );
-        assert!(!zero_when_unlit(&negative));
-        let edge = term(
-            ModelKind::ToonDiffuse,
-            &[
-                ("thresholds", vec![0.0, 0.6]),
-                ("colors", vec![0.0, 0.5, 1.0]),
-            ],
-        );
-        assert!(
-            !zero_when_unlit(&edge),
-            "n·l = 0 reaches the band of threshold 0"
-        );
+        assert_eq!(unlit_behaviour(&low), Unlit::Constant([0.25; 3]));
     }
 
     #[test]
@@ -690,16 +738,5 @@ mod tests {
         let spec = &material_parts(&m, Component::Specular)[0];
         assert_eq!(spec.term.kind, ModelKind::TorranceSparrow);
         assert_eq!(&spec.term.slots[0..3], &[0.0; 3]);
-    }
-
-    #[test]
-    fn toon_band_reachability_uses_signed_cosine() {
-        // The unit check of the helper: thresholds padded with +inf.
-        let t = term(
-            ModelKind::ToonDiffuse,
-            &[("thresholds", vec![0.5]), ("colors", vec![0.0, 1.0])],
-        );
-        assert!(zero_when_unlit(&t));
-        assert!(t.slots[1].is_infinite());
     }
 }
