@@ -327,7 +327,9 @@ def test_toon_dark_bands_are_added_for_lights_behind_without_a_kernel():
     # toon_diffuse counts thresholds against the signed n·l: a light behind the surface
     # shows the darkest band (MODELS.md). With no threshold in (-1, 0] that band is one
     # constant colour, added as L·colour without running the kernel.
-    toon = 'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [[0.1, 0.2, 0.3], 0.8] }'
+    toon = (
+        'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [[0.1, 0.2, 0.3], 0.8] }'
+    )
     key_only, s1 = brdf_rs.render(_scene(toon), tonemap="none", stats=True)
     behind = KEY + BEHIND.format(i=2)
     image, stats = brdf_rs.render(_scene(toon, behind), tonemap="none", stats=True)
@@ -343,7 +345,9 @@ def test_toon_dark_bands_are_added_for_lights_behind_without_a_kernel():
     dark = 'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [0, 0.8] }'
     _, stats = brdf_rs.render(_scene(dark, behind), tonemap="none", stats=True)
     assert stats["evaluations"] == s1["evaluations"] and stats["pairs_constant"] == 0
-    varies = 'diffuse = { model = "toon_diffuse", thresholds = [-0.5, 0.5], colors = [0.1, 0.5, 0.8] }'
+    varies = (
+        'diffuse = { model = "toon_diffuse", thresholds = [-0.5, 0.5], colors = [0.1, 0.5, 0.8] }'
+    )
     _, stats = brdf_rs.render(_scene(varies, behind), tonemap="none", stats=True)
     assert stats["evaluations"] == 2 * stats["hits"] and stats["pairs_constant"] == 0
 

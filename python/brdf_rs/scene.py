@@ -601,8 +601,13 @@ def render(
             kernels never run); a family-A model's diffuse term is its ``kd`` term.
         tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
         exposure: stops (default: the scene's, or 0 with ``tonemap="none"``).
-        stats: also return a dict counting the work done (pixels, ray tests, hits,
-            light-pixel pairs culled, kernel evaluations per material part).
+        stats: also return a dict counting the work done: ``pixels``, ``ray_tests``,
+            ``hits``, ``lights`` (and ``lights_dropped``: black ones),
+            ``materials_prepared``, pixel-light ``pairs`` with those
+            ``pairs_out_of_range`` and ``pairs_backfacing`` (culled unless a term is
+            nonzero there) and ``pairs_constant`` (shaded by a constant, no kernel),
+            ``evaluations`` of kernels, and ``parts``: per material part its
+            ``material``, ``role``, ``model`` and ``evaluations``.
     """
     scene = _as_scene(scene)
     core = scene.to_core()
