@@ -449,6 +449,18 @@ def test_shade_matches_the_reference(rng):
     assert checked > 500 and lights_checked > 200
 
 
+def test_shade_broadcasts_its_inputs():
+    n = np.array([0.0, 0.0, 2.0])
+    v = np.array([[0.0, 0.0, 1.0], [0.0, 0.6, 0.8]])
+    lights = [{"type": "directional", "direction": [0, 0, -1], "intensity": 2}]
+    out = brdf_rs.shade({"diffuse": {"model": "lambert_shading", "kd": 0.5}}, n, v, lights)
+    np.testing.assert_allclose(out, np.ones((2, 3)))
+    grid = brdf_rs.shade({"model": "lambert"}, np.ones((4, 1, 3)), np.ones((5, 3)), lights)
+    assert grid.shape == (4, 5, 3)
+    with pytest.raises(ValueError, match="shapes do not broadcast"):
+        brdf_rs.shade({"model": "lambert"}, np.ones((4, 3)), np.ones((5, 3)), lights)
+
+
 def test_shade_errors_name_the_argument():
     n = np.array([[0, 0, 1.0]])
     point = [{"type": "point", "position": [0, 0, 1]}]

@@ -666,17 +666,13 @@ def _material_core(where: _Where, material: Mapping[str, Any]) -> dict[str, Any]
     return out
 
 
-def _vectors(name: str, value: Any, shape: tuple[int, ...] | None) -> np.ndarray:
-    a = np.asarray(value, dtype=np.float64)
+def _vectors(name: str, value: Any) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected an array of numbers of shape (..., 3)") from None
     if a.ndim == 0 or a.shape[-1] != 3:
         raise ValueError(f"{name}: expected an array of shape (..., 3), got shape {a.shape}")
-    if shape is not None:
-        try:
-            a = np.broadcast_to(a, (*shape, 3))
-        except ValueError:
-            raise ValueError(
-                f"{name}: shape {a.shape} does not broadcast to n's shape {(*shape, 3)}"
-            ) from None
     return a
 
 
@@ -713,7 +709,8 @@ def shade(
         material: as a ``[materials.NAME]`` table: ``{"model": ..., params}`` (family A)
             or ``{"diffuse": {...}, "specular": {...}}`` (family B).
         n: surface normals, shape ``(..., 3)`` (normalized here).
-        v: directions toward the viewer, broadcasting against ``n``.
+        v: directions toward the viewer; ``n``, ``v``, ``positions`` and ``tangent``
+            broadcast together (NumPy rules) and the result has their shape.
         lights: a list of light tables as in a scene file (``type``, ``direction`` or
             ``position``, ``intensity``, ``range``).
         positions: surface points, needed by point lights.
@@ -724,21 +721,25 @@ def shade(
     where = _Where("shade")
     core_material = _material_core(where / "material", material)
     core_lights = _lights(where / "lights", lights)
-    n_arr = _vectors("n", n, None)
-    shape = n_arr.shape[:-1]
-    v_arr = _vectors("v", v, shape)
-    args = {"n": _unit_rows("n", n_arr), "v": _unit_rows("v", v_arr)}
-    if positions is not None:
-        p = _vectors("positions", positions, shape).reshape(-1, 3)
-        if not np.isfinite(p).all():
-            raise ValueError("positions: expected finite numbers")
-        args["positions"] = np.ascontiguousarray(p, dtype=np.float32)
-    else:
-        args["positions"] = None
-    if tangent is not None:
-        args["tangent"] = _unit_rows("tangent", _vectors("tangent", tangent, shape))
-    else:
-        args["tangent"] = None
+    given = {"n": n, "v": v, "positions": positions, "tangent": tangent}
+    arrays = {k: _vectors(k, a) for k, a in given.items() if a is not None}
+    try:
+        shape = np.broadcast_shapes(*(a.shape[:-1] for a in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in arrays.items())
+        raise ValueError(f"n, v, positions, tangent: shapes do not broadcast: {shapes}") from None
+    arrays = {k: np.broadcast_to(a, (*shape, 3)) for k, a in arrays.items()}
+    args: dict[str, np.ndarray | None] = dict.fromkeys(given)
+    for k, a in arrays.items():
+        if k == "positions":
+            flat = a.reshape(-1, 3)
+            if not np.isfinite(flat).all():
+                i = int(np.argmax(~np.isfinite(flat).all(axis=1)))
+                index = [int(x) for x in np.unravel_index(i, shape)] if shape else []
+                raise ValueError(f"positions{index} is not finite")
+            args[k] = np.ascontiguousarray(flat, dtype=np.float32)
+        else:
+            args[k] = _unit_rows(k, a)
     out, counts = _core.shade_gbuffer(
         core_material,
         core_lights,
