@@ -586,6 +586,31 @@ fn row_fn() -> RowFn {
     }
 }
 
+/// Returns `len` zeros, or an error (not an abort) if the memory is not there. Like
+/// `vec![0.0; len]` the memory comes zeroed from the allocator (fresh pages cost nothing
+/// until the workers write them).
+fn zeroed(len: usize, what: &str) -> Result<Vec<f32>, BrdfError> {
+    let too_big = || {
+        BrdfError::InvalidArgument(format!(
+            "{what}: cannot allocate {:.1} GB",
+            len as f64 * std::mem::size_of::<f32>() as f64 / 1e9
+        ))
+    };
+    if len == 0 {
+        return Ok(Vec::new());
+    }
+    let layout = std::alloc::Layout::array::<f32>(len).map_err(|_| too_big())?;
+    // SAFETY: `layout` has a nonzero size.
+    let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<f32>();
+    if ptr.is_null() {
+        return Err(too_big());
+    }
+    // SAFETY: `ptr` was allocated by the global allocator with the layout of `len`
+    // `f32`s (the layout a `Vec<f32>` of capacity `len` uses) and is zeroed, and zero
+    // bits are the float 0.0.
+    Ok(unsafe { Vec::from_raw_parts(ptr, len, len) })
+}
+
 /// Drops black lights, counting them.
 fn live_lights(lights: &[Light], stats: &mut RenderStats) -> Vec<Light> {
     let live: Vec<Light> = lights.iter().filter(|l| !l.is_black()).copied().collect();
@@ -629,7 +654,7 @@ pub fn render(scene: &Scene, component: Component) -> Result<(Vec<f32>, RenderSt
         background: scene.background,
     };
     let (width, height) = (scene.camera.width, scene.camera.height);
-    let mut image = vec![0.0f32; width * height * 3];
+    let mut image = zeroed(width * height * 3, "image")?;
     let row_fn = row_fn();
     let n_materials = scene.materials.len();
     let template = stats.clone();
@@ -782,7 +807,7 @@ pub fn shade(
     )?;
     let lights = live_lights(lights, &mut stats);
     let count = len / 3;
-    let mut out = vec![0.0f32; len];
+    let mut out = zeroed(len, "output")?;
     let template = stats.clone();
     const TASK: usize = 16 * SEGMENT;
     let job = ShadeJob {
@@ -819,4 +844,20 @@ pub fn shade(
     }
     COUNTERS.record(&stats);
     Ok((out, stats))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn impossible_allocations_are_errors() {
+        let err = zeroed(usize::MAX / 2, "image").unwrap_err();
+        assert!(
+            err.to_string().starts_with("image: cannot allocate"),
+            "{err}"
+        );
+        assert_eq!(zeroed(5, "image").unwrap(), vec![0.0; 5]);
+        assert!(zeroed(0, "image").unwrap().is_empty());
+    }
 }
