@@ -185,13 +185,6 @@ struct Prepared {
     unlit_constant: Option<[f32; 3]>,
 }
 
-impl Prepared {
-    /// Returns whether lights behind the surface need any work for this material.
-    fn needs_unlit(&self) -> bool {
-        self.any_varies || self.unlit_constant.is_some()
-    }
-}
-
 /// Prepares the materials in `used` (others stay `None`: never prepared).
 fn prepare(
     materials: &[MaterialDesc],
@@ -253,6 +246,9 @@ struct Scratch {
     tangent: [[f32; SEGMENT]; 3],
     hit: [bool; SEGMENT],
     material: [u32; SEGMENT],
+    /// Per pixel: the material's constant colour for lights behind the surface, if any.
+    unlit_colour: [[f32; SEGMENT]; 3],
+    has_constant: [bool; SEGMENT],
     /// Objects the segment's rays may hit, and whether each was hit.
     candidates: Vec<u32>,
     object_hit: Vec<bool>,
@@ -286,6 +282,8 @@ impl Scratch {
             tangent: [[1.0; SEGMENT]; 3],
             hit: [false; SEGMENT],
             material: [0; SEGMENT],
+            unlit_colour: [[0.0; SEGMENT]; 3],
+            has_constant: [false; SEGMENT],
             candidates: Vec::new(),
             object_hit: Vec::new(),
             order: [0; SEGMENT],
@@ -336,19 +334,33 @@ impl Scratch {
             .iter()
             .rposition(|&h| h)
             .map_or(0, |j| j + 1);
-        // What the materials present here need: any kernel at all, and any for lights
-        // behind the surface.
-        let (mut any_parts, mut any_unlit) = (false, false);
+        // What the materials present here need: any kernel at all, kernels for lights
+        // behind the surface, constants for lights behind the surface (per pixel).
+        let (mut any_parts, mut any_varies, mut any_constant) = (false, false, false);
         for (k, m) in materials.iter().enumerate() {
             if let Some(m) = m {
                 if self.starts[k] < self.starts[k + 1] {
                     any_parts |= !m.parts.is_empty();
-                    any_unlit |= m.needs_unlit();
+                    any_varies |= m.any_varies;
+                    any_constant |= m.unlit_constant.is_some();
                 }
             }
         }
         if !any_parts {
             return;
+        }
+        if any_constant {
+            for j in first..last {
+                let colour = match &materials[self.material[j] as usize] {
+                    Some(m) if self.hit[j] => m.unlit_constant,
+                    _ => None,
+                };
+                self.has_constant[j] = colour.is_some();
+                let colour = colour.unwrap_or([0.0; 3]);
+                for c in 0..3 {
+                    self.unlit_colour[c][j] = colour[c];
+                }
+            }
         }
         for light in lights {
             let (in_range, lit) =
@@ -358,25 +370,27 @@ impl Scratch {
             self.stats.pairs += hits;
             self.stats.pairs_out_of_range += hits - in_range;
             self.stats.pairs_backfacing += in_range - lit;
-            // Nothing this light reaches can show it: no work at all.
-            if lit == 0 && !(any_unlit && in_range > lit) {
+            let intensity = light.intensity();
+            if any_constant && in_range > lit {
+                self.add_unlit_constants(intensity, first..last);
+            }
+            // Nothing else this light reaches can show it: no kernel runs.
+            let front = lit > 0;
+            let behind = any_varies && in_range > lit;
+            if !front && !behind {
                 continue;
             }
-            let intensity = light.intensity();
             for (k, material) in materials.iter().enumerate() {
                 let Some(material) = material else { continue };
                 let (start, end) = (self.starts[k], self.starts[k + 1]);
                 if start == end {
                     continue;
                 }
-                if let Some(colour) = material.unlit_constant {
-                    self.add_unlit_constant(start, end, intensity, colour);
-                }
                 for front_only in [true, false] {
                     let wanted = if front_only {
-                        material.any_front
+                        front && material.any_front
                     } else {
-                        material.any_varies
+                        material.any_varies && in_range > 0
                     };
                     if !wanted {
                         continue;
@@ -397,30 +411,23 @@ impl Scratch {
         }
     }
 
-    /// Adds `L·falloff·colour` at the pixels `order[start..end]` the light reaches from
-    /// behind (`n·l <= 0`): terms constant there need no kernel.
+    /// Adds `L·falloff·colour` at the pixels of `span` the light reaches from behind
+    /// (`n·l <= 0`), `colour` being each pixel's material constant there (0 for others):
+    /// terms constant behind the surface need no kernel. A straight loop: it vectorizes.
     #[inline(always)]
-    fn add_unlit_constant(
-        &mut self,
-        start: usize,
-        end: usize,
-        intensity: [f32; 3],
-        colour: [f32; 3],
-    ) {
+    fn add_unlit_constants(&mut self, intensity: [f32; 3], span: std::ops::Range<usize>) {
         let light = &self.light;
-        let weight = [0, 1, 2].map(|c| intensity[c] * colour[c]);
-        let mut count = 0;
-        for &j in &self.order[start..end] {
-            let j = j as usize;
-            // Branch-free: pixels lit from the front add 0.
-            let behind = light.in_range(j) & !(light.cos_l[j] > 0.0);
+        let span = span.start.min(SEGMENT)..span.end.min(SEGMENT);
+        let mut count = 0u32;
+        for j in span {
+            let behind = self.hit[j] & light.in_range(j) & !(light.cos_l[j] > 0.0);
             let f = if behind { light.falloff(j) } else { 0.0 };
             for c in 0..3 {
-                self.acc[c][j] += weight[c] * f;
+                self.acc[c][j] += intensity[c] * self.unlit_colour[c][j] * f;
             }
-            count += behind as u64;
+            count += (behind & self.has_constant[j]) as u32;
         }
-        self.stats.pairs_constant += count;
+        self.stats.pairs_constant += count as u64;
     }
 
     /// Packs the pixels `order[start..end]` that the light reaches (and, if
