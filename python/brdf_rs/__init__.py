@@ -21,12 +21,25 @@ from ._albedo import (
 from ._api import Model, eval, isa, models, num_threads, set_num_threads
 from ._brdf_rs import __version__
 from ._sampling import pdf, sample
+from .scene import (
+    Scene,
+    SceneError,
+    load_scene,
+    parse_scene,
+    render,
+    save_image,
+    scene_tables,
+    shade,
+    tonemap,
+)
 
 __all__ = [
     "Albedo",
     "Energy",
     "EnergyCompensation",
     "Model",
+    "Scene",
+    "SceneError",
     "Table",
     "__version__",
     "albedo",
@@ -36,10 +49,17 @@ __all__ = [
     "energy_compensation_table",
     "eval",
     "isa",
+    "load_scene",
     "models",
     "num_threads",
+    "parse_scene",
     "pdf",
     "reference",
+    "render",
     "sample",
+    "save_image",
+    "scene_tables",
     "set_num_threads",
+    "shade",
+    "tonemap",
 ]

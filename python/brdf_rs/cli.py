@@ -181,6 +181,135 @@ def cmd_table(args: argparse.Namespace) -> int:
     return 0
 
 
+def _resolution(text: str) -> tuple[int, int]:
+    try:
+        w, h = (int(x) for x in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected WIDTHxHEIGHT, e.g. 640x480, got {text!r}"
+        ) from None
+    if not (1 <= w <= 32768 and 1 <= h <= 32768):
+        raise argparse.ArgumentTypeError(f"expected sizes from 1 to 32768, got {text!r}")
+    return w, h
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    import time
+
+    from . import scene as scenes
+
+    scene = scenes.load_scene(args.scene)
+    if args.resolution is not None:
+        scene = scene.with_resolution(*args.resolution)
+    outputs = [Path(p) for p in (args.output, args.exr, args.npy) if p is not None]
+    if not outputs:
+        raise UsageError("nothing to write: give -o image.png (or .exr, .npy), --exr or --npy")
+    for path in outputs:
+        if path.suffix.lower() not in (".png", ".exr", ".npy"):
+            raise UsageError(f"{path}: unknown image format; use .png, .exr or .npy")
+    start = time.perf_counter()
+    linear, stats = scenes.render(scene, only=args.only, tonemap="none", exposure=0.0, stats=True)
+    seconds = time.perf_counter() - start
+    tonemap = args.tonemap or scene.output["tonemap"]
+    exposure = scene.output["exposure"] if args.exposure is None else args.exposure
+    display = scenes.tonemap(linear, tonemap, exposure)
+    written = []
+    for path in outputs:
+        # PNG holds display values (tone-mapped, sRGB); EXR and NPY hold linear radiance.
+        image = display if path.suffix.lower() == ".png" else linear
+        written.append(str(scenes.save_image(path, image).resolve()))
+    width, height = scene.resolution
+    summary = {
+        "scene": str(args.scene),
+        "resolution": [width, height],
+        "only": args.only,
+        "tonemap": tonemap,
+        "exposure": exposure,
+        "seconds": seconds,
+        "outputs": written,
+        "stats": stats,
+    }
+    if args.json:
+        _print_json(summary)
+    elif not args.quiet:
+        what = f" ({args.only} only)" if args.only else ""
+        print(f"{args.scene}: {width}x{height}{what} in {seconds * 1e3:.1f} ms, tone map {tonemap}")
+        print(
+            f"  {stats['hits']:,} of {stats['pixels']:,} pixels hit; {stats['pairs']:,} pixel-light"
+            f" pairs, {stats['pairs_backfacing']:,} facing away, {stats['pairs_out_of_range']:,}"
+            f" out of range; {stats['evaluations']:,} kernel evaluations"
+        )
+        for path in written:
+            print(f"  wrote {path}")
+    return 0
+
+
+def cmd_tables(args: argparse.Namespace) -> int:
+    from . import scene as scenes
+
+    scene = scenes.load_scene(args.scene)
+    bar = None
+    current = [None, 0]
+
+    def progress(material: str, done: int, cells: int) -> None:
+        nonlocal bar
+        if current[0] != material:
+            if bar is not None:
+                bar.close()
+            bar = _progress_bar(cells, args.quiet or args.json)
+            if bar is not None:
+                bar.set_description(material)
+            current[0], current[1] = material, 0
+        if bar is not None:
+            bar.update(done - current[1])
+        current[1] = done
+
+    try:
+        results = scenes.scene_tables(
+            scene,
+            cache_dir=args.cache_dir,
+            mu_count=args.mu_count,
+            samples=args.samples,
+            tol=args.tol,
+            seed=args.seed,
+            progress=progress,
+        )
+    finally:
+        if bar is not None:
+            bar.close()
+    rows = [
+        {
+            "material": r.material,
+            "model": r.model,
+            "cached": r.cached,
+            "path": str(r.path),
+            "max_albedo": r.max_albedo,
+            "mu_at_max": r.mu_at_max,
+            "gains_energy": r.gains_energy,
+            "seconds": r.seconds,
+        }
+        for r in results
+    ]
+    if args.json:
+        _print_json({"scene": str(args.scene), "tables": rows})
+        return 0
+    if not rows:
+        print(f"{args.scene}: no family-A materials in use; no albedo tables needed")
+        return 0
+    built = sum(not r["cached"] for r in rows)
+    print(f"{args.scene}: {len(rows)} albedo tables ({built} built, {len(rows) - built} cached)")
+    for r in rows:
+        status = "cached" if r["cached"] else f"built in {r['seconds']:.2f} s"
+        albedo = ", ".join(f"{x:.4f}" for x in r["max_albedo"])
+        verdict = "GAINS ENERGY" if r["gains_energy"] else "conserves energy"
+        print(
+            f"  {r['material']:18s} {r['model']:22s} max albedo [{albedo}]"
+            f" at mu={r['mu_at_max']:.3f}"
+            f"  {verdict}  ({status})"
+        )
+    return 0
+
+
 def _progress_bar(total: int, quiet: bool):
     if quiet:
         return None
@@ -245,6 +374,55 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="machine-readable summary")
     p.set_defaults(run=cmd_table)
+
+    p = sub.add_parser(
+        "render",
+        help="render a scene file (TOML) to PNG, EXR or NPY",
+        description="Render a scene: PNG gets the tone-mapped, sRGB-encoded image; EXR and "
+        "NPY get linear radiance (float32).",
+    )
+    p.add_argument("scene", help="scene.toml")
+    p.add_argument("-o", "--output", default=None, help="image.png | image.exr | image.npy")
+    p.add_argument("--exr", default=None, help="also write linear radiance as .exr")
+    p.add_argument("--npy", default=None, help="also write linear radiance as .npy")
+    p.add_argument(
+        "--tonemap",
+        default=None,
+        choices=["clamp", "reinhard", "aces", "none"],
+        help="override the scene's [output] tonemap",
+    )
+    p.add_argument("--exposure", type=float, default=None, help="stops (override the scene's)")
+    p.add_argument(
+        "--only",
+        default=None,
+        choices=["diffuse", "specular"],
+        help="render one component without computing the other",
+    )
+    p.add_argument("--resolution", type=_resolution, default=None, help="WIDTHxHEIGHT override")
+    p.add_argument("--quiet", "-q", action="store_true", help="print nothing")
+    p.add_argument("--json", action="store_true", help="machine-readable summary and statistics")
+    p.set_defaults(run=cmd_render)
+
+    p = sub.add_parser(
+        "tables",
+        help="build (or find cached) the albedo tables a scene's materials need",
+        description="For every family-A material a scene uses: its directional albedo "
+        "R(mu), cached on disk under a hash of the model, parameters, sampler settings and "
+        "library version; a second run skips every table already built.",
+    )
+    p.add_argument("scene", help="scene.toml")
+    p.add_argument(
+        "--cache-dir", default=None, help="default: $BRDF_RS_CACHE or ~/.cache/brdf-rs/tables"
+    )
+    p.add_argument("--mu-count", type=int, default=32, help="incidences (cell midpoints of [0, 1])")
+    p.add_argument(
+        "--samples", type=int, default=4096, help="samples per cell (first round with --tol)"
+    )
+    p.add_argument("--tol", type=float, default=None, help="stop each cell at this standard error")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    p.set_defaults(run=cmd_tables)
     return parser
 
 
@@ -259,6 +437,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (TypeError, ValueError) as exc:
         print(f"brdf-rs {args.command}: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except (OSError, ImportError) as exc:
+        print(f"brdf-rs {args.command}: {exc}", file=sys.stderr)
+        return EXIT_FAILURE
     except KeyboardInterrupt:
         print(f"brdf-rs {args.command}: interrupted", file=sys.stderr)
         return 130

@@ -20,6 +20,8 @@
 //!   robust normalization, accurate angle complements, vectorizable `pow`.
 //! - [`models`]: one model per file, the [`models::Kernel`] trait, the spec table.
 //! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, SIMD dispatch).
+//! - [`scene`]: cameras, spheres and planes, lights, materials made of models, and the
+//!   scan-line renderer that skips what a scene does not need.
 //! - `py` (feature `python`): the only place that touches PyO3 / NumPy.
 
 // Numeric loops index several parallel arrays at once; iterator chains would hide that
@@ -35,6 +37,7 @@ pub mod math;
 pub mod models;
 pub mod parallel;
 pub mod sampling;
+pub mod scene;
 
 #[cfg(feature = "python")]
 mod py;

@@ -61,11 +61,12 @@ pub struct Prepared<F> {
 pub fn prepare_ms<F: Real, P: ParamSource<F> + ?Sized>(table: &EnergyTable, p: &P) -> Prepared<F> {
     let f0 = p.colour(0);
     let alpha = table.alpha_node(p.scalar(3));
-    let e_avg = table.e_avg(alpha);
-    let norm = F::FRAC_1_PI / (F::ONE - e_avg);
+    let avg_loss = table.avg_loss(alpha);
+    let e_avg = F::ONE - avg_loss;
+    let norm = F::FRAC_1_PI / avg_loss;
     let scale = f0.map(|f| {
         let f_avg = f + (F::ONE - f) * F::from_f64(1.0 / 21.0);
-        f_avg * f_avg * e_avg / (F::ONE - f_avg * (F::ONE - e_avg)) * norm
+        f_avg * f_avg * e_avg / (F::ONE - f_avg * avg_loss) * norm
     });
     Prepared { alpha, scale }
 }
@@ -75,17 +76,17 @@ pub fn prepare_ms<F: Real, P: ParamSource<F> + ?Sized>(table: &EnergyTable, p: &
 pub fn eval_ms<F: Real>(table: &EnergyTable, pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
-    let loss = (F::ONE - table.e(mu_i, pp.alpha)) * (F::ONE - table.e(mu_o, pp.alpha));
+    let loss = table.loss(mu_i, pp.alpha) * table.loss(mu_o, pp.alpha);
     above_both(mu_i, mu_o, pp.scale.map(|s| s * loss))
 }
 
 /// The albedo of a multiple-scattering lobe, `(1 − E(mu))·F_ms`, exactly.
 pub fn albedo_ms(table: &EnergyTable, slots: &[f64], mu: f64) -> Vec<Term> {
     let pp = prepare_ms::<f64, [f64]>(table, slots);
-    let e_avg = table.e_avg(pp.alpha);
-    let loss = 1.0 - table.e(mu, pp.alpha);
+    let avg_loss = table.avg_loss(pp.alpha);
+    let loss = table.loss(mu, pp.alpha);
     // scale·π(1 − E_avg) is F_ms; the lobe's albedo is (1 − E(mu))·F_ms.
-    let f_ms = pp.scale.map(|s| s * std::f64::consts::PI * (1.0 - e_avg));
+    let f_ms = pp.scale.map(|s| s * std::f64::consts::PI * avg_loss);
     vec![Term {
         colour: f_ms,
         integral: Integral::Exact(loss),

@@ -22,6 +22,8 @@ use crate::models::{ModelKind, ParamKind, TangentUse};
 use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
 
+mod scene;
+
 impl From<BrdfError> for PyErr {
     fn from(e: BrdfError) -> PyErr {
         match e.class() {
@@ -449,6 +451,11 @@ mod brdf_rs_ext {
     use super::{
         albedo, check_params, eval_f32, eval_f64, isa, models, num_threads, pdf, sample,
         set_num_threads,
+    };
+
+    #[pymodule_export]
+    use super::scene::{
+        encode_srgb8, render_scene, scene_counters, shade_gbuffer, tonemap_inplace,
     };
 
     #[pymodule_export]

@@ -53,24 +53,27 @@ impl EnergyTable {
         node((alpha * F::from_f64(1e3)).ln() * scale)
     }
 
-    /// Returns `E(mu, alpha)` (bilinear in mu and log alpha).
+    /// Returns the energy loss `1 − E(mu, alpha)` (bilinear in mu and log alpha). The
+    /// nodes' losses are formed in f64 before any rounding to `F`: near alpha = 0, where
+    /// E → 1, a float32 kernel keeps the loss to full relative precision instead of
+    /// cancelling `1 − E` in float32.
     #[inline(always)]
-    pub fn e<F: Real>(&self, mu: F, a: Node<F>) -> F {
+    pub fn loss<F: Real>(&self, mu: F, a: Node<F>) -> F {
         let m = node(mu * F::from_f64(32.0));
         let row = |i: usize| {
-            let lo = F::from_f64(self.e[i][a.index]);
-            let hi = F::from_f64(self.e[i][(a.index + 1).min(32)]);
+            let lo = F::from_f64(1.0 - self.e[i][a.index]);
+            let hi = F::from_f64(1.0 - self.e[i][(a.index + 1).min(32)]);
             lo + (hi - lo) * a.weight
         };
         let (lo, hi) = (row(m.index), row((m.index + 1).min(32)));
         lo + (hi - lo) * m.weight
     }
 
-    /// Returns `E_avg(alpha)`.
+    /// Returns `1 − E_avg(alpha)`, the average loss.
     #[inline(always)]
-    pub fn e_avg<F: Real>(&self, a: Node<F>) -> F {
-        let lo = F::from_f64(self.e_avg[a.index]);
-        let hi = F::from_f64(self.e_avg[(a.index + 1).min(32)]);
+    pub fn avg_loss<F: Real>(&self, a: Node<F>) -> F {
+        let lo = F::from_f64(1.0 - self.e_avg[a.index]);
+        let hi = F::from_f64(1.0 - self.e_avg[(a.index + 1).min(32)]);
         lo + (hi - lo) * a.weight
     }
 }

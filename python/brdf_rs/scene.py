@@ -1,0 +1,951 @@
+"""Scenes: scan-line shading and rendering with the models as materials.
+
+A scene is a TOML file (or the same structure as a dict)::
+
+    [camera]
+    type = "perspective"          # or "orthographic" (then `height`, the view height)
+    position = [0, 1, 6]
+    look_at = [0, 0, 0]           # default [0, 0, 0]
+    up = [0, 1, 0]                # default [0, 1, 0]
+    fov = 40                      # vertical field of view, degrees (default 40)
+    resolution = [640, 480]       # width, height
+
+    [materials.red_plastic]       # a family-A BRDF: a light adds L·f(l, v)·(n·l)
+    model = "normalized_phong"
+    kd = [0.95, 0, 0]
+    ks = 0.05
+    p = 50
+
+    [materials.toon]              # family-B terms: a light adds L·s(l, v) for each
+    diffuse = { model = "toon_diffuse", thresholds = [0.3], colors = [0.1, 0.6] }
+    specular = { model = "toon_specular", threshold = 0.95 }
+
+    [[objects]]
+    type = "sphere"               # center, radius; tangent = "meridian" | "parallel"
+    center = [0, 0, 0]            # about `axis` (default [0, 1, 0]), for kajiya_kay
+    radius = 1
+    material = "red_plastic"
+
+    [[objects]]
+    type = "plane"                # point, normal (two-sided); optional fixed tangent
+    point = [0, -1, 0]
+    normal = [0, 1, 0]
+    material = "toon"
+
+    [[lights]]
+    type = "directional"          # direction: the way the light travels
+    direction = [-1, -1, -1]
+    intensity = [1, 1, 1]         # RGB (or one number), default 1
+
+    [[lights]]
+    type = "point"                # inverse-square falloff, optional hard `range`
+    position = [2, 3, 2]
+    intensity = 20
+    range = 10
+
+    [output]
+    tonemap = "clamp"             # "clamp" | "reinhard" | "aces" | "none" (linear)
+    exposure = 0.0                # stops: radiance × 2^exposure before the tone map
+    background = [0, 0, 0]        # radiance where no object is hit
+
+Directions follow the library's conventions (``l = wi`` toward the light, ``v = wo``
+toward the camera). One sample per pixel, no shadows, no interreflection.
+
+Errors in a scene raise :class:`SceneError` (a ``ValueError``) naming the file, the key
+and what was expected.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import hashlib
+import json
+import math
+import os
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import _brdf_rs as _core
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+__all__ = [
+    "Scene",
+    "SceneError",
+    "TableResult",
+    "load_scene",
+    "parse_scene",
+    "render",
+    "save_image",
+    "scene_tables",
+    "shade",
+    "tonemap",
+]
+
+TONEMAPS = ("clamp", "reinhard", "aces", "none")
+
+#: Which family-B terms go in which slot of a material.
+DIFFUSE_TERMS = ("lambert_shading", "oren_nayar_shading", "toon_diffuse", "kajiya_kay")
+SPECULAR_TERMS = ("phong_specular", "blinn_specular", "toon_specular", "kajiya_kay")
+
+
+class SceneError(ValueError):
+    """A bad scene: the message names the file, the key and what was expected."""
+
+
+def _specs() -> dict[str, dict[str, Any]]:
+    return {m["name"]: m for m in _core.models()}
+
+
+# ------------------------------------------------------------------------ validation
+
+
+class _Where:
+    """Where in a scene a value sits, for error messages: ``file: key.path``."""
+
+    def __init__(self, source: str, path: str = "") -> None:
+        self.source = source
+        self.path = path
+
+    def __truediv__(self, key: str | int) -> _Where:
+        if isinstance(key, int):
+            return _Where(self.source, f"{self.path}[{key}]")
+        return _Where(self.source, f"{self.path}.{key}" if self.path else key)
+
+    def error(self, message: str) -> SceneError:
+        where = f"{self.source}: {self.path}" if self.path else self.source
+        return SceneError(f"{where}: {message}")
+
+    def expected(self, what: str, got: Any) -> SceneError:
+        return self.error(f"expected {what}, got {_show(got)}")
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _table(where: _Where, value: Any, allowed: Sequence[str]) -> dict[str, Any]:
+    """Checks that ``value`` is a table whose keys are all in ``allowed``."""
+    if not isinstance(value, Mapping):
+        raise where.expected("a table", value)
+    for key in value:
+        if key not in allowed:
+            close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.6)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise (where / str(key)).error(
+                f"unknown key{hint}; {where.path or 'a scene'} takes: {', '.join(allowed)}"
+            )
+    return dict(value)
+
+
+def _required(where: _Where, table: Mapping[str, Any], key: str, what: str) -> Any:
+    if key not in table:
+        raise (where / key).error(f"missing ({what})")
+    return table[key]
+
+
+def _number(where: _Where, value: Any, *, positive=False, non_negative=False) -> float:
+    what = "a positive number" if positive else "a number >= 0" if non_negative else "a number"
+    if not _is_number(value) or not math.isfinite(value):
+        raise where.expected(what, value)
+    if (positive and not value > 0) or (non_negative and not value >= 0):
+        raise where.expected(what, value)
+    return float(value)
+
+
+def _triple(value: Any) -> Any:
+    """A 1-D NumPy array of three numbers reads as a list (Python callers pass arrays)."""
+    if isinstance(value, np.ndarray) and value.shape == (3,) and value.dtype.kind in "iuf":
+        return value.tolist()
+    return value
+
+
+def _vector(where: _Where, value: Any, *, nonzero=False) -> list[float]:
+    what = "a nonzero vector [x, y, z]" if nonzero else "[x, y, z] (three numbers)"
+    value = _triple(value)
+    if (
+        not isinstance(value, (list, tuple))
+        or len(value) != 3
+        or not all(_is_number(x) and math.isfinite(x) for x in value)
+    ):
+        raise where.expected(what, value)
+    if nonzero and not any(value):
+        raise where.expected(what, value)
+    return [float(x) for x in value]
+
+
+def _colour(where: _Where, value: Any) -> list[float]:
+    what = "a colour: a number >= 0 or an RGB triple [r, g, b] of numbers >= 0"
+    value = _triple(value)
+    if _is_number(value):
+        value = [value] * 3
+    if (
+        not isinstance(value, (list, tuple))
+        or len(value) != 3
+        or not all(_is_number(x) and math.isfinite(x) and x >= 0 for x in value)
+    ):
+        raise where.expected(what, value)
+    return [float(x) for x in value]
+
+
+def _choice(where: _Where, value: Any, choices: Sequence[str]) -> str:
+    if value not in choices:
+        options = " or ".join(repr(c) for c in choices)
+        raise where.expected(options, value)
+    return str(value)
+
+
+def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
+    """Checks one model parameter's type and range against the model's spec."""
+    kind = spec["kind"]
+    rng = spec["range"]
+    lo, hi = spec["min"], spec["max"]
+
+    def in_range(x: float) -> bool:
+        above = x > lo if spec["min_open"] else x >= lo
+        below = x < hi if spec["max_open"] else x <= hi
+        return math.isfinite(x) and above and below
+
+    def scalar(w: _Where, x: Any, what: str) -> float:
+        if not _is_number(x) or not in_range(x):
+            raise w.expected(what, x)
+        return float(x)
+
+    if kind == "scalar":
+        return scalar(where, value, f"a number {rng}")
+    if kind == "colour":
+        if _is_number(value):
+            return scalar(where, value, f"a colour (a number or an RGB triple) {rng}")
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise where.expected(f"a colour: a number or an RGB triple [r, g, b] {rng}", value)
+        return [scalar(where / i, x, f"a number {rng}") for i, x in enumerate(value)]
+    if kind == "scalar list":
+        if not isinstance(value, (list, tuple)) or not 1 <= len(value) <= spec["max_len"]:
+            raise where.expected(f"a list of 1 to {spec['max_len']} numbers {rng}", value)
+        return [scalar(where / i, x, f"a number {rng}") for i, x in enumerate(value)]
+    # A colour list: colours, each a number (grey) or an RGB triple.
+    if not isinstance(value, (list, tuple)) or not 1 <= len(value) <= spec["max_len"]:
+        raise where.expected(f"a list of up to {spec['max_len']} colours", value)
+    out = []
+    for i, c in enumerate(value):
+        if _is_number(c):
+            c = [c] * 3
+        if not isinstance(c, (list, tuple)) or len(c) != 3:
+            raise (where / i).expected(f"a colour: a number or an RGB triple {rng}", c)
+        out.append([scalar(where / i, x, f"a number {rng}") for x in c])
+    return out
+
+
+def _term(where: _Where, value: Any, *, family: str, slot: str | None) -> dict[str, Any]:
+    """Validates ``{model = ..., params...}``: returns ``{"model", "params"}``."""
+    specs = _specs()
+    if not isinstance(value, Mapping):
+        raise where.expected("a table with model = ... and the model's parameters", value)
+    model = _required(where, value, "model", 'a model name, e.g. model = "lambert"')
+    if model not in specs:
+        close = difflib.get_close_matches(str(model), list(specs), n=1, cutoff=0.6)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise (where / "model").error(
+            f"unknown model {_show(model)}{hint}; known models: {', '.join(specs)}"
+        )
+    spec = specs[model]
+    if spec["family"] != family:
+        if family == "A":
+            raise (where / "model").error(
+                f"{model} is a family-B shading term: give it as diffuse = {{...}} or"
+                " specular = {...}, not as a material's model"
+            )
+        raise (where / "model").error(
+            f"{model} is a family-A BRDF: give it as the material's model = ..., not in"
+            f" {slot} = {{...}}"
+        )
+    if slot is not None:
+        allowed = DIFFUSE_TERMS if slot == "diffuse" else SPECULAR_TERMS
+        if model not in allowed:
+            raise (where / "model").error(
+                f"{model} is not a {slot} term; {slot} takes: {', '.join(allowed)}"
+            )
+    param_specs = {p["name"]: p for p in spec["params"]}
+    table = _table(where, value, ["model", *param_specs])
+    params = {}
+    for name, p in param_specs.items():
+        if name in table:
+            params[name] = _param_value(where / name, p, table[name])
+        elif p["default"] is None:
+            raise (where / name).error(f"missing (required by {model}: {p['doc']})")
+    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in params.items()}
+    try:  # list rules (ascending thresholds, one more colour than thresholds)
+        _core.check_params(model, arrays)
+    except (TypeError, ValueError) as exc:
+        raise where.error(str(exc)) from None
+    return {"model": model, "params": params}
+
+
+_SCENE_KEYS = ("description", "camera", "materials", "objects", "lights", "output")
+_CAMERA_KEYS = ("type", "position", "look_at", "up", "fov", "height", "resolution")
+_SPHERE_KEYS = ("type", "center", "radius", "material", "tangent", "axis")
+_PLANE_KEYS = ("type", "point", "normal", "material", "tangent")
+_DIRECTIONAL_KEYS = ("type", "direction", "intensity")
+_POINT_KEYS = ("type", "position", "intensity", "range")
+_OUTPUT_KEYS = ("tonemap", "exposure", "background")
+
+
+def _camera(where: _Where, value: Any) -> dict[str, Any]:
+    table = _table(where, value, _CAMERA_KEYS)
+    projection = _choice(
+        where / "type", table.get("type", "perspective"), ("perspective", "orthographic")
+    )
+    if projection == "perspective" and "height" in table:
+        raise (where / "height").error("applies to orthographic cameras; use fov for perspective")
+    if projection == "orthographic" and "fov" in table:
+        raise (where / "fov").error("applies to perspective cameras; use height for orthographic")
+    fov = table.get("fov", 40.0)
+    if not _is_number(fov) or not 0 < fov < 180:
+        raise (where / "fov").expected("an angle in degrees, between 0 and 180", fov)
+    resolution = _required(where, table, "resolution", "[width, height] in pixels")
+    if (
+        not isinstance(resolution, (list, tuple))
+        or len(resolution) != 2
+        or not all(isinstance(x, int) and not isinstance(x, bool) for x in resolution)
+        or not all(1 <= x <= 32768 for x in resolution)
+    ):
+        raise (where / "resolution").expected(
+            "[width, height]: two integers from 1 to 32768", resolution
+        )
+    camera = {
+        "projection": projection,
+        "position": _vector(where / "position", _required(where, table, "position", "[x, y, z]")),
+        "look_at": _vector(where / "look_at", table.get("look_at", [0, 0, 0])),
+        "up": _vector(where / "up", table.get("up", [0, 1, 0]), nonzero=True),
+        "fov": float(fov),
+        "height": _number(where / "height", table.get("height", 2.0), positive=True),
+        "resolution": [int(resolution[0]), int(resolution[1])],
+    }
+    forward = np.subtract(camera["look_at"], camera["position"])
+    if not np.any(forward):
+        raise (where / "look_at").error("must differ from camera.position")
+    if np.linalg.norm(np.cross(forward, camera["up"])) <= 1e-9 * np.linalg.norm(forward):
+        raise (where / "up").error(
+            "must not be parallel to the view direction (look_at - position)"
+        )
+    return camera
+
+
+def _material(where: _Where, value: Any) -> dict[str, Any]:
+    if not isinstance(value, Mapping):
+        raise where.expected("a table: model = ... (family A) or diffuse/specular = {...}", value)
+    if "model" in value:
+        for key in ("diffuse", "specular"):
+            if key in value:
+                raise (where / key).error(
+                    "a material is either one family-A model (model = ...) or family-B"
+                    " terms (diffuse = {...}, specular = {...}), not both"
+                )
+        return {"brdf": _term(where, value, family="A", slot=None)}
+    table = _table(where, value, ["model", "diffuse", "specular"])
+    if not table:
+        raise where.error(
+            "empty material: give model = ... (family A) or diffuse = {...} and/or"
+            " specular = {...} (family B)"
+        )
+    return {
+        slot: _term(where / slot, table[slot], family="B", slot=slot) if slot in table else None
+        for slot in ("diffuse", "specular")
+    }
+
+
+def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str, Any]:
+    if not isinstance(value, Mapping):
+        raise where.expected("a table ([[objects]])", value)
+    shape = _choice(
+        where / "type", _required(where, value, "type", '"sphere" or "plane"'), ("sphere", "plane")
+    )
+    table = _table(where, value, _SPHERE_KEYS if shape == "sphere" else _PLANE_KEYS)
+    name = _required(where, table, "material", "the name of a [materials.NAME] table")
+    if not isinstance(name, str) or name not in materials:
+        known = list(materials)
+        close = difflib.get_close_matches(str(name), known, n=1, cutoff=0.6)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        defined = ", ".join(known) if known else "none"
+        raise (where / "material").error(
+            f"unknown material {_show(name)}{hint}; defined materials: {defined}"
+        )
+    out: dict[str, Any] = {"shape": shape, "material": name}
+    if shape == "sphere":
+        out["center"] = _vector(where / "center", _required(where, table, "center", "[x, y, z]"))
+        out["radius"] = _number(
+            where / "radius", _required(where, table, "radius", "a positive number"), positive=True
+        )
+        out["tangent"] = _choice(
+            where / "tangent", table.get("tangent", "meridian"), ("meridian", "parallel")
+        )
+        out["axis"] = _vector(where / "axis", table.get("axis", [0, 1, 0]), nonzero=True)
+    else:
+        out["point"] = _vector(where / "point", _required(where, table, "point", "[x, y, z]"))
+        out["normal"] = _vector(
+            where / "normal", _required(where, table, "normal", "a nonzero vector"), nonzero=True
+        )
+        if "tangent" in table:
+            out["tangent"] = _vector(where / "tangent", table["tangent"], nonzero=True)
+        else:
+            out["tangent"] = None
+    return out
+
+
+def _light(where: _Where, value: Any) -> dict[str, Any]:
+    if not isinstance(value, Mapping):
+        raise where.expected("a table ([[lights]])", value)
+    kind = _choice(
+        where / "type",
+        _required(where, value, "type", '"directional" or "point"'),
+        ("directional", "point"),
+    )
+    table = _table(where, value, _DIRECTIONAL_KEYS if kind == "directional" else _POINT_KEYS)
+    out: dict[str, Any] = {
+        "type": kind,
+        "intensity": _colour(where / "intensity", table.get("intensity", 1.0)),
+    }
+    if kind == "directional":
+        out["direction"] = _vector(
+            where / "direction",
+            _required(where, table, "direction", "the way the light travels, [x, y, z]"),
+            nonzero=True,
+        )
+    else:
+        out["position"] = _vector(
+            where / "position", _required(where, table, "position", "[x, y, z]")
+        )
+        out["range"] = (
+            _number(where / "range", table["range"], positive=True) if "range" in table else None
+        )
+    return out
+
+
+def _output(where: _Where, value: Any) -> dict[str, Any]:
+    table = _table(where, value, _OUTPUT_KEYS)
+    return {
+        "tonemap": _choice(where / "tonemap", table.get("tonemap", "clamp"), TONEMAPS),
+        "exposure": _number(where / "exposure", table.get("exposure", 0.0)),
+        "background": _colour(where / "background", table.get("background", 0.0)),
+    }
+
+
+def _lights(where: _Where, value: Any) -> list[dict[str, Any]]:
+    if not isinstance(value, (list, tuple)):
+        raise where.expected("an array of tables ([[lights]])", value)
+    return [_light(where / i, v) for i, v in enumerate(value)]
+
+
+# ----------------------------------------------------------------------------- scenes
+
+
+@dataclasses.dataclass(frozen=True)
+class Scene:
+    """A checked scene. Build one with :func:`load_scene` or :func:`parse_scene`.
+
+    ``materials`` maps each name to ``{"brdf": {"model", "params"}}`` (family A) or
+    ``{"diffuse": term | None, "specular": term | None}`` (family B); ``objects`` and
+    ``lights`` are lists of dicts; ``output`` holds ``tonemap``, ``exposure`` and
+    ``background``; ``source`` names the file (for messages).
+    """
+
+    camera: dict[str, Any]
+    materials: dict[str, dict[str, Any]]
+    objects: list[dict[str, Any]]
+    lights: list[dict[str, Any]]
+    output: dict[str, Any]
+    source: str = "<scene>"
+    description: str = ""
+
+    @property
+    def resolution(self) -> tuple[int, int]:
+        """``(width, height)`` in pixels."""
+        w, h = self.camera["resolution"]
+        return int(w), int(h)
+
+    def with_resolution(self, width: int, height: int) -> Scene:
+        """Returns the same scene rendered at another resolution."""
+        for name, v in (("width", width), ("height", height)):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 32768:
+                raise ValueError(f"{name}: expected an integer from 1 to 32768, got {v!r}")
+        camera = {**self.camera, "resolution": [int(width), int(height)]}
+        return dataclasses.replace(self, camera=camera)
+
+    def used_materials(self) -> list[str]:
+        """Returns the names of the materials some object uses, in definition order."""
+        used = {o["material"] for o in self.objects}
+        return [name for name in self.materials if name in used]
+
+    def to_core(self) -> dict[str, Any]:
+        """Returns the plain structure the Rust core renders."""
+        names = list(self.materials)
+        index = {name: i for i, name in enumerate(names)}
+
+        def term(t: dict[str, Any] | None) -> dict[str, Any] | None:
+            if t is None:
+                return None
+            params = {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()}
+            return {"model": t["model"], "params": params}
+
+        materials = []
+        for name in names:
+            m = self.materials[name]
+            if "brdf" in m:
+                materials.append({"brdf": term(m["brdf"])})
+            else:
+                materials.append({"diffuse": term(m["diffuse"]), "specular": term(m["specular"])})
+        objects = [{**o, "material": index[o["material"]]} for o in self.objects]
+        return {
+            "camera": self.camera,
+            "materials": materials,
+            "objects": objects,
+            "lights": self.lights,
+            "background": self.output["background"],
+        }
+
+
+def parse_scene(source: str | Mapping[str, Any], name: str = "<scene>") -> Scene:
+    """Checks a scene given as TOML text or as a dict; ``name`` labels error messages."""
+    where = _Where(name)
+    if isinstance(source, str):
+        try:
+            data: Any = tomllib.loads(source)
+        except tomllib.TOMLDecodeError as exc:
+            raise where.error(f"not valid TOML: {exc}") from None
+    else:
+        data = source
+    table = _table(where, data, _SCENE_KEYS)
+    if "camera" not in table:
+        raise (where / "camera").error(
+            "missing: a scene needs a [camera] table (position and resolution at least)"
+        )
+    camera = _camera(where / "camera", table["camera"])
+    raw_materials = table.get("materials", {})
+    if not isinstance(raw_materials, Mapping):
+        raise (where / "materials").expected("a table of [materials.NAME] tables", raw_materials)
+    materials = {
+        str(k): _material(where / "materials" / str(k), v) for k, v in raw_materials.items()
+    }
+    raw_objects = table.get("objects", [])
+    if not isinstance(raw_objects, (list, tuple)):
+        raise (where / "objects").expected("an array of tables ([[objects]])", raw_objects)
+    objects = [_object(where / "objects" / i, v, materials) for i, v in enumerate(raw_objects)]
+    lights = _lights(where / "lights", table.get("lights", []))
+    output = _output(where / "output", table.get("output", {}))
+    description = table.get("description", "")
+    if not isinstance(description, str):
+        raise (where / "description").expected("a string", description)
+    return Scene(camera, materials, objects, lights, output, name, description)
+
+
+def load_scene(path: str | os.PathLike[str]) -> Scene:
+    """Reads and checks a scene file (TOML)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read the scene: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise SceneError(f"{path}: not a text file (a scene is TOML, UTF-8)") from None
+    return parse_scene(text, str(path))
+
+
+def _as_scene(scene: Scene | str | os.PathLike[str] | Mapping[str, Any]) -> Scene:
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return parse_scene(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        return load_scene(scene)
+    raise TypeError(f"scene: expected a Scene, a path or a dict, got {type(scene).__name__}")
+
+
+#: Family-A models whose diffuse term cannot be rendered alone: Ashikhmin-Shirley's
+#: diffuse term is scaled by (1 − Rs), so it is not a kernel of its own.
+_COUPLED_DIFFUSE = ("ashikhmin_shirley",)
+
+
+def _only(only: str | None, materials: Mapping[str, Mapping[str, Any]] | None = None) -> str:
+    if only is None:
+        return "both"
+    if only not in ("diffuse", "specular"):
+        raise ValueError(f"only: expected 'diffuse', 'specular' or None, got {only!r}")
+    for name, m in (materials or {}).items():
+        brdf = m.get("brdf")
+        if only == "diffuse" and brdf is not None and brdf["model"] in _COUPLED_DIFFUSE:
+            raise ValueError(
+                f"only: material {name!r} uses {brdf['model']}, whose diffuse term depends on"
+                " Rs and cannot be rendered alone; render only='specular' or both"
+            )
+    return only
+
+
+def _named_stats(stats: dict[str, Any], names: Sequence[str]) -> dict[str, Any]:
+    for part in stats["parts"]:
+        part["material"] = names[part["material"]]
+    return stats
+
+
+def render(
+    scene: Scene | str | os.PathLike[str] | Mapping[str, Any],
+    *,
+    only: str | None = None,
+    tonemap: str | None = None,
+    exposure: float | None = None,
+    stats: bool = False,
+) -> np.ndarray | tuple[np.ndarray, dict[str, Any]]:
+    """Renders a scene: a float32 array of shape ``(height, width, 3)``, row 0 at the top.
+
+    A pixel is ``Σ_lights L·s(l, v)`` for family-B materials and ``Σ_lights
+    L·f(l, v)·(n·l)`` for family-A ones, scaled by ``2^exposure`` and passed through the
+    tone map (both from the scene's ``[output]`` unless given here); ``tonemap="none"``
+    returns linear radiance (with no exposure unless ``exposure`` is given). The work
+    runs in Rust, in parallel, without the GIL.
+
+    Args:
+        scene: a :class:`Scene`, a path to a TOML file, or a dict of the same structure.
+        only: ``"diffuse"`` or ``"specular"`` renders that component alone (the other's
+            kernels never run); a family-A model's diffuse term is its ``kd`` term.
+        tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
+        exposure: stops (default: the scene's, or 0 with ``tonemap="none"``).
+        stats: also return a dict counting the work done: ``pixels``, ``ray_tests``,
+            ``hits``, ``lights`` (and ``lights_dropped``: black ones),
+            ``materials_prepared``, pixel-light ``pairs`` with those
+            ``pairs_out_of_range`` and ``pairs_backfacing`` (culled unless a term is
+            nonzero there) and ``pairs_constant`` (shaded by a constant, no kernel),
+            ``evaluations`` of kernels, and ``parts``: per material part its
+            ``material``, ``role``, ``model`` and ``evaluations``.
+    """
+    scene = _as_scene(scene)
+    core = scene.to_core()
+    image, counts = _core.render_scene(core, _only(only, scene.materials))
+    tonemap = scene.output["tonemap"] if tonemap is None else tonemap
+    if exposure is None:
+        exposure = 0.0 if tonemap == "none" else scene.output["exposure"]
+    image = _apply_tonemap(image, tonemap, exposure)
+    if stats:
+        return image, _named_stats(counts, list(scene.materials))
+    return image
+
+
+def _apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:
+    if kind not in TONEMAPS:
+        raise ValueError(f"tonemap: expected one of {', '.join(TONEMAPS)}, got {kind!r}")
+    if not _is_number(exposure) or not math.isfinite(exposure):
+        raise ValueError(f"exposure: expected a finite number of stops, got {exposure!r}")
+    if kind == "none" and exposure == 0:
+        return image
+    _core.tonemap_inplace(image, kind, float(exposure))
+    return image
+
+
+def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.ndarray:
+    """Returns ``image × 2^exposure`` through a tone map (a new float32 array).
+
+    ``"clamp"``: min(max(x, 0), 1); ``"reinhard"``: x/(1 + x); ``"aces"``: Narkowicz's
+    fit of the ACES filmic curve; ``"none"``: exposure only.
+    """
+    out = np.array(image, dtype=np.float32, order="C", copy=True)
+    return _apply_tonemap(out, kind, exposure)
+
+
+def _material_core(where: _Where, material: Mapping[str, Any]) -> dict[str, Any]:
+    m = _material(where, material)
+    if "brdf" in m:
+        t = m["brdf"]
+        return {
+            "brdf": {
+                "model": t["model"],
+                "params": {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()},
+            }
+        }
+    out: dict[str, Any] = {}
+    for slot in ("diffuse", "specular"):
+        t = m[slot]
+        out[slot] = (
+            None
+            if t is None
+            else {
+                "model": t["model"],
+                "params": {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()},
+            }
+        )
+    return out
+
+
+def _vectors(name: str, value: Any) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected an array of numbers of shape (..., 3)") from None
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise ValueError(f"{name}: expected an array of shape (..., 3), got shape {a.shape}")
+    return a
+
+
+def _unit_rows(name: str, a: np.ndarray) -> np.ndarray:
+    """Normalizes rows (float64, scaled first so tiny and huge vectors survive)."""
+    flat = a.reshape(-1, 3)
+    scale = np.max(np.abs(flat), axis=1, keepdims=True)
+    bad = ~np.isfinite(flat).all(axis=1) | (scale[:, 0] == 0)
+    if bad.any():
+        i = int(np.argmax(bad))
+        index = [int(k) for k in np.unravel_index(i, a.shape[:-1])] if a.ndim > 1 else []
+        problem = "not finite" if not np.isfinite(flat[i]).all() else "a zero-length vector"
+        raise ValueError(f"{name}{index} is {problem}")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scaled = flat / scale
+        unit = scaled / np.linalg.norm(scaled, axis=1, keepdims=True)
+    return np.ascontiguousarray(unit, dtype=np.float32)
+
+
+def shade(
+    material: Mapping[str, Any],
+    n: Any,
+    v: Any,
+    lights: Sequence[Mapping[str, Any]],
+    positions: Any = None,
+    *,
+    tangent: Any = None,
+    only: str | None = None,
+    stats: bool = False,
+) -> np.ndarray | tuple[np.ndarray, dict[str, Any]]:
+    """Shades your own G-buffer with one material: linear radiance, float32 ``(..., 3)``.
+
+    Args:
+        material: as a ``[materials.NAME]`` table: ``{"model": ..., params}`` (family A)
+            or ``{"diffuse": {...}, "specular": {...}}`` (family B).
+        n: surface normals, shape ``(..., 3)`` (normalized here).
+        v: directions toward the viewer; ``n``, ``v``, ``positions`` and ``tangent``
+            broadcast together (NumPy rules) and the result has their shape.
+        lights: a list of light tables as in a scene file (``type``, ``direction`` or
+            ``position``, ``intensity``, ``range``).
+        positions: surface points, needed by point lights.
+        tangent: unit tangents: required by ``kajiya_kay``; the anisotropic models (``ward``,
+            ``ashikhmin_shirley``) take +x projected onto the tangent plane without them.
+        only: ``"diffuse"`` or ``"specular"``.
+        stats: also return the counts of the work done.
+    """
+    where = _Where("shade")
+    core_material = _material_core(where / "material", material)
+    core_lights = _lights(where / "lights", lights)
+    given = {"n": n, "v": v, "positions": positions, "tangent": tangent}
+    arrays = {k: _vectors(k, a) for k, a in given.items() if a is not None}
+    try:
+        shape = np.broadcast_shapes(*(a.shape[:-1] for a in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in arrays.items())
+        raise ValueError(f"n, v, positions, tangent: shapes do not broadcast: {shapes}") from None
+    arrays = {k: np.broadcast_to(a, (*shape, 3)) for k, a in arrays.items()}
+    args: dict[str, np.ndarray | None] = dict.fromkeys(given)
+    for k, a in arrays.items():
+        if k == "positions":
+            flat = a.reshape(-1, 3)
+            if not np.isfinite(flat).all():
+                i = int(np.argmax(~np.isfinite(flat).all(axis=1)))
+                index = [int(x) for x in np.unravel_index(i, shape)] if shape else []
+                raise ValueError(f"positions{index} is not finite")
+            args[k] = np.ascontiguousarray(flat, dtype=np.float32)
+        else:
+            args[k] = _unit_rows(k, a)
+    out, counts = _core.shade_gbuffer(
+        core_material,
+        core_lights,
+        args["n"],
+        args["v"],
+        args["positions"],
+        args["tangent"],
+        _only(only, {"material": core_material}),
+    )
+    out = out.reshape(*shape, 3)
+    if stats:
+        return out, _named_stats(counts, ["material"])
+    return out
+
+
+# ---------------------------------------------------------------------------- images
+
+
+def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
+    """Writes an image by its suffix: ``.png`` (8-bit sRGB of display values in [0, 1],
+    needs Pillow), ``.exr`` (float32 RGB, needs OpenEXR) or ``.npy`` (float32)."""
+    path = Path(path)
+    image = np.ascontiguousarray(image, dtype=np.float32)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise ValueError(f"image: expected shape (height, width, 3), got {image.shape}")
+    suffix = path.suffix.lower()
+    tmp = path.with_name(path.name + ".partial" + suffix)
+    if suffix == ".png":
+        try:
+            from PIL import Image
+        except ImportError:
+            raise ImportError("writing .png needs Pillow: pip install brdf-rs[scene]") from None
+        Image.fromarray(_core.encode_srgb8(image), mode="RGB").save(tmp, format="PNG")
+    elif suffix == ".exr":
+        try:
+            import OpenEXR
+        except ImportError:
+            raise ImportError("writing .exr needs OpenEXR: pip install brdf-rs[exr]") from None
+        header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+        with OpenEXR.File(header, {"RGB": image}) as f:
+            f.write(str(tmp))
+    elif suffix == ".npy":
+        with open(tmp, "wb") as f:
+            np.save(f, image)
+    else:
+        raise ValueError(f"path: unknown image format {suffix!r}; use .png, .exr or .npy")
+    tmp.replace(path)
+    return path
+
+
+# ---------------------------------------------------------------------------- tables
+
+
+@dataclasses.dataclass(frozen=True)
+class TableResult:
+    """One material's albedo table: where it is, whether it was built or found in the
+    cache, and what it says (the largest albedo over mu, RGB, and whether it exceeds 1
+    by more than 3 standard errors)."""
+
+    material: str
+    model: str
+    path: Path
+    cached: bool
+    max_albedo: list[float]
+    mu_at_max: float
+    gains_energy: bool
+    seconds: float
+
+
+def default_cache_dir() -> Path:
+    """``$BRDF_RS_CACHE``, else ``$XDG_CACHE_HOME/brdf-rs/tables``, else
+    ``~/.cache/brdf-rs/tables``."""
+    if os.environ.get("BRDF_RS_CACHE"):
+        return Path(os.environ["BRDF_RS_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "brdf-rs" / "tables"
+
+
+def _canonical_params(model: str, params: Mapping[str, Any]) -> dict[str, Any]:
+    """Every parameter, defaults filled in, colours as RGB triples: equal materials hash
+    equal however they were spelled."""
+    out = {}
+    for p in _specs()[model]["params"]:
+        value = params.get(p["name"], p["default"])
+        if p["kind"] == "colour":
+            value = [float(x) for x in np.broadcast_to(np.asarray(value, dtype=float), (3,))]
+        elif p["kind"] == "scalar":
+            value = float(value)
+        else:
+            value = np.asarray(value, dtype=float).tolist()
+        out[p["name"]] = value
+    return out
+
+
+def scene_tables(
+    scene: Scene | str | os.PathLike[str] | Mapping[str, Any],
+    *,
+    cache_dir: str | os.PathLike[str] | None = None,
+    mu_count: int = 32,
+    samples: int = 4096,
+    tol: float | None = None,
+    seed: int = 0,
+    progress: Callable[[str, int, int], None] | None = None,
+) -> list[TableResult]:
+    """Builds the albedo tables a scene's materials need for energy checks.
+
+    For every family-A material some object uses, the directional albedo ``R(mu)`` over
+    ``mu_count`` cell midpoints of [0, 1] (:func:`brdf_rs.albedo_table`). Each table is
+    cached in ``cache_dir`` (default :func:`default_cache_dir`) under a hash of the model,
+    its parameters (defaults filled in), the sampler settings and the library version; a
+    table already there is read, not rebuilt. Family-B shading terms are not BRDFs and
+    have no albedo: they are skipped.
+
+    ``progress(material, cells_done, cells)`` is called while a table is built.
+    """
+    from . import __version__
+    from ._albedo import DEFAULT_REPLICATES, Table, albedo_table
+
+    scene = _as_scene(scene)
+    if isinstance(mu_count, bool) or not isinstance(mu_count, int) or mu_count < 1:
+        raise ValueError(f"mu_count: expected a positive integer, got {mu_count!r}")
+    directory = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    directory.mkdir(parents=True, exist_ok=True)
+    mu = (np.arange(mu_count) + 0.5) / mu_count
+    results = []
+    for name in scene.used_materials():
+        material = scene.materials[name]
+        if "brdf" not in material:
+            continue
+        model = material["brdf"]["model"]
+        params = _canonical_params(model, material["brdf"]["params"])
+        key = {
+            "model": model,
+            "params": params,
+            "mu": mu.tolist(),
+            "samples": samples,
+            "sampler": "auto",
+            "sequence": "sobol",
+            "seed": seed,
+            "tol": tol,
+            "replicates": DEFAULT_REPLICATES,
+            "brdf_rs": __version__,
+        }
+        digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
+        path = directory / f"{model}-{digest[:24]}.npz"
+        start = time.perf_counter()
+        cached = path.exists()
+        table = None
+        if cached:
+            try:
+                table = Table.load(path)
+            except (OSError, ValueError, KeyError):
+                cached = False  # a damaged file: build it again
+        if table is None:
+            callback = None
+            if progress is not None:
+
+                def callback(done: int, _samples: int, _name: str = name) -> None:
+                    progress(_name, done, mu_count)
+
+            table = albedo_table(
+                model,
+                {"mu": mu},
+                samples=samples,
+                tol=tol,
+                seed=seed,
+                progress=callback,
+                **params,
+            )
+            table.meta["cache_key"] = key
+            table.save(path)
+        peak_channel = table.value.max(axis=0)
+        k = int(np.argmax(table.value.max(axis=1)))
+        gains = bool(np.any(table.value - 3 * table.stderr > 1.0))
+        results.append(
+            TableResult(
+                material=name,
+                model=model,
+                path=path,
+                cached=cached,
+                max_albedo=[float(x) for x in peak_channel],
+                mu_at_max=float(mu[k]),
+                gains_energy=gains,
+                seconds=time.perf_counter() - start,
+            )
+        )
+    return results
