@@ -287,9 +287,47 @@ def albedo_table(
             lengths (in order) + (3,).
         **fixed: parameters held fixed over the table, and the options of :func:`albedo`.
     """
+    names, coords, colour = _table_axes(model, axes, fixed)
+    mu, grid, rest = _grid_inputs(names, colour, [coords[n] for n in names], fixed)
+    result = albedo(
+        model,
+        mu,
+        samples=samples,
+        sampler=sampler,
+        sequence=sequence,
+        seed=seed,
+        tol=tol,
+        max_samples=max_samples,
+        replicates=replicates,
+        progress=progress,
+        **grid,
+        **rest,
+    )
+    full = tuple(len(coords[n]) for n in names)
+    value = np.broadcast_to(result.value, (*full, 3)).copy()
+    stderr = np.broadcast_to(result.stderr, (*full, 3)).copy()
+    drawn = np.broadcast_to(result.samples, full).copy()
+    options = {
+        "samples": samples,
+        "sampler": sampler,
+        "sequence": sequence,
+        "seed": seed,
+        "tol": tol,
+        "max_samples": max_samples,
+        "replicates": replicates,
+    }
+    meta = _table_meta(model, names, rest, options)
+    return Table(value, stderr, drawn, coords, meta)
+
+
+def _table_axes(
+    model: str, axes: Mapping[str, Any], fixed: Mapping[str, Any]
+) -> tuple[tuple[str, ...], dict[str, np.ndarray], frozenset[str]]:
+    """Checks a table's axes: returns their names (in order), their 1-D float64
+    coordinates and the names of the colour axes (which hold greys)."""
     if not axes:
         raise ValueError("axes: give at least one axis, e.g. {'mu': np.linspace(0, 1, 64)}")
-    names = list(axes)
+    names = tuple(axes)
     coords = {}
     for name in names:
         a = np.asarray(_arrays.parameters({name: axes[name]}, np.float64)[name])
@@ -305,52 +343,46 @@ def albedo_table(
         raise ValueError("axes: needs a 'mu' axis (or a fixed mu=...)")
     specs = _core_models()
     kinds = {p["name"]: p["kind"] for p in specs[model]["params"]} if model in specs else {}
+    return names, coords, frozenset(n for n in names if kinds.get(n) == "colour")
+
+
+def _grid_inputs(
+    names: Sequence[str], colour: frozenset[str], coords: Sequence[np.ndarray], fixed: Mapping
+) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, Any]]:
+    """``mu``, the axis parameters and the fixed ones (``mu`` removed), shaped for
+    :func:`albedo`: one grid dimension per table axis; a colour axis holds greys."""
     grid = {}
     for k, name in enumerate(names):
         shape = [1] * len(names)
         shape[k] = -1
-        a = coords[name].reshape(shape)
-        if kinds.get(name) == "colour":
+        a = coords[k].reshape(shape)
+        if name in colour:
             a = a[..., None]
         grid[name] = a
     fixed = dict(fixed)
     mu = grid.pop("mu") if "mu" in grid else np.asarray(fixed.pop("mu"), dtype=np.float64)
-    mu = np.broadcast_to(mu, [len(coords[n]) if n == "mu" else 1 for n in names])
-    result = albedo(
-        model,
-        mu,
-        samples=samples,
-        sampler=sampler,
-        sequence=sequence,
-        seed=seed,
-        tol=tol,
-        max_samples=max_samples,
-        replicates=replicates,
-        progress=progress,
-        **grid,
-        **fixed,
-    )
-    full = tuple(len(coords[n]) for n in names)
-    value = np.broadcast_to(result.value, (*full, 3)).copy()
-    stderr = np.broadcast_to(result.stderr, (*full, 3)).copy()
-    drawn = np.broadcast_to(result.samples, full).copy()
+    mu = np.broadcast_to(mu, [coords[k].size if n == "mu" else 1 for k, n in enumerate(names)])
+    return mu, grid, fixed
+
+
+def _table_meta(
+    model: str, names: Sequence[str], fixed: Mapping[str, Any], options: Mapping[str, Any]
+) -> dict[str, Any]:
+    """A table's metadata: the model, axes, fixed parameters (``mu`` excluded) and the
+    integrator's options."""
     from . import __version__
 
-    meta = {
+    return {
         "model": model,
-        "axis_names": names,
+        "axis_names": list(names),
         "fixed": {k: np.asarray(v).tolist() for k, v in fixed.items()},
-        "samples": samples,
-        "sampler": sampler,
-        "sequence": sequence,
-        "seed": seed,
-        "tol": tol,
-        "max_samples": max_samples,
-        "replicates": replicates,
+        **{
+            k: options[k]
+            for k in ("samples", "sampler", "sequence", "seed", "tol", "max_samples", "replicates")
+        },
         "brdf_rs": __version__,
         "quantity": "directional albedo R(mu): integral of f(wi, wo) cos(theta_o) d(omega_o)",
     }
-    return Table(value, stderr, drawn, coords, meta)
 
 
 def _core_models() -> dict[str, dict[str, Any]]:

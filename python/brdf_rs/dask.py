@@ -60,7 +60,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _albedo, _arrays
+from . import _albedo
 from ._albedo import Table
 
 if TYPE_CHECKING:
@@ -129,29 +129,10 @@ class _Block:
         return tuple(slice(s, s + n) for s, n in zip(self.start, self.block_shape, strict=True))
 
 
-def _grid_inputs(
-    names: Sequence[str], colour: frozenset[str], coords: Sequence[np.ndarray], fixed: Mapping
-) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, Any]]:
-    """``mu``, the axis parameters and the fixed ones, shaped as ``brdf_rs.albedo_table``
-    shapes them (one grid axis per table axis; a colour axis holds greys)."""
-    grid = {}
-    for k, name in enumerate(names):
-        shape = [1] * len(names)
-        shape[k] = -1
-        a = coords[k].reshape(shape)
-        if name in colour:
-            a = a[..., None]
-        grid[name] = a
-    fixed = dict(fixed)
-    mu = grid.pop("mu") if "mu" in grid else np.asarray(fixed.pop("mu"), dtype=np.float64)
-    mu = np.broadcast_to(mu, [coords[k].size if n == "mu" else 1 for k, n in enumerate(names)])
-    return mu, grid, fixed
-
-
 def _compute_block(block: _Block) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Integrates one block; returns its ``(value, stderr, samples)``."""
     shape = block.block_shape
-    mu, grid, fixed = _grid_inputs(block.names, block.colour, block.coords, block.fixed)
+    mu, grid, fixed = _albedo._grid_inputs(block.names, block.colour, block.coords, block.fixed)
     index = np.meshgrid(
         *(np.arange(s, s + n) for s, n in zip(block.start, shape, strict=True)),
         indexing="ij",
@@ -262,7 +243,7 @@ def _probe(model: str, names, colour, coords: Mapping[str, np.ndarray], fixed, o
     quick = {**options, "samples": 1, "tol": None, "max_samples": None}
     for k in range(len(names)):
         line = [coords[n] if j == k else coords[n][:1] for j, n in enumerate(names)]
-        mu, grid, rest = _grid_inputs(names, colour, line, fixed)
+        mu, grid, rest = _albedo._grid_inputs(names, colour, line, fixed)
         r = _albedo.albedo(model, mu, **quick, **grid, **rest)
         expected = tuple(a.size for a in line)
         if r.value.shape != (*expected, 3):
@@ -273,8 +254,6 @@ def _probe(model: str, names, colour, coords: Mapping[str, np.ndarray], fixed, o
 
 
 def _make_plan(model: str, axes: Mapping, chunks: Any, options: dict[str, Any]) -> _Plan:
-    if not axes:
-        raise ValueError("axes: give at least one axis, e.g. {'mu': np.linspace(0, 1, 64)}")
     for bad, why in (
         ("progress", "use Dask's progress (dask.diagnostics.ProgressBar, distributed.progress)"),
         ("cell_ids", "the cells' ids are their flat indices in the full grid"),
@@ -299,23 +278,7 @@ def _make_plan(model: str, axes: Mapping, chunks: Any, options: dict[str, Any]) 
             f"max_samples: must be between samples ({checked['samples']}) and 2^40; got {bound}"
         )
     fixed = options
-    names = tuple(axes)
-    coords = {}
-    for name in names:
-        a = np.asarray(_arrays.parameters({name: axes[name]}, np.float64)[name])
-        if a.ndim != 1 or a.size == 0:
-            raise ValueError(
-                f"axes[{name!r}]: expected a non-empty 1-D list of values; got shape {a.shape}"
-            )
-        coords[name] = a
-    for name in fixed:
-        if name in coords:
-            raise ValueError(f"{name}: given both as an axis and as a fixed value")
-    if "mu" not in coords and "mu" not in fixed:
-        raise ValueError("axes: needs a 'mu' axis (or a fixed mu=...)")
-    specs = _albedo._core_models()
-    kinds = {p["name"]: p["kind"] for p in specs[model]["params"]} if model in specs else {}
-    colour = frozenset(n for n in names if kinds.get(n) == "colour")
+    names, coords, colour = _albedo._table_axes(model, axes, fixed)
     _probe(model, names, colour, coords, fixed, opts)
     shape = tuple(coords[n].size for n in names)
     normalized = _normalize_chunks(chunks, names, shape, checked["samples"])
@@ -327,24 +290,8 @@ def _make_plan(model: str, axes: Mapping, chunks: Any, options: dict[str, Any]) 
 
 def _meta(plan: _Plan) -> dict[str, Any]:
     """The ``meta`` of the local ``brdf_rs.albedo_table`` for the same request."""
-    from . import __version__
-
     fixed = {k: v for k, v in plan.fixed.items() if not (k == "mu" and "mu" not in plan.names)}
-    o = plan.options
-    return {
-        "model": plan.model,
-        "axis_names": list(plan.names),
-        "fixed": {k: np.asarray(v).tolist() for k, v in fixed.items()},
-        "samples": o["samples"],
-        "sampler": o["sampler"],
-        "sequence": o["sequence"],
-        "seed": o["seed"],
-        "tol": o["tol"],
-        "max_samples": o["max_samples"],
-        "replicates": o["replicates"],
-        "brdf_rs": __version__,
-        "quantity": "directional albedo R(mu): integral of f(wi, wo) cos(theta_o) d(omega_o)",
-    }
+    return _albedo._table_meta(plan.model, plan.names, fixed, plan.options)
 
 
 def _arrays_of(plan: _Plan):
