@@ -259,7 +259,7 @@ def test_plot_lobe_writes_a_png(tmp_path):
         "--theta-i", "60", "-o", str(out),
     )  # fmt: skip
     assert summary == {"model": "ward", "theta_i": [30.0, 60.0], "plot": str(out.resolve())}
-    assert png_size(out) == (440, 250)  # the default 4.4 x 2.5 inches at 100 dpi
+    assert png_size(out) == (500, 220)  # the default 5.0 x 2.2 inches at 100 dpi
 
 
 # ------------------------------------------------------------------ errors, exit codes

@@ -31,7 +31,7 @@ def png_size(path: Path) -> tuple[int, int]:
 def test_polar_lobe_draws_eval_in_the_plane_of_incidence(tmp_path):
     out = tmp_path / "lobe.png"
     fig = plot.polar_lobe("ggx", [30, 60], alpha=0.3, kd=0.1, resolution=181, path=out, dpi=80)
-    assert png_size(out) == (round(4.4 * 80), round(2.5 * 80))
+    assert png_size(out) == (round(5.0 * 80), round(2.2 * 80))
     ax = fig.axes[0]
     curves = [line for line in ax.lines if line.get_label().startswith("θi")]
     assert [c.get_label() for c in curves] == ["θi = 30°", "θi = 60°"]

@@ -108,7 +108,7 @@ def polar_lobe(
     ax: Axes | None = None,
     path: str | os.PathLike[str] | None = None,
     dpi: float = 100,
-    size: tuple[float, float] = (4.4, 2.5),
+    size: tuple[float, float] = (5.0, 2.2),
     **params: Any,
 ) -> Figure:
     """Polar plot of the lobe ``f(wi, wo)`` for ``wo`` in the plane of incidence.
@@ -187,8 +187,17 @@ def polar_lobe(
     ax.yaxis.set_major_locator(MaxNLocator(3))
     ax.yaxis.set_major_formatter("{x:.3g}")
     ax.set_rlabel_position(-90)
-    if len(angles) > 1 or colour_lines:
-        ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(-0.02, 1.02), frameon=False)
+    legend = {"fontsize": 6, "loc": "upper left", "bbox_to_anchor": (0.86, 1.06), "frameon": False}
+    if colour_lines:  # one entry per angle (line style) and per channel (colour)
+        from matplotlib.lines import Line2D
+
+        handles = [
+            Line2D([], [], color="0.3", ls=styles[k % len(styles)], label=f"θi = {a:g}°")
+            for k, a in enumerate(angles)
+        ] + [Line2D([], [], color=_RGB_COLOURS[c], label="RGB"[c]) for c in range(3)]
+        ax.legend(handles=handles, **legend)
+    elif len(angles) > 1:
+        ax.legend(**legend)
     return _finish(fig, path, dpi)
 
 
