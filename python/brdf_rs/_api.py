@@ -55,8 +55,9 @@ def eval(
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     _check_out(out, dtype)
     p = _arrays.parameters(_normalization.apply(model, params, normalization), dtype)
+    wi_, wo_ = _arrays.given(v, "wi"), _arrays.given(v, "wo")
     kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
-    return kernel(model, v["wi"], v["wo"], v["n"], v["tangent"], p, normalized, check, True, out)
+    return kernel(model, wi_, wo_, v["n"], v["tangent"], p, normalized, check, True, out)
 
 
 def _check_out(out: object, dtype: type[np.floating]) -> None:
@@ -121,8 +122,8 @@ class Model:
         recheck = dtype == np.float32
         return kernel(
             self.name,
-            v["wi"],
-            v["wo"],
+            _arrays.given(v, "wi"),
+            _arrays.given(v, "wo"),
             v["n"],
             v["tangent"],
             self._params_for(dtype),

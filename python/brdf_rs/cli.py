@@ -116,7 +116,7 @@ def _axis(text: str) -> tuple[str, np.ndarray]:
     return name, values
 
 
-DEFAULT_TABLE = {
+DEFAULT_TABLE: dict[str, Any] = {
     "model": "torrance_sparrow",
     "axes": ["mu=mid:0:1:32", "p=log:1:10000:32"],
     "params": ["kd=0", "ks=1", "eta=1.5"],
@@ -255,8 +255,8 @@ def cmd_render(args: argparse.Namespace) -> int:
             f" pairs, {stats['pairs_backfacing']:,} facing away, {stats['pairs_out_of_range']:,}"
             f" out of range; {stats['evaluations']:,} kernel evaluations"
         )
-        for path in written:
-            print(f"  wrote {path}")
+        for name in written:
+            print(f"  wrote {name}")
     return 0
 
 
@@ -264,21 +264,22 @@ def cmd_tables(args: argparse.Namespace) -> int:
     from . import scene as scenes
 
     scene = scenes.load_scene(args.scene)
-    bar = None
-    current = [None, 0]
+    bar: Any = None
+    current_material: str | None = None
+    current_done = 0
 
     def progress(material: str, done: int, cells: int) -> None:
-        nonlocal bar
-        if current[0] != material:
+        nonlocal bar, current_material, current_done
+        if current_material != material:
             if bar is not None:
                 bar.close()
             bar = _progress_bar(cells, args.quiet or args.json)
             if bar is not None:
                 bar.set_description(material)
-            current[0], current[1] = material, 0
+            current_material, current_done = material, 0
         if bar is not None:
-            bar.update(done - current[1])
-        current[1] = done
+            bar.update(done - current_done)
+        current_done = done
 
     try:
         results = scenes.scene_tables(
@@ -293,7 +294,7 @@ def cmd_tables(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    rows = [
+    rows: list[dict[str, Any]] = [
         {
             "material": r.material,
             "model": r.model,
@@ -707,7 +708,7 @@ def _add_user_commands(sub: Any) -> None:
     p.set_defaults(run=cmd_plot_lobe)
 
 
-def _progress_bar(total: int, quiet: bool):
+def _progress_bar(total: int, quiet: bool) -> Any:
     if quiet:
         return None
     try:

@@ -27,7 +27,7 @@ import logging
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -37,6 +37,7 @@ from . import _albedo, _api
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from matplotlib.projections.polar import PolarAxes
 
 __all__ = [
     "albedo_curves",
@@ -147,7 +148,8 @@ def polar_lobe(
             f = f * np.cos(theta_o)[:, None]
         curves.append(np.where(np.isfinite(f), f, np.nan))
     values = np.stack(curves)
-    fig, ax = _target(ax, *size, projection="polar")
+    fig, axes = _target(ax, *size, projection="polar")
+    ax = cast("PolarAxes", axes)
     ax.set_theta_zero_location("N")
     ax.set_theta_direction(-1)
     ax.set_thetamin(-90)
@@ -187,7 +189,12 @@ def polar_lobe(
     ax.yaxis.set_major_locator(MaxNLocator(3))
     ax.yaxis.set_major_formatter("{x:.3g}")
     ax.set_rlabel_position(-90)
-    legend = {"fontsize": 6, "loc": "upper left", "bbox_to_anchor": (0.86, 1.06), "frameon": False}
+    legend: dict[str, Any] = {
+        "fontsize": 6,
+        "loc": "upper left",
+        "bbox_to_anchor": (0.86, 1.06),
+        "frameon": False,
+    }
     if colour_lines:  # one entry per angle (line style) and per channel (colour)
         from matplotlib.lines import Line2D
 
@@ -579,6 +586,4 @@ def render_sphere(
         ],
         "output": {"tonemap": tonemap, "exposure": exposure},
     }
-    image = scenes.render(scene, stats=False)
-    assert isinstance(image, np.ndarray)
-    return image
+    return scenes.render(scene)
