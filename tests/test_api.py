@@ -359,3 +359,12 @@ def test_out_of_the_wrong_dtype_or_type_is_a_clear_type_error():
         )
     with pytest.raises(TypeError, match=r"^out: expected a NumPy array, got list$"):
         brdf_rs.eval("ggx", wi, wi, out=[0.0] * 12)
+
+
+def test_missing_directions_are_type_errors_naming_them():
+    with pytest.raises(TypeError, match=r"^wi: expected an array of directions, got None$"):
+        brdf_rs.eval("lambert", None, [0, 0, 1])
+    with pytest.raises(TypeError, match=r"^wo: expected an array of directions, got None$"):
+        brdf_rs.pdf("lambert", [0, 0, 1], None)
+    with pytest.raises(TypeError, match=r"^n, v: expected arrays of normals and view"):
+        brdf_rs.shade({"model": "lambert"}, None, [0, 0, 1], [])
