@@ -337,3 +337,40 @@ def test_the_console_script_is_installed():
         pytest.skip("brdf-rs is not installed next to this interpreter")
     result = subprocess.run([script, "models", "--json"], capture_output=True, text=True)
     assert result.returncode == 0 and "torrance_sparrow" in json.loads(result.stdout)
+
+
+# ----------------------------------------------------------- the library never prints
+
+
+def test_the_library_never_prints_only_the_cli_does():
+    """Library modules report through logging.getLogger("brdf_rs"); only cli.py (and
+    __main__) write to stdout/stderr. Checked on the source (every call of print, and
+    every use of sys.stdout / sys.stderr), and on a run that exercises the main paths."""
+    import ast
+
+    package = Path(brdf_rs.__file__).parent
+    offenders = []
+    for path in sorted(package.glob("*.py")):
+        if path.name in ("cli.py", "__main__.py"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "print":
+                offenders.append(f"{path.name}:{node.lineno} print()")
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr in ("stdout", "stderr")
+                and getattr(node.value, "id", None) == "sys"
+            ):
+                offenders.append(f"{path.name}:{node.lineno} sys.{node.attr}")
+    assert offenders == []
+    code = """
+import brdf_rs, numpy as np
+brdf_rs.eval("ggx", [0, 0, 1], [0.1, 0, 1])
+brdf_rs.albedo_table("ggx", {"mu": [0.5, 1]}, tol=1e-3)
+brdf_rs.dfg_table("ggx", [0.5], [0.3], samples=256)
+brdf_rs.energy_compensation_table("ggx", [0.5], [0.3], tol=1e-3)
+brdf_rs.render({"camera": {"position": [0, 0, 5], "resolution": [8, 8]}})
+"""
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert (result.stdout, result.stderr) == ("", "")
