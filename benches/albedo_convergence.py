@@ -294,31 +294,13 @@ def report(meta, results):
 
 
 def plot(path, meta, results):
-    try:
-        import matplotlib
+    from brdf_rs.plot import convergence
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+    title = f"Albedo tables: error against time ({meta['cpu']}, {meta['threads']} threads)"
+    try:
+        convergence(results, targets=TARGETS, title=title, path=path, dpi=110)
     except ImportError:
         print("matplotlib not installed: no plot")
-        return
-    fig, axes = plt.subplots(1, len(results), figsize=(6.5 * len(results), 5.5), squeeze=False)
-    for ax, (model, methods) in zip(axes[0], results.items(), strict=True):
-        for label, points in methods.items():
-            pts = sorted((p["seconds"], p["rms"]) for p in points)
-            style = "--" if "NumPy" in label else ("-o" if "adaptive" in label else "-")
-            ax.loglog(*zip(*pts, strict=True), style, label=label, markersize=3)
-        for target in TARGETS:
-            ax.axhline(target, color="grey", lw=0.5)
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel("RMS error over the table")
-        ax.set_title(model)
-        ax.grid(True, which="both", lw=0.3)
-    axes[0][0].legend(fontsize=7)
-    fig.suptitle(f"Albedo tables: error against time ({meta['cpu']}, {meta['threads']} threads)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def _cpu() -> str:

@@ -347,3 +347,24 @@ np.save(sys.argv[1], np.stack(out))
         os.remove(path)
     for isa in ("avx2", "avx512"):
         np.testing.assert_allclose(results[isa], results["baseline"], rtol=1e-13, atol=1e-300)
+
+
+def test_out_of_the_wrong_dtype_or_type_is_a_clear_type_error():
+    wi = np.tile([0.0, 0.0, 1.0], (4, 1))
+    with pytest.raises(TypeError, match=r"^out: expected dtype float64 .* got float32$"):
+        brdf_rs.eval("ggx", wi, wi, out=np.empty((4, 3), np.float32))
+    with pytest.raises(TypeError, match=r"^out: expected dtype float32 .* got float64$"):
+        brdf_rs.Model("ggx").eval(
+            wi.astype(np.float32), wi.astype(np.float32), out=np.empty((4, 3))
+        )
+    with pytest.raises(TypeError, match=r"^out: expected a NumPy array, got list$"):
+        brdf_rs.eval("ggx", wi, wi, out=[0.0] * 12)
+
+
+def test_missing_directions_are_type_errors_naming_them():
+    with pytest.raises(TypeError, match=r"^wi: expected an array of directions, got None$"):
+        brdf_rs.eval("lambert", None, [0, 0, 1])
+    with pytest.raises(TypeError, match=r"^wo: expected an array of directions, got None$"):
+        brdf_rs.pdf("lambert", [0, 0, 1], None)
+    with pytest.raises(TypeError, match=r"^n, v: expected arrays of normals and view"):
+        brdf_rs.shade({"model": "lambert"}, None, [0, 0, 1], [])

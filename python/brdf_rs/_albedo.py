@@ -13,12 +13,15 @@ import json
 import logging
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _arrays, _normalization
 from . import _brdf_rs as _core
+
+if TYPE_CHECKING:  # pragma: no cover - typing only (xarray is optional)
+    import xarray
 
 __all__ = [
     "Albedo",
@@ -61,9 +64,17 @@ def _integer(name: str, v: Any, lo: int) -> int:
     return int(v)
 
 
-def _options(samples, sampler, sequence, seed, tol, max_samples, replicates) -> dict:
+def _options(
+    samples: Any,
+    sampler: Any,
+    sequence: Any,
+    seed: Any,
+    tol: Any,
+    max_samples: Any,
+    replicates: Any,
+) -> dict[str, Any]:
     integer = _integer
-    options = {
+    options: dict[str, Any] = {
         "samples": integer("samples", samples, 1),
         "sampler": str(sampler),
         "sequence": str(sequence),
@@ -189,7 +200,7 @@ class Table:
             axes = {name: data[f"axis_{name}"] for name in names}
             return cls(data["value"], data["stderr"], data["samples"], axes, meta)
 
-    def to_xarray(self):
+    def to_xarray(self) -> xarray.DataArray:
         """Returns ``value`` as an ``xarray.DataArray`` with named coordinates (needs xarray)."""
         import xarray as xr
 
@@ -207,7 +218,7 @@ def _flat_meta(meta: Mapping[str, Any]) -> dict[str, str]:
 
 
 def _save_npz(table: Table, path: Path) -> None:
-    arrays = {f"axis_{k}": np.asarray(v) for k, v in table.axes.items()}
+    arrays: dict[str, Any] = {f"axis_{k}": np.asarray(v) for k, v in table.axes.items()}
     tmp = path.with_name(path.name + ".partial.npz")
     np.savez_compressed(
         tmp,
@@ -347,11 +358,14 @@ def _table_axes(
 
 
 def _grid_inputs(
-    names: Sequence[str], colour: frozenset[str], coords: Sequence[np.ndarray], fixed: Mapping
-) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, Any]]:
+    names: Sequence[str],
+    colour: frozenset[str],
+    coords: Sequence[np.ndarray],
+    fixed: Mapping[str, Any],
+) -> tuple[np.ndarray, dict[str, Any], dict[str, Any]]:
     """``mu``, the axis parameters and the fixed ones (``mu`` removed), shaped for
     :func:`albedo`: one grid dimension per table axis; a colour axis holds greys."""
-    grid = {}
+    grid: dict[str, Any] = {}
     for k, name in enumerate(names):
         shape = [1] * len(names)
         shape[k] = -1
@@ -425,7 +439,7 @@ def dfg_table(
         raise ValueError("mu, roughness: expected 1-D lists of values")
     ids = np.arange(mu.size * r.size, dtype=np.uint64).reshape(mu.size, r.size)
     mus = mu[:, None]
-    rs = r[None, :]
+    roughness_axis: dict[str, Any] = {rough: r[None, :]}
     one = albedo(
         model,
         mus,
@@ -434,7 +448,7 @@ def dfg_table(
         seed=seed,
         kd=0.0,
         ks=1.0,
-        **{rough: rs},
+        **roughness_axis,
         **options,
     )
     zero = albedo(
@@ -445,7 +459,7 @@ def dfg_table(
         seed=seed,
         kd=0.0,
         ks=0.0,
-        **{rough: rs},
+        **roughness_axis,
         **options,
     )
     value = np.zeros((mu.size, r.size, 3))
@@ -533,14 +547,17 @@ class EnergyCompensation:
     stderr: np.ndarray
     e_avg_stderr: np.ndarray
 
-    def multiple_scattering(self, mu_i, mu_o, alpha_index, f0=1.0) -> np.ndarray:
+    def multiple_scattering(
+        self, mu_i: Any, mu_o: Any, alpha_index: Any, f0: Any = 1.0
+    ) -> np.ndarray:
         """``f_ms`` for incidences on the table's mu grid (indices into ``mu``), RGB F0."""
         e_i = self.e[mu_i, alpha_index]
         e_o = self.e[mu_o, alpha_index]
         e_avg = self.e_avg[alpha_index]
         f_ms = (1 - e_i) * (1 - e_o) / (np.pi * (1 - e_avg))
         f_avg = np.asarray(f0, dtype=np.float64) + (1 - np.asarray(f0, dtype=np.float64)) / 21
-        return np.multiply.outer(f_ms, f_avg**2 * e_avg / (1 - f_avg * (1 - e_avg)))
+        scale = f_avg**2 * e_avg / (1 - f_avg * (1 - e_avg))
+        return np.asarray(np.multiply.outer(f_ms, scale), dtype=np.float64)
 
 
 def energy_compensation_table(

@@ -53,9 +53,24 @@ def eval(
         input is float32 (computed by float32 kernels), float64 otherwise.
     """
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
+    _check_out(out, dtype)
     p = _arrays.parameters(_normalization.apply(model, params, normalization), dtype)
+    wi_, wo_ = _arrays.given(v, "wi"), _arrays.given(v, "wo")
     kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
-    return kernel(model, v["wi"], v["wo"], v["n"], v["tangent"], p, normalized, check, True, out)
+    return kernel(model, wi_, wo_, v["n"], v["tangent"], p, normalized, check, True, out)
+
+
+def _check_out(out: object, dtype: type[np.floating]) -> None:
+    """``out`` must be an array of the result's dtype (shape and layout: checked in Rust)."""
+    if out is None:
+        return
+    if not isinstance(out, np.ndarray):
+        raise TypeError(f"out: expected a NumPy array, got {type(out).__name__}")
+    if out.dtype != dtype:
+        raise TypeError(
+            f"out: expected dtype {np.dtype(dtype).name} (the result's: float32 only when every"
+            f" direction is float32), got {out.dtype}"
+        )
 
 
 class Model:
@@ -100,14 +115,15 @@ class Model:
     ) -> np.ndarray:
         """Evaluates the model; arguments as :func:`brdf_rs.eval`."""
         dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
+        _check_out(out, dtype)
         kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
         # Values were range-checked in __init__ (a float32 cast can only overflow to
         # inf for values beyond float32's range: check those again).
         recheck = dtype == np.float32
         return kernel(
             self.name,
-            v["wi"],
-            v["wo"],
+            _arrays.given(v, "wi"),
+            _arrays.given(v, "wo"),
             v["n"],
             v["tangent"],
             self._params_for(dtype),

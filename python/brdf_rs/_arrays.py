@@ -53,9 +53,17 @@ def directions(**given: Any) -> tuple[type[np.floating], dict[str, np.ndarray | 
     return dtype, out
 
 
+def given(arrays: dict[str, np.ndarray | None], name: str) -> np.ndarray:
+    """The array of a direction argument that must be given (``wi``, ``wo``)."""
+    a = arrays[name]
+    if a is None:
+        raise TypeError(f"{name}: expected an array of directions, got None")
+    return a
+
+
 def parameters(params: dict[str, Any], dtype: type[np.floating]) -> dict[str, np.ndarray]:
     """Converts parameter values to arrays of ``dtype`` (values are checked in Rust)."""
-    out = {}
+    out: dict[str, np.ndarray] = {}
     with np.errstate(over="ignore", invalid="ignore"):
         for k, v in params.items():
             out[k] = np.asarray(_as_numeric(k, v), dtype=dtype)

@@ -1,46 +1,71 @@
-"""Type stubs of the compiled core (``brdf_rs._brdf_rs``). Use the ``brdf_rs`` package."""
+"""Type stubs of the compiled core (``brdf_rs._brdf_rs``). Use the ``brdf_rs`` package.
+
+Checked against the built module by ``python -m mypy.stubtest brdf_rs._brdf_rs`` (CI):
+names, parameters and defaults must match the PyO3 signatures. Arrays are read in place
+(any strides) and must already have the dtype named here; the Python layer
+(``brdf_rs._arrays``) converts everything else before calling in.
+"""
 
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeAlias
 
 import numpy as np
 import numpy.typing as npt
 
+__all__ = [
+    "__version__",
+    "albedo",
+    "check_params",
+    "encode_srgb8",
+    "eval_f32",
+    "eval_f64",
+    "isa",
+    "models",
+    "num_threads",
+    "pdf",
+    "render_scene",
+    "sample",
+    "scene_counters",
+    "set_num_threads",
+    "shade_gbuffer",
+    "tonemap_inplace",
+]
+
 __version__: str
 
-F64 = npt.NDArray[np.float64]
-F32 = npt.NDArray[np.float32]
+_F64: TypeAlias = npt.NDArray[np.float64]
+_F32: TypeAlias = npt.NDArray[np.float32]
 
 def eval_f64(
     model: str,
-    wi: F64,
-    wo: F64,
-    n: F64 | None,
-    tangent: F64 | None,
-    params: dict[str, F64],
+    wi: _F64,
+    wo: _F64,
+    n: _F64 | None,
+    tangent: _F64 | None,
+    params: dict[str, _F64],
     normalized: bool,
     check: bool,
     check_params: bool,
-    out: F64 | None = None,
-) -> F64: ...
+    out: _F64 | None = None,
+) -> _F64: ...
 def eval_f32(
     model: str,
-    wi: F32,
-    wo: F32,
-    n: F32 | None,
-    tangent: F32 | None,
-    params: dict[str, F32],
+    wi: _F32,
+    wo: _F32,
+    n: _F32 | None,
+    tangent: _F32 | None,
+    params: dict[str, _F32],
     normalized: bool,
     check: bool,
     check_params: bool,
-    out: F32 | None = None,
-) -> F32: ...
-def check_params(model: str, params: dict[str, F64]) -> None: ...
+    out: _F32 | None = None,
+) -> _F32: ...
+def check_params(model: str, params: dict[str, _F64]) -> None: ...
 def models() -> list[dict[str, Any]]: ...
 def albedo(
     model: str,
-    mu: F64,
-    params: dict[str, F64],
+    mu: _F64,
+    params: dict[str, _F64],
     samples: int,
     sampler: str,
     sequence: str,
@@ -51,38 +76,38 @@ def albedo(
     cell_ids: npt.NDArray[np.uint64] | None = None,
     progress: Callable[[int, int], object] | None = None,
     fold_azimuth: bool = True,
-) -> tuple[F64, F64, npt.NDArray[np.uint64]]: ...
+) -> tuple[_F64, _F64, npt.NDArray[np.uint64]]: ...
 def sample(
     model: str,
-    wi: F64,
-    u: F64,
-    n: F64 | None,
-    tangent: F64 | None,
-    params: dict[str, F64],
+    wi: _F64,
+    u: _F64,
+    n: _F64 | None,
+    tangent: _F64 | None,
+    params: dict[str, _F64],
     sampler: str,
-) -> tuple[F64, F64, F64]: ...
+) -> tuple[_F64, _F64, _F64]: ...
 def pdf(
     model: str,
-    wi: F64,
-    wo: F64,
-    n: F64 | None,
-    tangent: F64 | None,
-    params: dict[str, F64],
+    wi: _F64,
+    wo: _F64,
+    n: _F64 | None,
+    tangent: _F64 | None,
+    params: dict[str, _F64],
     sampler: str,
-) -> F64: ...
+) -> _F64: ...
 def set_num_threads(n: int) -> None: ...
 def num_threads() -> int: ...
 def isa() -> str: ...
-def render_scene(scene: dict[str, Any], only: str) -> tuple[F32, dict[str, Any]]: ...
+def render_scene(scene: dict[str, Any], only: str) -> tuple[_F32, dict[str, Any]]: ...
 def shade_gbuffer(
     material: dict[str, Any],
     lights: list[dict[str, Any]],
-    n: F32,
-    v: F32,
-    positions: F32 | None,
-    tangent: F32 | None,
+    n: _F32,
+    v: _F32,
+    positions: _F32 | None,
+    tangent: _F32 | None,
     only: str,
-) -> tuple[F32, dict[str, Any]]: ...
-def tonemap_inplace(image: F32, tonemap: str, exposure: float) -> None: ...
-def encode_srgb8(image: F32) -> npt.NDArray[np.uint8]: ...
+) -> tuple[_F32, dict[str, Any]]: ...
+def tonemap_inplace(image: _F32, tonemap: str, exposure: float) -> None: ...
+def encode_srgb8(image: _F32) -> npt.NDArray[np.uint8]: ...
 def scene_counters(reset: bool = False) -> dict[str, int]: ...

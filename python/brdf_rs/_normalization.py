@@ -21,7 +21,7 @@ EXACT = ("normalized_blinn_phong",)
 def _blinn_ratio(p: np.ndarray) -> np.ndarray:
     exact = (p + 2) * (p + 4) / (8 * np.pi * (p + 2.0 ** (-p / 2)))
     approximate = (p + 8) / (8 * np.pi)
-    return exact / approximate
+    return np.asarray(exact / approximate, dtype=np.float64)
 
 
 def apply(model: str, params: dict[str, Any], normalization: str) -> dict[str, Any]:

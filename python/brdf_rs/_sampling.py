@@ -45,7 +45,7 @@ def sample(
     _, v = _arrays.directions(wi=wi, n=n, tangent=tangent)
     return _core.sample(
         model,
-        _f64v(v["wi"]),
+        np.asarray(_arrays.given(v, "wi"), np.float64),
         _f64("u", u),
         _f64v(v["n"]),
         _f64v(v["tangent"]),
@@ -68,8 +68,8 @@ def pdf(
     _, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     return _core.pdf(
         model,
-        _f64v(v["wi"]),
-        _f64v(v["wo"]),
+        np.asarray(_arrays.given(v, "wi"), np.float64),
+        np.asarray(_arrays.given(v, "wo"), np.float64),
         _f64v(v["n"]),
         _f64v(v["tangent"]),
         _arrays.parameters(params, np.float64),

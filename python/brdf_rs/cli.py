@@ -3,14 +3,18 @@
 argparse (the standard library) on purpose: the commands are plain subcommands with
 typed options, and the core package then needs nothing beyond NumPy. Every command
 prints a table for people or ``--json`` for machines; errors are one line on stderr
-naming what was wrong, with exit code 2 for bad arguments and 1 for failures.
+naming what was wrong. Exit codes: 0 success, 1 a failure (a file that cannot be
+written, a missing optional dependency), 2 a usage error (bad arguments, unknown model,
+parameter out of range), 130 interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -112,7 +116,7 @@ def _axis(text: str) -> tuple[str, np.ndarray]:
     return name, values
 
 
-DEFAULT_TABLE = {
+DEFAULT_TABLE: dict[str, Any] = {
     "model": "torrance_sparrow",
     "axes": ["mu=mid:0:1:32", "p=log:1:10000:32"],
     "params": ["kd=0", "ks=1", "eta=1.5"],
@@ -131,7 +135,8 @@ def cmd_table(args: argparse.Namespace) -> int:
     if defaulted and not args.param:
         params = dict(_param(p) for p in DEFAULT_TABLE["params"])
     tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
-    out = Path(args.output or f"albedo_{model}.npz")
+    out = _output_path(args.output or f"albedo_{model}.npz", TABLE_FORMATS)
+    plot_path = _plot_path(args.plot)
     cells = int(np.prod([len(v) for v in axes.values()]))
     bar = _progress_bar(cells, args.quiet)
     last = [0, 0]
@@ -142,6 +147,7 @@ def cmd_table(args: argparse.Namespace) -> int:
             bar.set_postfix_str(f"{(samples - last[1]) / 0.1 / 1e6:.0f} M samples/s")
         last[0], last[1] = done, samples
 
+    start = time.perf_counter()
     try:
         table = _albedo.albedo_table(
             model,
@@ -158,16 +164,24 @@ def cmd_table(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
+    seconds = time.perf_counter() - start
     path = table.save(out)
     summary = {
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
+        "shape": list(table.value.shape),
         "params": params,
         "output": str(path.resolve()),
+        "seconds": seconds,
         "samples": int(table.samples.sum()),
         "max_stderr": float(table.stderr.max()),
         "albedo_range": [float(table.value.min()), float(table.value.max())],
     }
+    if plot_path is not None:
+        from . import plot
+
+        plot.table_heatmap(table, path=plot_path)
+        summary["plot"] = str(plot_path.resolve())
     if args.json:
         _print_json(summary)
     else:
@@ -176,8 +190,10 @@ def cmd_table(args: argparse.Namespace) -> int:
         print(
             f"  albedo in [{summary['albedo_range'][0]:.4g}, {summary['albedo_range'][1]:.4g}],"
             f" largest standard error {summary['max_stderr']:.2g},"
-            f" {summary['samples']:,} samples"
+            f" {summary['samples']:,} samples in {seconds:.2f} s"
         )
+        if plot_path is not None:
+            print(f"  plot: {summary['plot']}")
     return 0
 
 
@@ -239,8 +255,8 @@ def cmd_render(args: argparse.Namespace) -> int:
             f" pairs, {stats['pairs_backfacing']:,} facing away, {stats['pairs_out_of_range']:,}"
             f" out of range; {stats['evaluations']:,} kernel evaluations"
         )
-        for path in written:
-            print(f"  wrote {path}")
+        for name in written:
+            print(f"  wrote {name}")
     return 0
 
 
@@ -248,21 +264,22 @@ def cmd_tables(args: argparse.Namespace) -> int:
     from . import scene as scenes
 
     scene = scenes.load_scene(args.scene)
-    bar = None
-    current = [None, 0]
+    bar: Any = None
+    current_material: str | None = None
+    current_done = 0
 
     def progress(material: str, done: int, cells: int) -> None:
-        nonlocal bar
-        if current[0] != material:
+        nonlocal bar, current_material, current_done
+        if current_material != material:
             if bar is not None:
                 bar.close()
             bar = _progress_bar(cells, args.quiet or args.json)
             if bar is not None:
                 bar.set_description(material)
-            current[0], current[1] = material, 0
+            current_material, current_done = material, 0
         if bar is not None:
-            bar.update(done - current[1])
-        current[1] = done
+            bar.update(done - current_done)
+        current_done = done
 
     try:
         results = scenes.scene_tables(
@@ -277,7 +294,7 @@ def cmd_tables(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    rows = [
+    rows: list[dict[str, Any]] = [
         {
             "material": r.material,
             "model": r.model,
@@ -310,7 +327,388 @@ def cmd_tables(args: argparse.Namespace) -> int:
     return 0
 
 
-def _progress_bar(total: int, quiet: bool):
+# ------------------------------------------------- dfg, energy, bench, plot-lobe (issue 6)
+
+TABLE_FORMATS = (".npz", ".exr", ".png")
+PLOT_FORMATS = (".png", ".svg", ".pdf")
+
+
+def _output_path(text: str, formats: Sequence[str], what: str = "-o") -> Path:
+    """Checks an output path before any work: known format, existing directory."""
+    path = Path(text)
+    if path.suffix.lower() not in formats:
+        raise UsageError(f"{what} {text}: unknown format; use {', '.join(formats)}")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise UsageError(f"{what} {text}: directory {parent} does not exist")
+    return path
+
+
+def _plot_path(text: str | None) -> Path | None:
+    """Checks ``--plot`` (and that matplotlib is there) before any work is done."""
+    if text is None:
+        return None
+    path = _output_path(text, PLOT_FORMATS, "--plot")
+    from . import plot
+
+    plot._matplotlib()
+    return path
+
+
+def _values(text: str) -> np.ndarray:
+    """An axis without a name: ``start:stop:count``, ``mid:...``, ``log:...`` or ``v1,v2``."""
+    try:
+        return _axis(f"values={text}")[1]
+    except argparse.ArgumentTypeError as exc:
+        raise argparse.ArgumentTypeError(str(exc).replace("axis values: ", "")) from None
+
+
+class _PassProgress:
+    """One progress bar over consecutive albedo runs (``sizes`` cells each) that report
+    ``progress(cells_done, samples_done)`` from 0 again at the start of every run."""
+
+    def __init__(self, sizes: Sequence[int], quiet: bool) -> None:
+        self.sizes = list(sizes)
+        self.bar = _progress_bar(sum(self.sizes), quiet)
+        self.run = 0
+        self.offset = 0
+        self.last = 0
+
+    def __call__(self, done: int, samples: int) -> None:
+        finished_run = self.last == self.sizes[self.run] and done != self.last
+        if (done < self.last or finished_run) and self.run + 1 < len(self.sizes):
+            self.offset += self.sizes[self.run]
+            self.run += 1
+        self.last = done
+        if self.bar is not None:
+            self.bar.update(max(0, self.offset + done - self.bar.n))
+
+    def close(self, completed: bool) -> None:
+        if self.bar is not None:
+            if completed:
+                self.bar.update(self.bar.total - self.bar.n)
+            self.bar.close()
+
+
+#: Default roughness axis of ``brdf-rs dfg`` per model.
+DFG_ROUGHNESS = {
+    "ggx": "mid:0:1:32",
+    "beckmann": "mid:0:1:32",
+    "blinn_phong_fresnel": "log:1:10000:32",
+}
+
+
+def cmd_dfg(args: argparse.Namespace) -> int:
+    from . import _albedo
+
+    model = args.model
+    if model not in DFG_ROUGHNESS:
+        raise UsageError(
+            f"unknown model {model!r}; a split-sum table takes {', '.join(DFG_ROUGHNESS)}"
+        )
+    mu = args.mu
+    roughness = _values(DFG_ROUGHNESS[model]) if args.roughness is None else args.roughness
+    out = _output_path(args.output or f"dfg_{model}.npz", TABLE_FORMATS)
+    plot_path = _plot_path(args.plot)
+    cells = mu.size * roughness.size
+    progress = _PassProgress([cells, cells], args.quiet or args.json)
+    options: dict[str, Any] = {"tol": args.tol} if args.tol is not None else {}
+    start = time.perf_counter()
+    completed = False
+    try:
+        table = _albedo.dfg_table(
+            model, mu, roughness, samples=args.samples, seed=args.seed, progress=progress, **options
+        )
+        completed = True
+    finally:
+        progress.close(completed)
+    seconds = time.perf_counter() - start
+    path = table.save(out)
+    rough = list(table.axes)[1]
+    summary: dict[str, Any] = {
+        "model": model,
+        "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
+        "shape": [mu.size, roughness.size],
+        "channels": ["scale A", "bias B", "zero"],
+        "output": str(path.resolve()),
+        "seconds": seconds,
+        "samples": int(table.samples.sum()),
+        "max_stderr": float(table.stderr[..., :2].max()),
+        "scale_range": [float(table.value[..., 0].min()), float(table.value[..., 0].max())],
+        "bias_range": [float(table.value[..., 1].min()), float(table.value[..., 1].max())],
+    }
+    if plot_path is not None:
+        from . import plot
+
+        plot.table_heatmap(table, path=plot_path)
+        summary["plot"] = str(plot_path.resolve())
+    if args.json:
+        _print_json(summary)
+        return 0
+    print(
+        f"{model} split-sum table mu[{mu.size}] x {rough}[{roughness.size}]: wrote {path.resolve()}"
+    )
+    print(
+        f"  scale A in [{summary['scale_range'][0]:.4g}, {summary['scale_range'][1]:.4g}],"
+        f" bias B in [{summary['bias_range'][0]:.4g}, {summary['bias_range'][1]:.4g}],"
+        f" largest standard error {summary['max_stderr']:.2g}, {seconds:.2f} s"
+    )
+    if plot_path is not None:
+        print(f"  plot: {summary['plot']}")
+    return 0
+
+
+def save_energy(result: Any, path: Path) -> Path:
+    """Writes an :class:`~brdf_rs.EnergyCompensation` as ``.npz`` (arrays and metadata)."""
+    from . import __version__
+
+    meta = {
+        "model": result.model,
+        "quantity": "Kulla-Conty energy compensation: e[mu, alpha] = E(mu, alpha) with F = 1,"
+        " e_avg[alpha] = 2 * integral of E(mu) mu dmu",
+        "brdf_rs": __version__,
+    }
+    tmp = path.with_name(path.name + ".partial.npz")
+    np.savez_compressed(
+        tmp,
+        mu=result.mu,
+        alpha=result.alpha,
+        e=result.e,
+        stderr=result.stderr,
+        e_avg=result.e_avg,
+        e_avg_stderr=result.e_avg_stderr,
+        meta=np.array(json.dumps(meta)),
+    )
+    tmp.replace(path)
+    return path
+
+
+def cmd_energy(args: argparse.Namespace) -> int:
+    from . import _albedo
+
+    if args.model not in _albedo._COMPENSATED:
+        known = ", ".join(_albedo._COMPENSATED)
+        raise UsageError(f"unknown model {args.model!r}; energy compensation takes {known}")
+    mu, alpha = args.mu, args.alpha
+    out = _output_path(args.output or f"energy_{args.model}.npz", (".npz",))
+    plot_path = _plot_path(args.plot)
+    # Two runs: the E(mu, alpha) grid, then 32 Gauss-Legendre incidences for E_avg.
+    progress = _PassProgress([mu.size * alpha.size, 32 * alpha.size], args.quiet or args.json)
+    start = time.perf_counter()
+    completed = False
+    try:
+        result = _albedo.energy_compensation_table(
+            args.model,
+            mu,
+            alpha,
+            samples=args.samples,
+            tol=args.tol,
+            seed=args.seed,
+            progress=progress,
+        )
+        completed = True
+    finally:
+        progress.close(completed)
+    seconds = time.perf_counter() - start
+    path = save_energy(result, out)
+    summary: dict[str, Any] = {
+        "model": args.model,
+        "axes": {
+            "mu": [float(mu[0]), float(mu[-1]), mu.size],
+            "alpha": [float(alpha[0]), float(alpha[-1]), alpha.size],
+        },
+        "shape": [mu.size, alpha.size],
+        "output": str(path.resolve()),
+        "seconds": seconds,
+        "max_stderr": float(result.stderr.max()),
+        "e_range": [float(result.e.min()), float(result.e.max())],
+        "alpha": alpha,
+        "e_avg": result.e_avg,
+        "e_avg_stderr": result.e_avg_stderr,
+    }
+    if plot_path is not None:
+        from . import plot
+
+        plot.energy_compensation(result, path=plot_path)
+        summary["plot"] = str(plot_path.resolve())
+    if args.json:
+        _print_json(summary)
+        return 0
+    print(
+        f"{args.model} energy compensation E(mu[{mu.size}], alpha[{alpha.size}]) and E_avg:"
+        f" wrote {path.resolve()} in {seconds:.2f} s"
+    )
+    print(
+        f"  E in [{summary['e_range'][0]:.4g}, {summary['e_range'][1]:.4g}],"
+        f" largest standard error {summary['max_stderr']:.2g}"
+    )
+    print("  alpha      E_avg      1 - E_avg (lost by single scattering)")
+    step = max(1, alpha.size // 8)
+    for j in [*range(0, alpha.size, step)][:8] + ([alpha.size - 1] if alpha.size > 1 else []):
+        print(f"  {alpha[j]:<9.4g}  {result.e_avg[j]:.5f}    {1 - result.e_avg[j]:.5f}")
+    if plot_path is not None:
+        print(f"  plot: {summary['plot']}")
+    return 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    from . import _bench
+
+    if args.threads is not None:
+        _api.set_num_threads(args.threads)
+    result = _bench.run(
+        args.models or _bench.DEFAULT_MODELS,
+        n=args.n,
+        repeat=args.repeat,
+        table_size=args.table_size,
+        tol=args.tol,
+    )
+    if args.json:
+        _print_json(result)
+        return 0
+    m = result["machine"]
+    print(
+        f"brdf-rs {m['brdf_rs']} on {m['cpu']} ({m['cpus']} CPUs), {m['threads']} threads,"
+        f" {m['isa']} kernels"
+    )
+    print(f"\neval: {args.n:,} direction pairs, best of {args.repeat}, written with out=")
+    print(f"  {'model':22s} {'float64':>14s} {'float32':>14s}")
+    rows: dict[str, dict[str, float]] = {}
+    for row in result["eval"]:
+        rows.setdefault(row["model"], {})[row["dtype"]] = row["mevals_per_s"]
+    for model, speeds in rows.items():
+        cells = [f"{speeds[d]:9.1f} M/s" for d in ("float64", "float32")]
+        print(f"  {model:22s} {cells[0]:>14s} {cells[1]:>14s}")
+    t = result["albedo_table"]
+    print(
+        f"\nalbedo table: {t['model']} {t['shape'][0]}x{t['shape'][1]} (mu x p), kd=0, ks=1,"
+        f" tol {t['tol']:g}"
+    )
+    print(
+        f"  {t['seconds']:.3f} s, {t['samples']:,} samples ({t['msamples_per_s']:.1f} M/s),"
+        f" largest standard error {t['max_stderr']:.2g}"
+    )
+    print(
+        f"  check: exact albedo 1 at mu = 1; largest |R - 1| = {t['max_error_at_mu_1']:.2g}"
+        f" ({t['max_error_in_stderr_at_mu_1']:.1f} standard errors)"
+    )
+    return 0
+
+
+def cmd_plot_lobe(args: argparse.Namespace) -> int:
+    from . import plot
+
+    path = _output_path(args.output, PLOT_FORMATS)
+    plot._matplotlib()
+    theta = args.theta_i or [45.0]
+    plot.polar_lobe(
+        args.model,
+        theta,
+        cosine=args.cosine,
+        tangent=args.tangent,
+        path=path,
+        **dict(args.param),
+    )
+    summary = {"model": args.model, "theta_i": theta, "plot": str(path.resolve())}
+    if args.json:
+        _print_json(summary)
+    else:
+        angles = ", ".join(f"{t:g}" for t in theta)
+        print(f"{args.model} lobe at theta_i = {angles} deg: wrote {summary['plot']}")
+    return 0
+
+
+def _add_user_commands(sub: Any) -> None:
+    """Registers dfg, energy, bench and plot-lobe."""
+    p = sub.add_parser(
+        "dfg",
+        help="build a split-sum (DFG) table: scale A and bias B with R_spec = F0*A + B",
+        description="Tabulate the split-sum terms of a Schlick-Fresnel model over mu and "
+        "roughness (alpha for ggx and beckmann, p for blinn_phong_fresnel). Channel 0 of the "
+        "table is the scale A, channel 1 the bias B.",
+    )
+    p.add_argument(
+        "model", nargs="?", default="ggx", help=f"{', '.join(DFG_ROUGHNESS)} (default ggx)"
+    )
+    p.add_argument(
+        "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"
+    )
+    p.add_argument(
+        "--roughness",
+        type=_values,
+        default=None,
+        help="roughness axis spec (default mid:0:1:32 for alpha, log:1:10000:32 for p)",
+    )
+    p.add_argument("--samples", type=int, default=1 << 14, help="samples per cell")
+    p.add_argument("--tol", type=float, default=None, help="stop each cell at this standard error")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("-o", "--output", default=None, help="dfg.npz | dfg.exr | dfg.png")
+    p.add_argument("--plot", default=None, help="also draw A and B (needs matplotlib): out.png")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    p.set_defaults(run=cmd_dfg)
+
+    p = sub.add_parser(
+        "energy",
+        help="build a Kulla-Conty energy compensation table: E(mu, alpha) and E_avg(alpha)",
+        description="The single-scattering albedo E(mu, alpha) of a microfacet model with "
+        "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy the "
+        "multiple-scattering lobe (ggx_ms, beckmann_ms) restores.",
+    )
+    p.add_argument("model", help="ggx or beckmann")
+    p.add_argument(
+        "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"
+    )
+    p.add_argument(
+        "--alpha", type=_values, default="mid:0:1:32", help="roughness (default mid:0:1:32)"
+    )
+    p.add_argument("--samples", type=int, default=1 << 12, help="samples per cell (first round)")
+    p.add_argument("--tol", type=float, default=1e-5, help="standard error per cell (default 1e-5)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("-o", "--output", default=None, help="energy.npz")
+    p.add_argument("--plot", default=None, help="also draw E and E_avg (needs matplotlib): out.png")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    p.set_defaults(run=cmd_energy)
+
+    p = sub.add_parser(
+        "bench",
+        help="a short benchmark: eval throughput and an albedo table, on this machine",
+        description="Measures million evaluations per second of a few models (float64 and "
+        "float32) and builds a small normalized_phong albedo table to a tolerance, checking "
+        "it against its exact value at mu = 1. A few seconds; benches/ in the repository has "
+        "the full benchmarks.",
+    )
+    p.add_argument("--models", nargs="+", default=None, help="models to time (default: 5 kinds)")
+    p.add_argument("--n", type=int, default=1_000_000, help="direction pairs per call")
+    p.add_argument("--repeat", type=int, default=3, help="timed calls (the best is kept)")
+    p.add_argument("--table-size", type=int, default=16, help="the albedo table is SIZE x SIZE")
+    p.add_argument("--tol", type=float, default=1e-4, help="the albedo table's standard error")
+    p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
+    p.add_argument("--json", action="store_true", help="machine-readable results")
+    p.set_defaults(run=cmd_bench)
+
+    p = sub.add_parser(
+        "plot-lobe",
+        help="polar plot of a model's lobe in the plane of incidence (needs matplotlib)",
+        description="Draws f(wi, wo) for wo in the plane of incidence, light arriving from "
+        "the left at each --theta-i (degrees), like Disney's BRDF Explorer.",
+    )
+    p.add_argument("model")
+    p.add_argument(
+        "--theta-i", type=float, action="append", default=[], help="degrees (repeat; default 45)"
+    )
+    p.add_argument(
+        "--param", "-p", type=_param, action="append", default=[], help="name=value (repeat)"
+    )
+    p.add_argument("--tangent", type=_vector, default=None, help="tangent x,y,z")
+    p.add_argument("--cosine", action="store_true", help="multiply by cos(theta_o)")
+    p.add_argument("-o", "--output", required=True, help="lobe.png | .svg | .pdf")
+    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    p.set_defaults(run=cmd_plot_lobe)
+
+
+def _progress_bar(total: int, quiet: bool) -> Any:
     if quiet:
         return None
     try:
@@ -371,6 +769,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--sequence", default="sobol", choices=["sobol", "random"])
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("-o", "--output", default=None, help="table.npz | table.exr | table.png")
+    p.add_argument("--plot", default=None, help="also draw the table (needs matplotlib): out.png")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="machine-readable summary")
     p.set_defaults(run=cmd_table)
@@ -423,6 +822,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="machine-readable summary")
     p.set_defaults(run=cmd_tables)
+    _add_user_commands(sub)
     return parser
 
 
@@ -437,7 +837,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (TypeError, ValueError) as exc:
         print(f"brdf-rs {args.command}: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    except (OSError, ImportError) as exc:
+    except BrokenPipeError:  # `brdf-rs models | head`: the reader left; say nothing
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_FAILURE
+    except (OSError, ImportError, RuntimeError, MemoryError) as exc:
         print(f"brdf-rs {args.command}: {exc}", file=sys.stderr)
         return EXIT_FAILURE
     except KeyboardInterrupt:

@@ -54,7 +54,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -83,7 +83,7 @@ _FORMAT = "brdf_rs.Table/1"
 _ARRAYS = ("value", "stderr", "samples")
 
 
-def _import_dask():
+def _import_dask() -> Any:
     try:
         import dask
         import dask.array
@@ -94,7 +94,7 @@ def _import_dask():
     return dask
 
 
-def _import_zarr():
+def _import_zarr() -> Any:
     try:
         import zarr
     except ImportError:
@@ -148,13 +148,14 @@ def _compute_block(block: _Block) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return r.value, r.stderr, r.samples
 
 
-def _store_block(block: _Block, *, targets: tuple) -> int:
+def _store_block(block: _Block, *, targets: tuple[Any, ...]) -> int:
     """Integrates one block and writes it into the Zarr arrays ``targets``
     (value, stderr, samples); returns the samples drawn (all the scheduler keeps)."""
     value, stderr, samples = _compute_block(block)
     region = block.region()
-    targets[0][(*region, slice(None))] = value
-    targets[1][(*region, slice(None))] = stderr
+    rgb = (*region, slice(None))  # the block's cells, every channel
+    targets[0][rgb] = value
+    targets[1][rgb] = stderr
     targets[2][region] = samples
     return int(samples.sum(dtype=np.uint64))
 
@@ -183,7 +184,7 @@ class _Plan:
     def shape(self) -> tuple[int, ...]:
         return tuple(self.coords[n].size for n in self.names)
 
-    def blocks(self):
+    def blocks(self) -> Iterator[tuple[tuple[int, ...], _Block]]:
         """Yields ``(block index, _Block)`` for every block, in C order."""
         offsets = [np.concatenate([[0], np.cumsum(c)]).astype(int) for c in self.chunks]
         shape = self.shape
@@ -208,14 +209,16 @@ class _Plan:
             )
 
 
-def _normalize_chunks(chunks: Any, names: Sequence[str], shape: tuple[int, ...], samples: int):
+def _normalize_chunks(
+    chunks: Any, names: Sequence[str], shape: tuple[int, ...], samples: int
+) -> tuple[tuple[int, ...], ...]:
     from dask.array.core import normalize_chunks
 
     if isinstance(chunks, str) and chunks == "auto":
         cells = min(
             max(TARGET_SAMPLES_PER_CHUNK // samples, MIN_CELLS_PER_CHUNK), MAX_CELLS_PER_CHUNK
         )
-        return normalize_chunks("auto", shape, limit=cells * 8, dtype=np.float64)
+        return _int_chunks(normalize_chunks("auto", shape, limit=cells * 8, dtype=np.float64))
     if isinstance(chunks, list):
         chunks = tuple(chunks)
     if isinstance(chunks, Mapping):
@@ -233,10 +236,21 @@ def _normalize_chunks(chunks: Any, names: Sequence[str], shape: tuple[int, ...],
         raise ValueError(f"chunks: cannot split the axes {shape} into {chunks!r} ({exc})") from None
     if any(n <= 0 for c in out for n in c):
         raise ValueError(f"chunks: blocks must be non-empty; got {out}")
-    return out
+    return _int_chunks(out)
 
 
-def _probe(model: str, names, colour, coords: Mapping[str, np.ndarray], fixed, options) -> None:
+def _int_chunks(chunks: Any) -> tuple[tuple[int, ...], ...]:
+    return tuple(tuple(int(n) for n in c) for c in chunks)
+
+
+def _probe(
+    model: str,
+    names: Sequence[str],
+    colour: frozenset[str],
+    coords: Mapping[str, np.ndarray],
+    fixed: Mapping[str, Any],
+    options: Mapping[str, Any],
+) -> None:
     """Checks the model, every axis value and the fixed parameters now, cheaply (each
     axis once, the others at their first value, 1 sample per cell), so a bad value
     fails here and not in the last task of a long build."""
@@ -253,7 +267,7 @@ def _probe(model: str, names, colour, coords: Mapping[str, np.ndarray], fixed, o
             )
 
 
-def _make_plan(model: str, axes: Mapping, chunks: Any, options: dict[str, Any]) -> _Plan:
+def _make_plan(model: str, axes: Mapping[str, Any], chunks: Any, options: dict[str, Any]) -> _Plan:
     for bad, why in (
         ("progress", "use Dask's progress (dask.diagnostics.ProgressBar, distributed.progress)"),
         ("cell_ids", "the cells' ids are their flat indices in the full grid"),
@@ -294,7 +308,7 @@ def _meta(plan: _Plan) -> dict[str, Any]:
     return _albedo._table_meta(plan.model, plan.names, fixed, plan.options)
 
 
-def _arrays_of(plan: _Plan):
+def _arrays_of(plan: _Plan) -> tuple[Any, Any, Any]:
     """The three Dask arrays of a plan: one task per block, and one selection per array."""
     import operator
 
@@ -316,7 +330,8 @@ def _arrays_of(plan: _Plan):
         dtype = np.float64 if rgb else np.uint64
         meta = np.empty((0,) * len(chunks), dtype=dtype)
         out.append(da.Array(graph, name, chunks, dtype=dtype, meta=meta))
-    return tuple(out)
+    value, stderr, samples = out
+    return value, stderr, samples
 
 
 # ------------------------------------------------------------------------- LazyTable
@@ -350,14 +365,14 @@ class LazyTable:
     @property
     def chunks(self) -> tuple[tuple[int, ...], ...]:
         """The blocks along each axis (one task per block)."""
-        return self.samples.chunks
+        return _int_chunks(self.samples.chunks)
 
     def _kwargs(self, kwargs: dict[str, Any]) -> dict[str, Any]:
         if self.client is not None and "scheduler" not in kwargs:
             kwargs = {**kwargs, "scheduler": self.client}
         return kwargs
 
-    def _distributed(self, kwargs: dict[str, Any]):
+    def _distributed(self, kwargs: dict[str, Any]) -> Any:
         """The ``distributed.Client`` these ``kwargs`` would compute on, if any (and if
         this table's blocks can be submitted one by one)."""
         if self._plan is None:
@@ -382,7 +397,8 @@ class LazyTable:
         dask = _import_dask()
         axes = {k: v.copy() for k, v in self.axes.items()}
         client = self._distributed(kwargs)
-        if client is None:
+        plan = self._plan
+        if client is None or plan is None:
             value, stderr, samples = dask.compute(
                 self.value, self.stderr, self.samples, **self._kwargs(kwargs)
             )
@@ -391,7 +407,7 @@ class LazyTable:
         value = np.full((*shape, 3), np.nan)
         stderr = np.full((*shape, 3), np.nan)
         samples = np.zeros(shape, dtype=np.uint64)
-        for block, (v, e, n) in _run_blocks(client, self._plan, "block", _compute_block, kwargs):
+        for block, (v, e, n) in _run_blocks(client, plan, "block", _compute_block, kwargs):
             region = block.region()
             value[region] = v
             stderr[region] = e
@@ -421,7 +437,13 @@ class LazyTable:
 _MAP_OPTIONS = ("retries", "priority", "workers", "resources", "allow_other_workers")
 
 
-def _run_blocks(client, plan: _Plan, what: str, func, kwargs: dict[str, Any]):
+def _run_blocks(
+    client: Any,
+    plan: _Plan,
+    what: str,
+    func: Callable[[_Block], Any],
+    kwargs: dict[str, Any],
+) -> Iterator[tuple[_Block, Any]]:
     """Submits ``func(block)`` for every block of ``plan`` and yields ``(block, result)``
     as each finishes, dropping the result from the cluster at once: a worker that dies
     then loses only the blocks it was running."""
@@ -507,7 +529,16 @@ def _zarr_chunks(chunks: tuple[tuple[int, ...], ...]) -> tuple[int, ...]:
     return tuple(math.gcd(*c[:-1]) if len(c) > 1 else c[0] for c in chunks)
 
 
-def _create(group, name: str, *, shape, chunks, dtype, fill_value, dims) -> Any:
+def _create(
+    group: Any,
+    name: str,
+    *,
+    shape: Sequence[int],
+    chunks: Sequence[int],
+    dtype: Any,
+    fill_value: Any,
+    dims: Sequence[str],
+) -> Any:
     """Creates an array in a Zarr v3 (``create_array``) or v2 (``create_dataset``) group."""
     if hasattr(group, "create_array"):
         try:
@@ -528,7 +559,7 @@ def _create(group, name: str, *, shape, chunks, dtype, fill_value, dims) -> Any:
     return array
 
 
-def _open_group(path: Any, mode: str):
+def _open_group(path: Any, mode: str) -> Any:
     zarr = _import_zarr()
     if isinstance(path, Path):
         path = str(path)
@@ -538,10 +569,13 @@ def _open_group(path: Any, mode: str):
 def _json_meta(meta: Mapping[str, Any]) -> dict[str, Any]:
     import json
 
-    return json.loads(json.dumps(dict(meta)))
+    copy: dict[str, Any] = json.loads(json.dumps(dict(meta)))
+    return copy
 
 
-def _prepare_store(table: Table | LazyTable, path: Any, overwrite: bool, chunks):
+def _prepare_store(
+    table: Table | LazyTable, path: Any, overwrite: bool, chunks: Sequence[int]
+) -> tuple[Any, tuple[Any, ...]]:
     try:
         group = _open_group(path, "w" if overwrite else "w-")
     except (FileExistsError, ValueError) as exc:
@@ -631,7 +665,12 @@ def write_zarr(
     return path
 
 
-def _stream(table: LazyTable, targets: tuple, zarr_chunks: tuple[int, ...], kwargs) -> None:
+def _stream(
+    table: LazyTable,
+    targets: tuple[Any, ...],
+    zarr_chunks: tuple[int, ...],
+    kwargs: dict[str, Any],
+) -> None:
     dask = _import_dask()
     kwargs = table._kwargs(kwargs)
     plan = table._plan
@@ -690,7 +729,9 @@ def read_zarr(path: Any, *, lazy: bool = False, client: Any = None) -> Table | L
         _import_dask()
         import dask.array as da
 
-        arrays = [da.from_array(group[what], chunks=group[what].chunks) for what in _ARRAYS]
-        return LazyTable(*arrays, axes, meta, client)
+        value, stderr, samples = (
+            da.from_array(group[what], chunks=group[what].chunks) for what in _ARRAYS
+        )
+        return LazyTable(value, stderr, samples, axes, meta, client)
     value, stderr, samples = (np.asarray(group[what][...]) for what in _ARRAYS)
     return Table(value, stderr, samples, axes, meta)

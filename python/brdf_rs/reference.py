@@ -31,12 +31,15 @@ name to its function and :data:`DEFAULTS` holds each model's default parameters.
 
 import math
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from typing import SupportsFloat, cast
 
 __all__ = ["DEFAULTS", "MODELS", "eval"]
 
 Vector = tuple[float, float, float]
 RGB = tuple[float, float, float]
+#: A colour parameter: a number (grey) or an RGB 3-sequence.
+Colour = float | Sequence[float]
 
 BLACK: RGB = (0.0, 0.0, 0.0)
 
@@ -123,14 +126,20 @@ def _cos_phi_difference(wi: Vector, wo: Vector, n: Vector, mu_i: float, mu_o: fl
     return _cos(projected_i, projected_o)
 
 
-def _rgb(colour: float | Sequence[float]) -> RGB:
+def _rgb(colour: Colour) -> RGB:
     """Returns a colour as an RGB triple: a number means grey."""
     try:
-        grey = float(colour)
+        grey = float(cast(SupportsFloat, colour))
     except TypeError:  # not a number: a 3-sequence
-        r, g, b = (float(c) for c in colour)
+        r, g, b = (float(c) for c in cast(Iterable[float], colour))
         return (r, g, b)
     return (grey, grey, grey)
+
+
+def _three(values: Iterable[float]) -> RGB:
+    """Returns three channel values as an RGB tuple."""
+    r, g, b = values
+    return (r, g, b)
 
 
 def _pow(x: float, p: float) -> float:
@@ -140,7 +149,7 @@ def _pow(x: float, p: float) -> float:
     """
     if x == 0.0 and p == 0.0:
         return 1.0  # MODELS.md: x^p with x = 0, p = 0 is 1
-    return x**p
+    return float(x**p)
 
 
 def _frexp_power(x: float, p: float) -> tuple[float, int]:
@@ -218,7 +227,9 @@ def _oren_nayar_factor(sigma: float, mu_i: float, mu_o: float, cos_phi: float) -
     return big_a + big_b * g * math.sin(a) * math.tan(b)
 
 
-def _frame(wi, wo, n) -> tuple[Vector, Vector, Vector]:
+def _frame(
+    wi: Sequence[float], wo: Sequence[float], n: Sequence[float]
+) -> tuple[Vector, Vector, Vector]:
     """Returns ``wi``, ``wo``, ``n`` normalized."""
     return _normalize(wi), _normalize(wo), _normalize(n)
 
@@ -228,16 +239,18 @@ def _frame(wi, wo, n) -> tuple[Vector, Vector, Vector]:
 # ---------------------------------------------------------------------------------------
 
 
-def lambert(wi, wo, n, *, kd) -> RGB:
+def lambert(wi: Sequence[float], wo: Sequence[float], n: Sequence[float], *, kd: Colour) -> RGB:
     """Lambert: ``f = kd/π``."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
     if not (mu_i > 0.0 and mu_o > 0.0):
         return BLACK
-    return tuple(kd_c / math.pi for kd_c in _rgb(kd))
+    return _three(kd_c / math.pi for kd_c in _rgb(kd))
 
 
-def oren_nayar(wi, wo, n, *, kd, sigma) -> RGB:
+def oren_nayar(
+    wi: Sequence[float], wo: Sequence[float], n: Sequence[float], *, kd: Colour, sigma: float
+) -> RGB:
     """Oren-Nayar (qualitative model): ``f = (kd/π)·(A + B·max(0, cos(φi-φo))·sin a·tan b)``."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
@@ -245,10 +258,18 @@ def oren_nayar(wi, wo, n, *, kd, sigma) -> RGB:
         return BLACK
     cos_phi = _cos_phi_difference(wi, wo, n, mu_i, mu_o)
     factor = _oren_nayar_factor(sigma, mu_i, mu_o, cos_phi)
-    return tuple(kd_c / math.pi * factor for kd_c in _rgb(kd))
+    return _three(kd_c / math.pi * factor for kd_c in _rgb(kd))
 
 
-def phong(wi, wo, n, *, kd, ks, p) -> RGB:
+def phong(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Phong (BRDF Summary eq. 2): ``f = kd + ks·cos_ar^p / mu_i``.
 
     Infinite only where the exact value is (mu_i -> 0+): the lobe is formed by
@@ -261,13 +282,21 @@ def phong(wi, wo, n, *, kd, ks, p) -> RGB:
         return BLACK
     r = _mirror(wi, n, mu_i)
     cos_ar = max(0.0, _cos(r, wo))
-    return tuple(
+    return _three(
         kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_ar, p))
         for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def modified_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+def modified_phong(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Modified Phong (BRDF Summary eq. 3): ``f = kd + ks·cos_ar^p``."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
@@ -276,10 +305,18 @@ def modified_phong(wi, wo, n, *, kd, ks, p) -> RGB:
     r = _mirror(wi, n, mu_i)
     cos_ar = max(0.0, _cos(r, wo))
     lobe = _pow(cos_ar, p)
-    return tuple(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
+    return _three(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
 
 
-def normalized_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+def normalized_phong(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Normalized Phong (BRDF Summary eq. 5, RTR 7.47): ``f = kd/π + ks·(p+2)/(2π)·cos_ar^p``."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
@@ -288,12 +325,20 @@ def normalized_phong(wi, wo, n, *, kd, ks, p) -> RGB:
     r = _mirror(wi, n, mu_i)
     cos_ar = max(0.0, _cos(r, wo))
     lobe = (p + 2.0) / (2.0 * math.pi) * _pow(cos_ar, p)
-    return tuple(
+    return _three(
         kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+def blinn_phong(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Blinn-Phong (BRDF Summary eq. 7): ``f = kd + ks·cos_th^p / mu_i``.
 
     Infinite only where the exact value is (mu_i -> 0+), as in :func:`phong`.
@@ -306,13 +351,21 @@ def blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
     if h is None:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
     cos_th = max(0.0, _cos(n, h))
-    return tuple(
+    return _three(
         kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_th, p))
         for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def modified_blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+def modified_blinn_phong(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Modified Blinn-Phong (BRDF Summary eq. 8): ``f = kd + ks·cos_th^p``."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
@@ -323,10 +376,18 @@ def modified_blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
     cos_th = max(0.0, _cos(n, h))
     lobe = _pow(cos_th, p)
-    return tuple(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
+    return _three(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
 
 
-def normalized_blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
+def normalized_blinn_phong(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Normalized Blinn-Phong (Summary eq. 9 with cos_th, RTR 7.48):
     ``f = kd/π + ks·(p+8)/(8π)·cos_th^p``."""
     wi, wo, n = _frame(wi, wo, n)
@@ -338,12 +399,20 @@ def normalized_blinn_phong(wi, wo, n, *, kd, ks, p) -> RGB:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
     cos_th = max(0.0, _cos(n, h))
     lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p)
-    return tuple(
+    return _three(
         kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def blinn_phong_fresnel(wi, wo, n, *, kd, ks, p) -> RGB:
+def blinn_phong_fresnel(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Blinn-Phong with Schlick Fresnel (RTR 7.49):
     ``f = kd/π + (p+8)/(8π)·F·cos_th^p``, ``F = ks + (1-ks)(1-cos_b)^5`` per channel
     (``ks`` is F0)."""
@@ -358,13 +427,22 @@ def blinn_phong_fresnel(wi, wo, n, *, kd, ks, p) -> RGB:
     cos_b = _cos_b(wi, wo)
     lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p)
     schlick = (1.0 - cos_b) ** 5
-    return tuple(
+    return _three(
         kd_c / math.pi + (f0_c + (1.0 - f0_c) * schlick) * lobe
         for kd_c, f0_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def torrance_sparrow(wi, wo, n, *, kd, ks, p, eta) -> RGB:
+def torrance_sparrow(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+    eta: float,
+) -> RGB:
     """Torrance-Sparrow (BRDF Summary eqs. 10-14, RTR 7.51):
     ``f = kd/π + ks·D·F·G / (4·mu_i·mu_o)`` with
     ``D = (p+2)/(2π)·cos_th^p``, ``F = R0 + (1-R0)(1-cos_b)^5``, ``R0 = ((eta-1)/(eta+1))²``,
@@ -398,7 +476,7 @@ def torrance_sparrow(wi, wo, n, *, kd, ks, p, eta) -> RGB:
             _product_quotient((ks_c, d_scale, f, cos_th), (2.0, cos_b, mu_o), power=d_power),
         )
 
-    return tuple(
+    return _three(
         kd_c / math.pi + specular(ks_c) for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
@@ -433,7 +511,15 @@ def _sin2(n: Vector, w: Vector) -> float:
     return _dot(c, c)
 
 
-def _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda) -> RGB:
+def _microfacet(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    kd: Colour,
+    ks: Colour,
+    ndf: Callable[[float, float], float],
+    mu_lambda: Callable[[float, float], float],
+) -> RGB:
     """``kd/π + D·G2·F/(4 mu_i mu_o)`` with height-correlated Smith
     ``G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))`` and Schlick's F (``ks`` is F0).
 
@@ -453,13 +539,21 @@ def _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda) -> RGB:
     l_o = mu_lambda(mu_o, _sin2(n, wo))
     g_over = 1.0 / (4.0 * (mu_i * mu_o + mu_o * l_i + mu_i * l_o))
     schlick = (1.0 - _cos_b(wi, wo)) ** 5
-    return tuple(
+    return _three(
         kd_c / math.pi + (f0_c + (1.0 - f0_c) * schlick) * d * g_over
         for kd_c, f0_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def ggx(wi, wo, n, *, kd, ks, alpha) -> RGB:
+def ggx(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
     """GGX: ``D = α²/(π(cos_th²(α²−1)+1)²)``, ``Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2``.
 
     The NDF's denominator ``cos_th²(α²−1)+1`` is written ``sin²θh + α²cos²θh`` (equal).
@@ -476,7 +570,15 @@ def ggx(wi, wo, n, *, kd, ks, alpha) -> RGB:
     return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
 
 
-def beckmann(wi, wo, n, *, kd, ks, alpha) -> RGB:
+def beckmann(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
     """Beckmann: ``D = exp(−tan²θh/α²)/(π α² cos⁴θh)``,
     ``Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π))``, ``c = μ/(α·sqrt(1−μ²))``."""
     a2 = alpha * alpha
@@ -501,7 +603,17 @@ def beckmann(wi, wo, n, *, kd, ks, alpha) -> RGB:
     return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
 
 
-def ward(wi, wo, n, tangent=None, *, kd, ks, alpha_x, alpha_y) -> RGB:
+def ward(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    tangent: Sequence[float] | None = None,
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha_x: float,
+    alpha_y: float,
+) -> RGB:
     """Ward: ``kd/π + ks·exp(−((h·x/αx)² + (h·y/αy)²)/cos_th²)/(4π·αx·αy·sqrt(mu_i·mu_o))``."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
@@ -520,12 +632,22 @@ def ward(wi, wo, n, tangent=None, *, kd, ks, alpha_x, alpha_y) -> RGB:
         lobe = math.exp(-exponent) / (
             4.0 * math.pi * alpha_x * alpha_y * math.sqrt(mu_i) * math.sqrt(mu_o)
         )
-    return tuple(
+    return _three(
         kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
-def ashikhmin_shirley(wi, wo, n, tangent=None, *, Rd, Rs, nu, nv) -> RGB:
+def ashikhmin_shirley(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    tangent: Sequence[float] | None = None,
+    *,
+    Rd: Colour,
+    Rs: Colour,
+    nu: float,
+    nv: float,
+) -> RGB:
     """Ashikhmin-Shirley (JGT 2000, eqs. 4-5): specular
     ``sqrt((nu+1)(nv+1))/(8π)·(n·h)^((nu(h·u)²+nv(h·v)²)/(1−(n·h)²))/((h·k)·max(n·k1,n·k2))·F``,
     ``F = Rs + (1−Rs)(1−h·k)^5``; diffuse
@@ -554,7 +676,7 @@ def ashikhmin_shirley(wi, wo, n, tangent=None, *, Rd, Rs, nu, nv) -> RGB:
     )
     schlick = (1.0 - k_dot_h) ** 5
     coupling = (1.0 - (1.0 - mu_i / 2.0) ** 5) * (1.0 - (1.0 - mu_o / 2.0) ** 5)
-    return tuple(
+    return _three(
         (rs_c + (1.0 - rs_c) * schlick) * lobe
         + 28.0 * rd_c / (23.0 * math.pi) * (1.0 - rs_c) * coupling
         for rd_c, rs_c in zip(_rgb(Rd), _rgb(Rs), strict=True)
@@ -566,14 +688,18 @@ def ashikhmin_shirley(wi, wo, n, tangent=None, *, Rd, Rs, nu, nv) -> RGB:
 # ---------------------------------------------------------------------------------------
 
 
-def lambert_shading(wi, wo, n, *, kd) -> RGB:
+def lambert_shading(
+    wi: Sequence[float], wo: Sequence[float], n: Sequence[float], *, kd: Colour
+) -> RGB:
     """Lambert shading: ``s = kd·max(n·l, 0)``."""
     l, _v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
     n_dot_l = _cos(n, l)
-    return tuple(kd_c * max(n_dot_l, 0.0) for kd_c in _rgb(kd))
+    return _three(kd_c * max(n_dot_l, 0.0) for kd_c in _rgb(kd))
 
 
-def oren_nayar_shading(wi, wo, n, *, kd, sigma) -> RGB:
+def oren_nayar_shading(
+    wi: Sequence[float], wo: Sequence[float], n: Sequence[float], *, kd: Colour, sigma: float
+) -> RGB:
     """Oren-Nayar shading: ``s = kd·clamp(n·l, 0, 1)·(A + B·G·sin a·tan b)``,
     ``G = max(0, cos(φi-φo))``; 0 for a light at ``n·l <= 0``."""
     l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
@@ -582,10 +708,17 @@ def oren_nayar_shading(wi, wo, n, *, kd, sigma) -> RGB:
         return BLACK  # clamp(n·l, 0, 1) = 0; skip tan b, which grows as n·l -> 0
     cos_phi = _cos_phi_difference(l, v, n, mu_i, mu_o)
     factor = _oren_nayar_factor(sigma, mu_i, mu_o, cos_phi)
-    return tuple(kd_c * mu_i * factor for kd_c in _rgb(kd))
+    return _three(kd_c * mu_i * factor for kd_c in _rgb(kd))
 
 
-def toon_diffuse(wi, wo, n, *, thresholds, colors) -> RGB:
+def toon_diffuse(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    thresholds: Sequence[float],
+    colors: Sequence[Colour],
+) -> RGB:
     """Toon diffuse: colour ``c_j`` with ``j`` = how many thresholds are ``<= n·l``
     (signed ``n·l``; thresholds ascending, ``len(colors) = len(thresholds) + 1``)."""
     l, _v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
@@ -598,7 +731,9 @@ def toon_diffuse(wi, wo, n, *, thresholds, colors) -> RGB:
     return _rgb(colors[j])
 
 
-def phong_specular(wi, wo, n, *, ks, p) -> RGB:
+def phong_specular(
+    wi: Sequence[float], wo: Sequence[float], n: Sequence[float], *, ks: Colour, p: float
+) -> RGB:
     """Phong specular: ``s = ks·clamp(v·r, 0, 1)^p``; 0 when ``n·l <= 0``."""
     l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
     n_dot_l = _cos(n, l)
@@ -606,10 +741,12 @@ def phong_specular(wi, wo, n, *, ks, p) -> RGB:
         return BLACK
     r = _mirror(l, n, n_dot_l)
     lobe = _pow(max(0.0, _cos(v, r)), p)
-    return tuple(ks_c * lobe for ks_c in _rgb(ks))
+    return _three(ks_c * lobe for ks_c in _rgb(ks))
 
 
-def blinn_specular(wi, wo, n, *, ks, p) -> RGB:
+def blinn_specular(
+    wi: Sequence[float], wo: Sequence[float], n: Sequence[float], *, ks: Colour, p: float
+) -> RGB:
     """Blinn specular: ``s = ks·clamp(n·h, 0, 1)^p``; 0 when ``n·l <= 0`` or ``h`` is
     undefined (``l + v = 0``)."""
     l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
@@ -620,10 +757,18 @@ def blinn_specular(wi, wo, n, *, ks, p) -> RGB:
     if h is None:
         return BLACK  # l = -v: h undefined, the model returns 0 (MODELS.md)
     lobe = _pow(max(0.0, _cos(n, h)), p)
-    return tuple(ks_c * lobe for ks_c in _rgb(ks))
+    return _three(ks_c * lobe for ks_c in _rgb(ks))
 
 
-def toon_specular(wi, wo, n, *, high, low, threshold) -> RGB:
+def toon_specular(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    high: Colour,
+    low: Colour,
+    threshold: float,
+) -> RGB:
     """Toon specular: ``high`` if ``v·r >= threshold`` else ``low``; 0 when ``n·l <= 0``."""
     l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
     n_dot_l = _cos(n, l)
@@ -633,7 +778,16 @@ def toon_specular(wi, wo, n, *, high, low, threshold) -> RGB:
     return _rgb(high) if _cos(v, r) >= threshold else _rgb(low)
 
 
-def kajiya_kay(wi, wo, n, tangent, *, kd, ks, p) -> RGB:
+def kajiya_kay(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    tangent: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    p: float,
+) -> RGB:
     """Kajiya-Kay hair (RTR 7.50): ``s = kd·sin_l + ks·max(0, sin_l·sin_v - (l·t)(v·t))^p``,
     ``sin_l = sqrt(max(0, 1 - (l·t)²))``, ``sin_v`` likewise; 0 when ``n·l <= 0``.
 
@@ -648,7 +802,7 @@ def kajiya_kay(wi, wo, n, tangent, *, kd, ks, p) -> RGB:
     sin_v = math.sqrt(max(0.0, 1.0 - v_dot_t * v_dot_t))
     # sin_l·sin_v - (l·t)(v·t) is the cosine of an angle difference: at most 1 exactly.
     lobe = _pow(min(1.0, max(0.0, sin_l * sin_v - l_dot_t * v_dot_t)), p)
-    return tuple(kd_c * sin_l + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
+    return _three(kd_c * sin_l + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
 
 
 # ---------------------------------------------------------------------------------------

@@ -67,7 +67,7 @@ import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -158,7 +158,9 @@ def _required(where: _Where, table: Mapping[str, Any], key: str, what: str) -> A
     return table[key]
 
 
-def _number(where: _Where, value: Any, *, positive=False, non_negative=False) -> float:
+def _number(
+    where: _Where, value: Any, *, positive: bool = False, non_negative: bool = False
+) -> float:
     what = "a positive number" if positive else "a number >= 0" if non_negative else "a number"
     if not _is_number(value) or not math.isfinite(value):
         raise where.expected(what, value)
@@ -174,7 +176,7 @@ def _triple(value: Any) -> Any:
     return value
 
 
-def _vector(where: _Where, value: Any, *, nonzero=False) -> list[float]:
+def _vector(where: _Where, value: Any, *, nonzero: bool = False) -> list[float]:
     what = "a nonzero vector [x, y, z]" if nonzero else "[x, y, z] (three numbers)"
     value = _triple(value)
     if (
@@ -326,7 +328,7 @@ def _camera(where: _Where, value: Any) -> dict[str, Any]:
         raise (where / "resolution").expected(
             "[width, height]: two integers from 1 to 32768", resolution
         )
-    camera = {
+    camera: dict[str, Any] = {
         "projection": projection,
         "position": _vector(where / "position", _required(where, table, "position", "[x, y, z]")),
         "look_at": _vector(where / "look_at", table.get("look_at", [0, 0, 0])),
@@ -564,7 +566,11 @@ def load_scene(path: str | os.PathLike[str]) -> Scene:
     return parse_scene(text, str(path))
 
 
-def _as_scene(scene: Scene | str | os.PathLike[str] | Mapping[str, Any]) -> Scene:
+#: What :func:`render` accepts as a scene: a checked Scene, a TOML path, or a dict.
+SceneLike = Scene | str | os.PathLike[str] | Mapping[str, Any]
+
+
+def _as_scene(scene: SceneLike) -> Scene:
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
@@ -600,8 +606,35 @@ def _named_stats(stats: dict[str, Any], names: Sequence[str]) -> dict[str, Any]:
     return stats
 
 
+@overload
 def render(
-    scene: Scene | str | os.PathLike[str] | Mapping[str, Any],
+    scene: SceneLike,
+    *,
+    only: str | None = None,
+    tonemap: str | None = None,
+    exposure: float | None = None,
+    stats: Literal[False] = False,
+) -> np.ndarray: ...
+@overload
+def render(
+    scene: SceneLike,
+    *,
+    only: str | None = None,
+    tonemap: str | None = None,
+    exposure: float | None = None,
+    stats: Literal[True],
+) -> tuple[np.ndarray, dict[str, Any]]: ...
+@overload
+def render(
+    scene: SceneLike,
+    *,
+    only: str | None = None,
+    tonemap: str | None = None,
+    exposure: float | None = None,
+    stats: bool = False,
+) -> np.ndarray | tuple[np.ndarray, dict[str, Any]]: ...
+def render(
+    scene: SceneLike,
     *,
     only: str | None = None,
     tonemap: str | None = None,
@@ -713,6 +746,42 @@ def _unit_rows(name: str, a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(unit, dtype=np.float32)
 
 
+@overload
+def shade(
+    material: Mapping[str, Any],
+    n: Any,
+    v: Any,
+    lights: Sequence[Mapping[str, Any]],
+    positions: Any = None,
+    *,
+    tangent: Any = None,
+    only: str | None = None,
+    stats: Literal[False] = False,
+) -> np.ndarray: ...
+@overload
+def shade(
+    material: Mapping[str, Any],
+    n: Any,
+    v: Any,
+    lights: Sequence[Mapping[str, Any]],
+    positions: Any = None,
+    *,
+    tangent: Any = None,
+    only: str | None = None,
+    stats: Literal[True],
+) -> tuple[np.ndarray, dict[str, Any]]: ...
+@overload
+def shade(
+    material: Mapping[str, Any],
+    n: Any,
+    v: Any,
+    lights: Sequence[Mapping[str, Any]],
+    positions: Any = None,
+    *,
+    tangent: Any = None,
+    only: str | None = None,
+    stats: bool = False,
+) -> np.ndarray | tuple[np.ndarray, dict[str, Any]]: ...
 def shade(
     material: Mapping[str, Any],
     n: Any,
@@ -762,6 +831,8 @@ def shade(
             args[k] = np.ascontiguousarray(flat, dtype=np.float32)
         else:
             args[k] = _unit_rows(k, a)
+    if args["n"] is None or args["v"] is None:
+        raise TypeError("n, v: expected arrays of normals and view directions, got None")
     out, counts = _core.shade_gbuffer(
         core_material,
         core_lights,

@@ -1,0 +1,589 @@
+"""Plots of models, albedo tables and benchmark results (needs matplotlib: ``brdf-rs[plot]``).
+
+Every function returns a :class:`matplotlib.figure.Figure` and, given ``path``, also saves
+it there (PNG, SVG, PDF: matplotlib picks the format from the suffix). Figures are built
+with matplotlib's object API (``Figure``, not ``pyplot``): no GUI backend is ever
+selected, nothing is registered in pyplot's global figure list, so the module works the
+same on a headless server, in a script and in a notebook (where a returned Figure shows
+itself). Functions that draw one panel also take ``ax=`` to draw into your own axes.
+
+- :func:`polar_lobe`: ``f(wi, wo)`` for ``wo`` in the plane of incidence, as a polar
+  plot (like Disney's BRDF Explorer): light arriving from the left, mirror direction on
+  the right.
+- :func:`albedo_curves`: directional albedo ``R(mu)`` for several values of a parameter,
+  with ±2 standard-error bands.
+- :func:`table_heatmap`: an albedo or split-sum table as a heat map (a 1-D table as a
+  curve).
+- :func:`energy_compensation`: ``E(mu, alpha)`` and ``E_avg(alpha)`` of a microfacet model.
+- :func:`convergence`: error against time (``benches/albedo_convergence.py`` results).
+- :func:`spheres`: rendered images side by side with labels; :func:`render_sphere`
+  renders one model on a sphere (no matplotlib needed).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, cast
+
+import numpy as np
+import numpy.typing as npt
+
+from . import _albedo, _api
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.projections.polar import PolarAxes
+
+__all__ = [
+    "albedo_curves",
+    "convergence",
+    "energy_compensation",
+    "polar_lobe",
+    "render_sphere",
+    "spheres",
+    "table_heatmap",
+]
+
+log = logging.getLogger("brdf_rs")
+
+#: Line colours for the R, G, B channels when they differ.
+_RGB_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")
+
+
+def _matplotlib() -> Any:
+    """Imports matplotlib (lazily: ``import brdf_rs`` never pays for it)."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise ImportError(
+            "brdf_rs.plot needs matplotlib: pip install 'brdf-rs[plot]' (or matplotlib>=3.7)"
+        ) from None
+    return matplotlib
+
+
+def _figure(width: float, height: float) -> Figure:
+    _matplotlib()
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+def _finish(fig: Figure, path: str | os.PathLike[str] | None, dpi: float) -> Figure:
+    if path is not None:
+        path = Path(path)
+        fig.savefig(path, dpi=dpi)
+        log.debug("wrote %s", path)
+    return fig
+
+
+def _target(ax: Axes | None, width: float, height: float, **subplot: Any) -> tuple[Figure, Axes]:
+    if ax is not None:
+        return ax.get_figure(), ax  # type: ignore[return-value]
+    fig = _figure(width, height)
+    return fig, fig.add_subplot(**subplot)
+
+
+def _distinct_channels(rgb: np.ndarray) -> bool:
+    """Whether the three channels of ``(..., 3)`` values differ anywhere."""
+    return not (
+        np.array_equal(rgb[..., 0], rgb[..., 1]) and np.array_equal(rgb[..., 0], rgb[..., 2])
+    )
+
+
+# ------------------------------------------------------------------------ polar lobe
+
+
+def polar_lobe(
+    model: str,
+    theta_i: float | Sequence[float] = 45.0,
+    *,
+    cosine: bool = False,
+    resolution: int = 721,
+    tangent: Sequence[float] | None = None,
+    normalization: str = "approximate",
+    ax: Axes | None = None,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+    size: tuple[float, float] = (5.0, 2.2),
+    **params: Any,
+) -> Figure:
+    """Polar plot of the lobe ``f(wi, wo)`` for ``wo`` in the plane of incidence.
+
+    The light arrives from the left at ``theta_i`` degrees from the normal (``wi`` =
+    (−sin θi, 0, cos θi)); ``wo`` = (sin θo, 0, cos θo) sweeps θo from −90° to 90°, so
+    the mirror direction is at +θi. The radius is ``f`` in 1/sr (family A) or the shading
+    term ``s`` (family B, which includes the light's cosine); ``cosine=True`` multiplies by
+    cos θo (the reflected radiance under a unit irradiance, as in BRDF Explorer's
+    "multiply by N·L" toggle, here for the outgoing side). Channels that differ are drawn
+    in red, green and blue; grey parameters give one curve per ``theta_i``.
+
+    Args:
+        model: any model of ``brdf_rs.models()``.
+        theta_i: incidence angle(s) in degrees, in [0, 90].
+        tangent: the tangent for models that need one (default (1, 0, 0), in the plane).
+        **params: the model's parameters.
+    """
+    angles = np.atleast_1d(np.asarray(theta_i, dtype=np.float64))
+    if angles.ndim != 1 or angles.size == 0 or not np.all((angles >= 0) & (angles <= 90)):
+        raise ValueError(f"theta_i: expected angles in degrees from 0 to 90, got {theta_i!r}")
+    if isinstance(resolution, bool) or not isinstance(resolution, int) or resolution < 3:
+        raise ValueError(f"resolution: expected an integer of at least 3, got {resolution!r}")
+    specs = _api.models()
+    if model in specs and specs[model]["tangent"] and tangent is None:
+        tangent = (1.0, 0.0, 0.0)
+    # Cell midpoints: never exactly grazing, where 1/mu_o factors (ward) blow up.
+    theta_o = np.radians(-90.0 + 180.0 * (np.arange(resolution) + 0.5) / resolution)
+    wo = np.stack([np.sin(theta_o), np.zeros_like(theta_o), np.cos(theta_o)], axis=-1)
+    curves = []
+    for angle in angles:
+        t = np.radians(angle)
+        wi = np.array([-np.sin(t), 0.0, np.cos(t)])
+        f = _api.eval(model, wi, wo, tangent=tangent, normalization=normalization, **params)
+        if cosine:
+            f = f * np.cos(theta_o)[:, None]
+        curves.append(np.where(np.isfinite(f), f, np.nan))
+    values = np.stack(curves)
+    fig, axes = _target(ax, *size, projection="polar")
+    ax = cast("PolarAxes", axes)
+    ax.set_theta_zero_location("N")
+    ax.set_theta_direction(-1)
+    ax.set_thetamin(-90)
+    ax.set_thetamax(90)
+    colour_lines = _distinct_channels(values)
+    styles = ["-", "--", ":", "-."]
+    cycle = [f"C{k}" for k in range(10)]
+    for k, (angle, f) in enumerate(zip(angles, values, strict=True)):
+        label = f"θi = {angle:g}°"
+        if colour_lines:
+            for c in range(3):
+                ax.plot(
+                    theta_o,
+                    f[:, c],
+                    styles[k % len(styles)],
+                    color=_RGB_COLOURS[c],
+                    lw=1.2,
+                    label=f"{label}, {'RGB'[c]}",
+                )
+        else:
+            ax.plot(theta_o, f[:, 0], color=cycle[k % len(cycle)], lw=1.4, label=label)
+    top = float(np.nanmax(values)) if np.any(np.isfinite(values)) else 1.0
+    top = top if top > 0 else 1.0
+    ax.set_rmax(top * 1.05)
+    for k, angle in enumerate(angles):
+        colour = "grey" if colour_lines else cycle[k % len(cycle)]
+        ax.plot([-np.radians(angle)] * 2, [0, top * 1.05], ":", color=colour, lw=1)
+    family = specs[model]["family"] if model in specs else "A"
+    quantity = "s(l, v)" if family == "B" else "f(wi, wo)"
+    if cosine:
+        quantity += "·cos θo"
+    ax.set_title(f"{model}: {quantity}", fontsize=9, pad=2)
+    ax.tick_params(labelsize=7, pad=1)
+    ax.set_thetagrids(np.arange(-90, 91, 30), [f"{t}°" for t in np.arange(-90, 91, 30)])
+    from matplotlib.ticker import MaxNLocator
+
+    ax.yaxis.set_major_locator(MaxNLocator(3))
+    ax.yaxis.set_major_formatter("{x:.3g}")
+    ax.set_rlabel_position(-90)
+    legend: dict[str, Any] = {
+        "fontsize": 6,
+        "loc": "upper left",
+        "bbox_to_anchor": (0.86, 1.06),
+        "frameon": False,
+    }
+    if colour_lines:  # one entry per angle (line style) and per channel (colour)
+        from matplotlib.lines import Line2D
+
+        handles = [
+            Line2D([], [], color="0.3", ls=styles[k % len(styles)], label=f"θi = {a:g}°")
+            for k, a in enumerate(angles)
+        ] + [Line2D([], [], color=_RGB_COLOURS[c], label="RGB"[c]) for c in range(3)]
+        ax.legend(handles=handles, **legend)
+    elif len(angles) > 1:
+        ax.legend(**legend)
+    return _finish(fig, path, dpi)
+
+
+# ---------------------------------------------------------------------- albedo curves
+
+
+def _curve_channel(value: np.ndarray, channel: int | None) -> tuple[np.ndarray, str]:
+    if channel is not None:
+        if channel not in (0, 1, 2):
+            raise ValueError(f"channel: expected 0, 1 or 2 (R, G, B), got {channel!r}")
+        return value[..., channel], f" ({'RGB'[channel]})"
+    if _distinct_channels(value):
+        return value.mean(axis=-1), " (mean of R, G, B)"
+    return value[..., 0], ""
+
+
+def albedo_curves(
+    model: str,
+    param: str,
+    values: Sequence[float] | np.ndarray,
+    *,
+    mu: Sequence[float] | np.ndarray | None = None,
+    samples: int = 4096,
+    tol: float | None = None,
+    seed: int = 0,
+    channel: int | None = None,
+    ax: Axes | None = None,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+    size: tuple[float, float] = (5.0, 3.4),
+    **params: Any,
+) -> Figure:
+    """Directional albedo ``R(mu)`` of a family-A model, one curve per value of ``param``.
+
+    Each curve is computed by :func:`brdf_rs.albedo_table` (with its honest standard
+    errors, drawn as ±2σ bands); a dotted line marks R = 1 (energy conservation).
+    ``channel`` picks R, G or B; by default grey tables show their one value and coloured
+    ones the mean of the three channels.
+
+    Args:
+        model: a family-A model.
+        param: the parameter that varies (e.g. ``"p"``, ``"alpha"``, ``"sigma"``).
+        values: its values, one curve each.
+        mu: incidences (default 48 points from 0.02 to 1).
+        **params: the other parameters, fixed.
+    """
+    if param == "mu":
+        raise ValueError("param: mu is the curve's x axis; choose a model parameter")
+    mu_axis = np.linspace(0.02, 1.0, 48) if mu is None else np.asarray(mu, dtype=np.float64)
+    table = _albedo.albedo_table(
+        model,
+        {param: values, "mu": mu_axis},
+        samples=samples,
+        tol=tol,
+        seed=seed,
+        **params,
+    )
+    value, suffix = _curve_channel(table.value, channel)
+    stderr, _ = _curve_channel(table.stderr, channel)
+    fig, ax = _target(ax, *size)
+    for k, v in enumerate(table.axes[param]):
+        colour = f"C{k % 10}"
+        ax.plot(mu_axis, value[k], color=colour, lw=1.4, label=f"{param} = {v:.4g}")
+        ax.fill_between(
+            mu_axis, value[k] - 2 * stderr[k], value[k] + 2 * stderr[k], color=colour, alpha=0.25
+        )
+    ax.axhline(1.0, color="grey", ls=":", lw=0.8)
+    ax.set_xlim(0, 1)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("μ = cos θi")
+    ax.set_ylabel(f"albedo R(μ){suffix}")
+    ax.set_title(f"{model}: directional albedo", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(True, lw=0.3)
+    return _finish(fig, path, dpi)
+
+
+# ----------------------------------------------------------------------------- tables
+
+
+def _edges(coords: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Cell edges around coordinates (in log space when they are geometric)."""
+    c = np.asarray(coords, dtype=np.float64)
+    geometric = bool(
+        c.size > 2
+        and np.all(c > 0)
+        and np.allclose(np.diff(np.log(c)), np.log(c[1] / c[0]), rtol=1e-6)
+        and not np.allclose(np.diff(c), c[1] - c[0], rtol=1e-6)
+    )
+    x = np.log(c) if geometric else c
+    if x.size == 1:
+        edges = np.array([x[0] - 0.5, x[0] + 0.5])
+    else:
+        mid = 0.5 * (x[1:] + x[:-1])
+        edges = np.concatenate([[2 * x[0] - mid[0]], mid, [2 * x[-1] - mid[-1]]])
+    return (np.exp(edges) if geometric else edges), geometric
+
+
+def _panels(table: _albedo.Table, channel: int | None) -> list[tuple[int, str]]:
+    quantity = str(table.meta.get("quantity", ""))
+    if channel is not None:
+        if channel not in (0, 1, 2):
+            raise ValueError(f"channel: expected 0, 1 or 2, got {channel!r}")
+        names = ("scale A", "bias B", "(zero)") if quantity.startswith("split-sum") else "RGB"
+        return [(channel, names[channel])]
+    if quantity.startswith("split-sum"):
+        return [(0, "scale A"), (1, "bias B")]
+    if _distinct_channels(table.value):
+        return [(0, "R"), (1, "G"), (2, "B")]
+    return [(0, "albedo")]
+
+
+def table_heatmap(
+    table: _albedo.Table,
+    *,
+    channel: int | None = None,
+    ax: Axes | None = None,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+    cmap: str = "viridis",
+) -> Figure:
+    """A 2-D table as a heat map (first axis across, second up; a log axis where the
+    coordinates are geometric), a 1-D table as a curve with its ±2σ band.
+
+    A split-sum (DFG) table shows its scale A and bias B side by side; an albedo table
+    with grey parameters shows one panel, a coloured one R, G and B. ``channel`` picks
+    one panel (and is required with ``ax=`` when there would be several).
+    """
+    if not isinstance(table, _albedo.Table):
+        raise TypeError(f"table: expected a brdf_rs.Table, got {type(table).__name__}")
+    names = list(table.axes)
+    if len(names) not in (1, 2):
+        raise ValueError(
+            f"table: can draw 1-D and 2-D tables; this one has {len(names)} axes"
+            f" ({', '.join(names)})"
+        )
+    panels = _panels(table, channel)
+    if ax is not None and len(panels) > 1:
+        raise ValueError(f"ax: this table has {len(panels)} panels; give channel= to draw one")
+    model = table.meta.get("model", "")
+    if ax is not None:
+        fig, axes = ax.get_figure(), [ax]
+    else:
+        fig = _figure(4.2 * len(panels), 3.4)
+        axes = [fig.add_subplot(1, len(panels), k + 1) for k in range(len(panels))]
+    x_name = names[0]
+    x = table.axes[x_name]
+    for a, (c, label) in zip(axes, panels, strict=True):
+        if len(names) == 1:
+            v, se = table.value[:, c], table.stderr[:, c]
+            a.plot(x, v, lw=1.4)
+            a.fill_between(x, v - 2 * se, v + 2 * se, alpha=0.25)
+            a.set_ylabel(label)
+            _, geometric = _edges(x)
+            if geometric:
+                a.set_xscale("log")
+            a.grid(True, lw=0.3)
+        else:
+            y_name = names[1]
+            xe, x_log = _edges(x)
+            ye, y_log = _edges(table.axes[y_name])
+            mesh = a.pcolormesh(xe, ye, table.value[:, :, c].T, cmap=cmap, shading="flat")
+            fig.colorbar(mesh, ax=a, shrink=0.9)  # type: ignore[union-attr]
+            if x_log:
+                a.set_xscale("log")
+            if y_log:
+                a.set_yscale("log")
+            a.set_ylabel(y_name)
+        a.set_xlabel(x_name)
+        a.set_title(f"{model} {label}".strip(), fontsize=9)
+    return _finish(fig, path, dpi)  # type: ignore[arg-type]
+
+
+def energy_compensation(
+    result: _albedo.EnergyCompensation,
+    *,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+) -> Figure:
+    """Two panels: ``E(mu, alpha)`` as a heat map, and ``E_avg(alpha)`` with the energy
+    ``1 − E_avg`` that single scattering loses (what the compensation lobe restores)."""
+    if not isinstance(result, _albedo.EnergyCompensation):
+        raise TypeError(
+            f"result: expected a brdf_rs.EnergyCompensation, got {type(result).__name__}"
+        )
+    fig = _figure(8.4, 3.4)
+    left, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+    xe, x_log = _edges(result.mu)
+    ye, y_log = _edges(result.alpha)
+    mesh = left.pcolormesh(xe, ye, result.e.T, cmap="viridis", shading="flat", vmin=0, vmax=1)
+    fig.colorbar(mesh, ax=left, shrink=0.9)
+    if y_log:
+        left.set_yscale("log")
+    if x_log:
+        left.set_xscale("log")
+    left.set_xlabel("μ = cos θi")
+    left.set_ylabel("alpha")
+    left.set_title(f"{result.model}: E(μ, α), F = 1", fontsize=9)
+    se = result.e_avg_stderr
+    right.plot(result.alpha, result.e_avg, lw=1.4, label="E_avg(α)")
+    right.fill_between(result.alpha, result.e_avg - 2 * se, result.e_avg + 2 * se, alpha=0.25)
+    right.plot(result.alpha, 1 - result.e_avg, lw=1.4, ls="--", label="1 − E_avg (lost)")
+    right.set_xlabel("alpha")
+    right.set_ylim(0, 1.02)
+    right.grid(True, lw=0.3)
+    right.legend(fontsize=7)
+    right.set_title("cosine-weighted average albedo", fontsize=9)
+    return _finish(fig, path, dpi)
+
+
+# ------------------------------------------------------------------------ convergence
+
+
+def _convergence_tables(results: Any) -> dict[str, dict[str, list[dict[str, float]]]]:
+    if isinstance(results, (str, os.PathLike)):
+        with open(results, encoding="utf-8") as f:
+            results = json.load(f)
+    if isinstance(results, Mapping) and "results" in results:
+        results = results["results"]
+    if not isinstance(results, Mapping) or not results:
+        raise ValueError(
+            "results: expected {table: {method: [points]}}, {method: [points]} or the"
+            " JSON that benches/albedo_convergence.py writes"
+        )
+    first = next(iter(results.values()))
+    tables = {"": results} if isinstance(first, Sequence) else results
+    for name, methods in tables.items():
+        if not isinstance(methods, Mapping):
+            raise ValueError(f"results[{name!r}]: expected {{method: [points]}}")
+        for method, points in methods.items():
+            if not isinstance(points, Sequence) or not points:
+                raise ValueError(f"results[{name!r}][{method!r}]: expected a list of points")
+            for point in points:
+                if "seconds" not in point or not ("rms" in point or "error" in point):
+                    raise ValueError(
+                        f"results[{name!r}][{method!r}]: each point needs 'seconds' and"
+                        f" 'rms' (or 'error'); got keys {sorted(point)}"
+                    )
+    return dict(tables)
+
+
+def convergence(
+    results: Any,
+    *,
+    targets: Sequence[float] = (),
+    title: str | None = None,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+) -> Figure:
+    """Error against wall time, log-log, one panel per table and one line per method.
+
+    Args:
+        results: ``{table: {method: [{"seconds", "rms"}, ...]}}`` (one table may drop
+            the outer level), the JSON dict ``benches/albedo_convergence.py`` writes, or
+            the path of that JSON file. ``"error"`` may stand for ``"rms"``.
+        targets: error levels to mark with horizontal lines.
+    """
+    tables = _convergence_tables(results)
+    fig = _figure(5.5 * len(tables), 4.2)
+    axes = [fig.add_subplot(1, len(tables), k + 1) for k in range(len(tables))]
+    for ax, (name, methods) in zip(axes, tables.items(), strict=True):
+        for label, points in methods.items():
+            pts = sorted((p["seconds"], p.get("rms", p.get("error"))) for p in points)
+            style = "--" if "NumPy" in label else ("-o" if "adaptive" in label else "-")
+            xs, ys = zip(*pts, strict=True)
+            ax.loglog(xs, ys, style, label=label, markersize=3)
+        for target in targets:
+            ax.axhline(target, color="grey", lw=0.5)
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("RMS error")
+        if name:
+            ax.set_title(name, fontsize=9)
+        ax.grid(True, which="both", lw=0.3)
+    axes[0].legend(fontsize=7)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return _finish(fig, path, dpi)
+
+
+# ---------------------------------------------------------------------------- spheres
+
+
+def _display_image(name: str, image: Any) -> np.ndarray:
+    a = np.asarray(image)
+    if a.ndim != 3 or a.shape[2] not in (3, 4):
+        raise ValueError(f"{name}: expected an (H, W, 3) image, got shape {a.shape}")
+    if a.dtype == np.uint8:
+        return a
+    if a.dtype.kind != "f":
+        raise TypeError(f"{name}: expected float (0..1) or uint8 pixels, got {a.dtype}")
+    return np.clip(np.nan_to_num(a.astype(np.float32)), 0.0, 1.0)
+
+
+def spheres(
+    images: Sequence[Any],
+    labels: Sequence[str] | None = None,
+    *,
+    ncols: int | None = None,
+    title: str | None = None,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+    panel_inches: float = 1.8,
+) -> Figure:
+    """Rendered images (``(H, W, 3)``, float display values in [0, 1] or uint8) side by
+    side, each labelled below; ``ncols`` wraps them into rows."""
+    if len(images) == 0:
+        raise ValueError("images: expected at least one image")
+    if labels is not None and len(labels) != len(images):
+        raise ValueError(f"labels: expected {len(images)} labels, got {len(labels)}")
+    pictures = [_display_image(f"images[{k}]", im) for k, im in enumerate(images)]
+    cols = len(pictures) if ncols is None else max(1, min(int(ncols), len(pictures)))
+    rows = -(-len(pictures) // cols)
+    fig = _figure(panel_inches * cols, (panel_inches + 0.25) * rows + (0.3 if title else 0))
+    for k, picture in enumerate(pictures):
+        ax = fig.add_subplot(rows, cols, k + 1)
+        ax.imshow(picture, interpolation="nearest")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        for spine in ax.spines.values():
+            spine.set_visible(False)
+        if labels is not None:
+            ax.set_xlabel(labels[k], fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return _finish(fig, path, dpi)
+
+
+#: Family-B terms that go in a material's specular slot when rendered alone.
+_SPECULAR_ONLY = ("phong_specular", "blinn_specular", "toon_specular")
+
+
+def render_sphere(
+    model: str,
+    *,
+    size: int = 160,
+    tonemap: str = "aces",
+    exposure: float = 0.0,
+    base: float = 0.0,
+    **params: Any,
+) -> npt.NDArray[np.float32]:
+    """Renders one model on a sphere: a ``(size, size, 3)`` float32 display image.
+
+    Orthographic view down −z, a white key light from the upper right front and a fill
+    light (30%) from the left. A family-A model is the sphere's material; a family-B
+    term goes in its diffuse or specular slot (``kajiya_kay`` with meridian fibres), and
+    ``base`` adds a grey ``lambert_shading`` diffuse under a specular-only term so the
+    sphere's shape shows. Light intensities are π (family A) and 1 (family B), so a
+    white Lambert surface looks the same in both families.
+    """
+    from . import scene as scenes
+
+    specs = _api.models()
+    if model not in specs:
+        raise ValueError(f"model: unknown model {model!r}; known models: {', '.join(specs)}")
+    family = specs[model]["family"]
+    term = {"model": model, **params}
+    material: dict[str, Any]
+    if family == "A":
+        material = term
+    elif model in _SPECULAR_ONLY:
+        material = {"specular": term}
+        if base > 0:
+            material["diffuse"] = {"model": "lambert_shading", "kd": float(base)}
+    else:
+        material = {"diffuse": term}
+    scale = np.pi if family == "A" else 1.0
+    scene = {
+        "camera": {
+            "type": "orthographic",
+            "position": [0, 0, 10],
+            "height": 2.2,
+            "resolution": [int(size), int(size)],
+        },
+        "materials": {model: material},
+        "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1.0, "material": model}],
+        "lights": [
+            {"type": "directional", "direction": [-1, -1, -1.2], "intensity": scale},
+            {"type": "directional", "direction": [1, 0.3, -0.5], "intensity": 0.3 * scale},
+        ],
+        "output": {"tonemap": tonemap, "exposure": exposure},
+    }
+    return scenes.render(scene)

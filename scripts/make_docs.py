@@ -1,0 +1,440 @@
+"""Generates docs/: one page per model, the conventions, an index and the benchmark page.
+
+    python scripts/make_docs.py                                  # docs/ (committed)
+    python scripts/make_docs.py --resolution small --out /tmp/d  # quick check (the tests)
+
+Every page comes from ``brdf_rs.models()`` (formula, source, parameters with kinds,
+defaults and ranges) and every image from the library: a sphere rendered by
+``brdf_rs.plot.render_sphere``, the lobe in the plane of incidence by
+``brdf_rs.plot.polar_lobe`` and the directional albedo (family A) by
+``brdf_rs.plot.albedo_curves``, computed when the script runs. Nothing here is written per
+model except which parameters make a telling picture (``SHOWCASE``) and which parameter
+the albedo curves vary (``CURVES``); a model added to the library gets a page from its
+spec and defaults. The Markdown does not depend on the resolution, so the tests can
+check the committed pages against a quick regeneration.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import brdf_rs
+import numpy as np
+from brdf_rs import plot
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Image sizes and sample counts: "full" for the committed docs, "small" for tests.
+RESOLUTIONS = {
+    "full": {"sphere": 160, "dpi": 90, "overview": 96, "mu": 32, "samples": 4096},
+    "small": {"sphere": 24, "dpi": 24, "overview": 16, "mu": 6, "samples": 256},
+}
+
+#: Parameters beyond the defaults that make a telling sphere and lobe (a tinted diffuse
+#: term under a specular lobe, the assignment's toon colours). Models not listed use
+#: their defaults.
+SHOWCASE: dict[str, dict[str, Any]] = {
+    "phong": {"kd": [0.1, 0.04, 0.02], "ks": 0.5},
+    "modified_phong": {"kd": [0.1, 0.04, 0.02], "ks": 0.5},
+    "blinn_phong": {"kd": [0.1, 0.04, 0.02], "ks": 0.5},
+    "modified_blinn_phong": {"kd": [0.1, 0.04, 0.02], "ks": 0.5},
+    "normalized_phong": {"kd": [0.6, 0.25, 0.1], "ks": 0.3},
+    "normalized_blinn_phong": {"kd": [0.6, 0.25, 0.1], "ks": 0.3},
+    "blinn_phong_fresnel": {"kd": [0.3, 0.12, 0.05], "p": 200},
+    "torrance_sparrow": {"kd": [0.3, 0.12, 0.05], "p": 200},
+    "ggx": {"kd": [0.3, 0.12, 0.05], "ks": 0.04, "alpha": 0.15},
+    "beckmann": {"kd": [0.3, 0.12, 0.05], "ks": 0.04, "alpha": 0.15},
+    "ggx_ms": {"alpha": 0.8},
+    "beckmann_ms": {"alpha": 0.8},
+    "ward": {"kd": [0.6, 0.25, 0.1], "ks": 0.3, "alpha_x": 0.1, "alpha_y": 0.4},
+    "ashikhmin_shirley": {"Rd": [0.6, 0.25, 0.1], "nu": 20, "nv": 400},
+    "lambert_shading": {"kd": 0.8},
+    "oren_nayar_shading": {"kd": 0.8},
+    "toon_diffuse": {
+        "thresholds": [0.15, 0.6],
+        "colors": [[0.05, 0.08, 0.25], [0.2, 0.35, 0.75], [0.45, 0.65, 1.0]],
+    },
+    "phong_specular": {"ks": 0.5, "p": 40},
+    "blinn_specular": {"ks": 0.5, "p": 160},
+    "toon_specular": {"threshold": 0.93, "high": 0.9},
+    "kajiya_kay": {"kd": [0.35, 0.22, 0.08], "ks": [0.5, 0.45, 0.35], "p": 60},
+}
+
+#: The parameter the albedo curves vary, first match in a model's parameters.
+CURVES = {
+    "p": [2.0, 10.0, 50.0, 200.0],
+    "alpha": [0.05, 0.2, 0.5, 1.0],
+    "sigma": [0.0, 0.3, 0.6, 1.2],
+    "nu": [1.0, 10.0, 100.0, 1000.0],
+    "alpha_x": [0.05, 0.1, 0.2, 0.4],
+    "kd": [0.25, 0.5, 1.0],
+}
+
+#: Incidence angles of the polar plots (degrees).
+LOBE_ANGLES = (30.0, 60.0)
+
+#: A grey diffuse under family-B specular terms, so the sphere's shape shows.
+SPECULAR_BASE = 0.15
+
+
+def _show(value: Any) -> str:
+    if value is None:
+        return "required"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return json.dumps(value)
+
+
+def _call(params: dict[str, Any]) -> str:
+    return ", ".join(f"{k}={_show(v)}" for k, v in params.items())
+
+
+def _cli_params(params: dict[str, Any]) -> str:
+    def flat(v: Any) -> str:
+        if isinstance(v, list):
+            return ",".join(flat(x) for x in v)
+        return f"{v:g}" if isinstance(v, float) else str(v)
+
+    return "".join(f" -p {k}={flat(v)}" for k, v in params.items() if not _nested(v))
+
+
+def _nested(v: Any) -> bool:
+    return isinstance(v, list) and any(isinstance(x, list) for x in v)
+
+
+def label(name: str, width: int = 14) -> str:
+    """Breaks a long model name at the underscore nearest its middle (for captions)."""
+    if len(name) <= width or "_" not in name:
+        return name
+    cuts = [k for k, c in enumerate(name) if c == "_"]
+    k = min(cuts, key=lambda k: abs(k - len(name) / 2))
+    return f"{name[: k + 1]}\n{name[k + 1 :]}"
+
+
+def curve_of(spec: dict[str, Any]) -> tuple[str, list[float]] | None:
+    """The (parameter, values) the albedo curves vary, or None (family B)."""
+    if spec["family"] != "A":
+        return None
+    names = [p["name"] for p in spec["params"]]
+    for name, values in CURVES.items():
+        if name in names:
+            return name, values
+    return None
+
+
+def family_line(spec: dict[str, Any]) -> str:
+    if spec["family"] == "A":
+        return (
+            "Family A: a BRDF `f(wi, wo)` in 1/sr, **without** the cosine factor; 0 unless"
+            " both directions are above the surface."
+        )
+    return (
+        "Family B: a scan-line shading term `s(l, v)` that **includes** the light's cosine;"
+        " a light of colour `L` adds `L·s(l, v)`."
+    )
+
+
+def model_page(name: str, spec: dict[str, Any]) -> str:
+    showcase = SHOWCASE.get(name, {})
+    lines = [
+        f"# `{name}`",
+        "",
+        f"{spec['summary'][0].upper()}{spec['summary'][1:]}.",
+        "",
+        family_line(spec),
+        "",
+        f"![{name} on a sphere](img/{name}_sphere.png)",
+        f"![{name}: lobe in the plane of incidence](img/{name}_lobe.png)",
+        "",
+        "## Formula",
+        "",
+        "```text",
+        spec["formula"],
+        "```",
+        "",
+        f"Source: {spec['source']}. The kernel, its formula and source equation:"
+        f" [`rust/src/models/{name}.rs`](../../rust/src/models/{name}.rs).",
+        "",
+        "## Parameters",
+        "",
+        "| name | kind | default | range | meaning | per element |",
+        "|---|---|---|---|---|---|",
+    ]
+    for p in spec["params"]:
+        lines.append(
+            f"| `{p['name']}` | {p['kind']} | {_show(p['default'])} | {p['range']} |"
+            f" {p['doc']} | {'yes' if p['varies'] else 'no'} |"
+        )
+    tangent = (
+        "required (`tangent=`)"
+        if spec["tangent"]
+        else ("optional (`tangent=`)" if spec.get("tangent_optional") else "not used")
+    )
+    base = (
+        f" over a grey Lambert base (kd = {SPECULAR_BASE:g})" if name in plot._SPECULAR_ONLY else ""
+    )
+    fibres = (
+        ", tangents along the meridians" if spec["tangent"] or spec.get("tangent_optional") else ""
+    )
+    lines += [
+        "",
+        f"Tangent: {tangent}. Reciprocal (`f(wi, wo) = f(wo, wi)`): "
+        f'{"yes" if spec["reciprocal"] else "no"}. "per element": the parameter may be an'
+        " array over the batch (spatially varying).",
+        "",
+        "## Pictures",
+        "",
+        f"**Sphere**: {_call(showcase) or 'the defaults'}{base}. Orthographic view, a white"
+        " key light from the upper right and a 30% fill from the left (intensity π for"
+        f" family A, 1 for family B), ACES tone map{fibres}.",
+        "",
+        f"**Lobe**: the same parameters; `wo` sweeps the plane of incidence, the light"
+        f" arrives from the left at θi = {', '.join(f'{a:g}°' for a in LOBE_ANGLES)} (dotted"
+        " lines), the mirror direction is on the right.",
+        "",
+    ]
+    curve = curve_of(spec)
+    if curve is not None:
+        param, values = curve
+        fixed = {
+            p["name"]: p["default"]
+            for p in spec["params"]
+            if p["name"] != param and p["default"] is not None
+        }
+        lines += [
+            f"![{name}: directional albedo](img/{name}_albedo.png)",
+            "",
+            f"**Directional albedo** `R(μ) = ∫ f(wi, wo)·cos θo dωo` against μ = cos θi, for"
+            f" {param} = {', '.join(f'{v:g}' for v in values)} and the defaults"
+            f" ({_call(fixed) or 'no others'}), computed by `brdf_rs.albedo_table` with ±2"
+            " standard-error bands; the dotted line is R = 1 (energy conservation).",
+            "",
+        ]
+    else:
+        lines += [
+            "No albedo curve: directional albedo is defined for family-A BRDFs; a shading"
+            " term already includes the light's cosine.",
+            "",
+        ]
+    args = [f'"{name}"', "wi", "wo"]
+    if showcase:
+        args.append(_call(showcase))
+    if spec["tangent"]:
+        args.append("tangent=t")
+    lines += [
+        "## Use it",
+        "",
+        "```python",
+        "import brdf_rs",
+        "",
+        f"f = brdf_rs.eval({', '.join(args)})",
+    ]
+    if curve is not None:
+        albedo_args = [f'"{name}"', "mu", *([_call(showcase)] if showcase else [])]
+        lines.append(f"r = brdf_rs.albedo({', '.join(albedo_args)})")
+    lines += ["```", ""]
+    if not any(_nested(v) for v in showcase.values()):
+        tangent_arg = " --tangent 1,0,0" if spec["tangent"] else ""
+        cli = _cli_params(showcase)
+        lines += [
+            "```sh",
+            f"brdf-rs eval {name} --wi 0,0.3,1 --wo 0.2,-0.3,1{cli}{tangent_arg}",
+            f"brdf-rs plot-lobe {name} --theta-i 30 --theta-i 60{cli} -o lobe.png",
+            "```",
+            "",
+        ]
+    lines.append("[All models](../index.md#models) · [Conventions](../conventions.md)")
+    return "\n".join(lines) + "\n"
+
+
+CONVENTIONS = """# Conventions
+
+These hold everywhere in brdf-rs: `eval`, `sample`, `pdf`, the albedo integrators, the
+scenes and the command line. `MODELS.md` defines every model in these terms.
+
+## Directions
+
+- Directions point **away** from the surface: `wi` toward the light, `wo` toward the
+  viewer. `n` is the surface normal, +z unless given.
+- `mu_i = n·wi` and `mu_o = n·wo` are the cosines of θi and θo; the half vector is
+  `h = (wi + wo)/|wi + wo|`.
+- Inputs need not be unit length: they are normalized robustly (from about 1e-300 to
+  1e300) unless `normalized=True` promises that they already are.
+- Models with an anisotropic lobe (`ward`, `ashikhmin_shirley`) take an optional
+  `tangent=`, projected onto the tangent plane; `kajiya_kay` requires its fibre tangent,
+  used as given.
+
+## Units and what `f` includes
+
+- **Family A** models return the BRDF `f(wi, wo)` in 1/sr, **without** the cosine factor,
+  and 0 unless both directions are above the surface. A light of radiance-scale `L`
+  reflects `L·f(wi, wo)·cos θi`.
+- **Family B** models return the scan-line shading term `s(l, v)` of the shading
+  assignment, which **includes** the light's cosine (`l = wi`, `v = wo`).
+- Directional albedo: `R(μ) = ∫ f(wi, wo)·cos θo dωo` over the hemisphere, μ = cos θi
+  (family A only). A table's `stderr` is an honest standard error of each cell.
+- Angles on the command line and in `brdf_rs.plot` are in degrees; everything else takes
+  cosines or vectors.
+
+## Colours
+
+Every result is RGB: a trailing axis of 3. Colour parameters (`kd`, `ks`, `Rd`, `Rs`,
+`colors`) take a scalar (grey) or an RGB triple; Schlick's `F0` is `ks` per channel.
+`torrance_sparrow`'s `eta` is a scalar (its Fresnel term is grey).
+
+## Arrays and dtypes
+
+- `wi`, `wo`, `n`, `tangent` and every parameter broadcast together by NumPy's rules; any
+  memory layout is read in place. Parameters may be arrays over the batch (spatially
+  varying materials), colours with a trailing axis of 3.
+- float64 in → float64 out; **float32** in (every direction array float32) → float32 out
+  from float32 kernels; anything else (ints, lists, mixed widths) → float64.
+- `out=` writes into a preallocated C-contiguous array of the result's shape and dtype.
+- float32 lobes below 2^-100 ≈ 7.9e-31 are flushed to 0.
+
+## Errors, threads, reproducibility
+
+- Bad input raises `ValueError` / `TypeError` in one line naming the argument (and, for
+  arrays, the first bad index); nothing reachable from Python panics. The command line
+  prints that line and exits with 2 (usage) or 1 (failure).
+- Work runs in Rust threads without the GIL: `BRDF_RS_NUM_THREADS`, else the CPU count;
+  `brdf_rs.set_num_threads(n)` at run time.
+- The same inputs and seed give the same bits for any thread count and any chunking of a
+  table.
+- The library never prints: it logs to the `brdf_rs` logger (`logging`).
+"""
+
+
+def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
+    lines = [
+        "# brdf-rs documentation",
+        "",
+        "Evaluate reflectance models on NumPy arrays, integrate them over the hemisphere and"
+        " bake albedo tables, with the work done in Rust. Start with the"
+        " [README](../README.md) (install, a five-minute tour), then:",
+        "",
+        "- [Conventions](conventions.md): directions, units, what `f` includes, RGB, dtypes.",
+        "- [Example scenes](scenes.md): scan-line rendering with the models as materials.",
+    ]
+    if has_benchmarks:
+        lines.append("- [Benchmarks](benchmarks.md): throughput, convergence, rendering, Dask.")
+    lines += [
+        "",
+        "## Models",
+        "",
+        "![family A models on spheres](models/img/overview_a.png)",
+        "",
+        "| model | family | what it is |",
+        "|---|---|---|",
+    ]
+    for name, spec in specs.items():
+        lines.append(f"| [`{name}`](models/{name}.md) | {spec['family']} | {spec['summary']} |")
+    lines += [
+        "",
+        "![family B terms on spheres](models/img/overview_b.png)",
+        "",
+        "Family A: BRDFs in 1/sr without the cosine; family B: shading terms that include",
+        "the light's cosine (see [Conventions](conventions.md)). The pages and images are",
+        "generated by `python scripts/make_docs.py` from `brdf_rs.models()` and the library's",
+        "own renderer and integrators.",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def benchmarks_page(results: Path) -> str | None:
+    """Collects benches/results/*.md: each one's title and description, its figure."""
+    pages = sorted(results.glob("*.md"))
+    if not pages:
+        return None
+    rel = Path("..") / results.relative_to(ROOT)  # docs/ is beside benches/
+    lines = [
+        "# Benchmarks",
+        "",
+        "Written by the scripts in `benches/` (each page says how it was run and on what"
+        " machine); `brdf-rs bench` runs a short version on yours.",
+        "",
+    ]
+    for page in pages:
+        text = page.read_text(encoding="utf-8").splitlines()
+        title = text[0].lstrip("# ").strip() if text else page.stem
+        intro = []
+        for line in text[1:]:
+            if line.startswith(("|", "#")):
+                break
+            intro.append(line)
+        lines += [f"## {title}", "", "\n".join(intro).strip(), ""]
+        lines.append(f"Full tables: [`{page.name}`]({(rel / page.name).as_posix()}).")
+        figure = page.with_suffix(".png")
+        if figure.exists():
+            lines += ["", f"![{title}]({(rel / figure.name).as_posix()})"]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--resolution", choices=sorted(RESOLUTIONS), default="full")
+    parser.add_argument("--out", type=Path, default=ROOT / "docs", help="default: docs/")
+    parser.add_argument("--models", nargs="+", default=None, help="only these (default all)")
+    args = parser.parse_args()
+    res = RESOLUTIONS[args.resolution]
+    specs = brdf_rs.models()
+    names = args.models or list(specs)
+    for name in names:
+        if name not in specs:
+            parser.error(f"--models: unknown model {name!r}")
+    pages, img = args.out / "models", args.out / "models" / "img"
+    img.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    overview: dict[str, list[tuple[np.ndarray, str]]] = {"A": [], "B": []}
+    for name in names:
+        spec = specs[name]
+        params = SHOWCASE.get(name, {})
+        base = {"base": SPECULAR_BASE} if name in plot._SPECULAR_ONLY else {}
+        sphere = plot.render_sphere(name, size=res["sphere"], **base, **params)
+        brdf_rs.save_image(img / f"{name}_sphere.png", sphere)
+        small = plot.render_sphere(name, size=res["overview"], **base, **params)
+        overview[spec["family"]].append((small, label(name)))
+        plot.polar_lobe(name, LOBE_ANGLES, path=img / f"{name}_lobe.png", dpi=res["dpi"], **params)
+        curve = curve_of(spec)
+        if curve is not None:
+            param, values = curve
+            plot.albedo_curves(
+                name,
+                param,
+                values,
+                mu=np.linspace(0.02, 1.0, res["mu"]),
+                samples=res["samples"],
+                path=img / f"{name}_albedo.png",
+                dpi=res["dpi"],
+            )
+        (pages / f"{name}.md").write_text(model_page(name, spec), encoding="utf-8")
+        print(f"{pages / name}.md  ({time.perf_counter() - start:.1f} s)")
+    for family, items in overview.items():
+        if items:
+            images, labels = zip(*items, strict=True)
+            plot.spheres(
+                images,
+                labels,
+                ncols=8,
+                path=img / f"overview_{family.lower()}.png",
+                dpi=res["dpi"],
+                panel_inches=1.25,
+            )
+    if args.models is None:
+        bench = benchmarks_page(ROOT / "benches" / "results")
+        if bench is not None:
+            (args.out / "benchmarks.md").write_text(bench, encoding="utf-8")
+        (args.out / "index.md").write_text(index_page(specs, bench is not None), encoding="utf-8")
+        (args.out / "conventions.md").write_text(CONVENTIONS, encoding="utf-8")
+    size = sum(f.stat().st_size for f in args.out.rglob("*") if f.is_file())
+    print(f"{args.out}: {size / 1e6:.2f} MB in {time.perf_counter() - start:.1f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,90 @@
+"""Smoke test of an installed brdf-rs wheel, run by .ci/run in a fresh virtual environment.
+
+    python scripts/wheel_smoke.py        # with the environment's python, not the repo's
+
+Checks that the package imported is the installed one (not the source tree), that the
+compiled core evaluates and integrates with known exact answers, that the typing files
+ship, that the console script works, and that an optional extra that is missing
+(matplotlib) gives its one-line ImportError. Exits non-zero on the first failure.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import sysconfig
+import tempfile
+from pathlib import Path
+
+import brdf_rs
+import numpy as np
+
+package = Path(brdf_rs.__file__).resolve().parent
+site = Path(sysconfig.get_paths()["purelib"]).resolve()
+assert package.parent == site, f"imported {package}, not the installed wheel in {site}"
+assert (package / "py.typed").exists() and (package / "_brdf_rs.pyi").exists()
+assert list(package.glob("_brdf_rs*.so")) or list(package.glob("_brdf_rs*.pyd"))
+
+# eval: Lambert is kd/π, in float64 and float32.
+f = brdf_rs.eval("lambert", [0.3, 0.2, 1.0], [-0.1, 0.4, 1.0], kd=1.0)
+assert f.dtype == np.float64 and np.allclose(f, 1 / math.pi, rtol=1e-15), f
+f32 = brdf_rs.eval("lambert", np.float32([[0, 0, 1]]), np.float32([[0, 0, 1]]), kd=1.0)
+assert f32.dtype == np.float32 and np.allclose(f32, 1 / math.pi, rtol=1e-6), f32
+
+# A tiny albedo table: normalized_phong (kd = 0, ks = 1) has albedo exactly 1 at mu = 1.
+table = brdf_rs.albedo_table(
+    "normalized_phong", {"mu": [0.5, 1.0], "p": [10.0, 100.0]}, kd=0, ks=1, tol=1e-4
+)
+assert table.value.shape == (2, 2, 3)
+error = np.abs(table.value[1, :, 0] - 1.0)
+assert np.all(error <= 6 * table.stderr[1, :, 0] + 1e-12), (error, table.stderr[1])
+
+# The console script, as a user runs it.
+script = Path(sys.executable).parent / "brdf-rs"
+models = json.loads(
+    subprocess.run([script, "models", "--json"], capture_output=True, text=True, check=True).stdout
+)
+assert set(models) == set(brdf_rs.models()) and "torrance_sparrow" in models
+with tempfile.TemporaryDirectory() as tmp:
+    out = Path(tmp) / "t.npz"
+    result = subprocess.run(
+        [
+            script,
+            "table",
+            "lambert",
+            "--axis",
+            "mu=0.5,1",
+            "-p",
+            "kd=0.5",
+            "-q",
+            "--json",
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    summary = json.loads(result.stdout)
+    assert summary["shape"] == [2, 3] and out.exists()
+    bad = subprocess.run(
+        [script, "eval", "nope", "--wi", "0,0,1", "--wo", "0,0,1"], capture_output=True, text=True
+    )
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1, bad.stderr
+
+# Optional extras stay optional: without matplotlib, plotting says what to install.
+try:
+    import matplotlib  # noqa: F401
+except ImportError:
+    from brdf_rs import plot
+
+    try:
+        plot.polar_lobe("lambert")
+    except ImportError as exc:
+        assert "pip install 'brdf-rs[plot]'" in str(exc), exc
+    else:
+        raise AssertionError("polar_lobe without matplotlib did not raise ImportError")
+
+print(f"wheel smoke test passed: brdf-rs {brdf_rs.__version__} from {package}, isa {brdf_rs.isa()}")

@@ -1,0 +1,376 @@
+"""The ``brdf-rs`` command line, run as a user runs it (a subprocess), outputs checked.
+
+Each command's ``--json`` is parsed and compared with the library computing the same
+thing (same seed: same bits), files it writes are read back, and bad input must give one
+line on stderr (no traceback) and exit code 2; failures (a file that cannot be written,
+matplotlib missing) exit 1.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import brdf_rs
+import numpy as np
+import pytest
+
+PIL = pytest.importorskip("PIL.Image")
+
+
+def run(*args: str, cwd: Path | None = None, code: int = 0) -> subprocess.CompletedProcess:
+    """Runs ``python -m brdf_rs ARGS`` and checks its exit code."""
+    env = {**os.environ, "BRDF_RS_NUM_THREADS": "2"}
+    result = subprocess.run(
+        [sys.executable, "-m", "brdf_rs", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=env,
+        check=False,
+    )
+    assert result.returncode == code, (result.returncode, result.stdout, result.stderr)
+    return result
+
+
+def run_json(*args: str, cwd: Path | None = None) -> dict:
+    return json.loads(run(*args, "--json", cwd=cwd).stdout)
+
+
+def png_size(path: Path) -> tuple[int, int]:
+    with PIL.open(path) as image:
+        assert image.format == "PNG"
+        image.load()  # decodes every pixel: a truncated file fails here
+        return image.size
+
+
+# ------------------------------------------------------------------------ models, eval
+
+
+def test_models_json_is_the_spec_table():
+    specs = run_json("models")
+    assert specs == json.loads(json.dumps(brdf_rs.models(), default=str))
+    assert specs["ggx"]["family"] == "A"
+    assert [p["name"] for p in specs["ggx"]["params"]] == ["kd", "ks", "alpha"]
+
+
+def test_models_table_for_people_lists_every_model():
+    out = run("models").stdout
+    for name in brdf_rs.models():
+        assert f"\n{name}  (family" in f"\n{out}"
+
+
+def test_eval_json_and_text_give_the_library_value():
+    args = ["eval", "torrance_sparrow", "--wi", "0,0.3,1", "--wo", "0.2,-0.3,1"]
+    params = ["-p", "p=50", "-p", "kd=0.1,0.2,0.3"]
+    want = brdf_rs.eval("torrance_sparrow", [0, 0.3, 1], [0.2, -0.3, 1], p=50.0, kd=[0.1, 0.2, 0.3])
+    got = run_json(*args, *params)
+    assert got["value"] == want.tolist()  # JSON floats round-trip exactly
+    text = run(*args, *params).stdout.split()
+    assert [float(x) for x in text] == want.tolist()  # %.17g round-trips too
+
+
+# ----------------------------------------------------------------------------- table
+
+
+def test_table_json_summary_matches_the_file_and_the_library(tmp_path):
+    out = tmp_path / "t.npz"
+    summary = run_json(
+        "table",
+        "normalized_phong",
+        "--axis",
+        "mu=mid:0:1:4",
+        "--axis",
+        "p=log:1:100:3",
+        "-p",
+        "kd=0",
+        "-p",
+        "ks=1",
+        "--samples",
+        "1024",
+        "--seed",
+        "7",
+        "-o",
+        str(out),
+        "-q",
+    )
+    table = brdf_rs.Table.load(out)
+    assert summary["output"] == str(out.resolve())
+    assert summary["shape"] == [4, 3, 3] == list(table.value.shape)
+    assert summary["seconds"] > 0
+    assert summary["samples"] == int(table.samples.sum()) > 0
+    assert summary["max_stderr"] == float(table.stderr.max())
+    want = brdf_rs.albedo_table(
+        "normalized_phong",
+        {"mu": (np.arange(4) + 0.5) / 4, "p": np.geomspace(1, 100, 3)},
+        kd=0,
+        ks=1,
+        samples=1024,
+        seed=7,
+    )
+    np.testing.assert_array_equal(table.value, want.value)
+
+
+def test_table_with_no_arguments_builds_the_default_and_says_where(tmp_path):
+    # The README's first command: a 32x32 torrance_sparrow table to tol 1e-4.
+    result = run("table", "-q", cwd=tmp_path)
+    path = tmp_path / "albedo_torrance_sparrow.npz"
+    assert f"wrote {path.resolve()}" in result.stdout
+    table = brdf_rs.Table.load(path)
+    assert table.value.shape == (32, 32, 3)
+    assert table.stderr.max() <= 1e-4
+
+
+def test_table_plot_is_a_png(tmp_path):
+    pytest.importorskip("matplotlib")
+    summary = run_json(
+        "table",
+        "ggx",
+        "--axis",
+        "mu=mid:0:1:6",
+        "--axis",
+        "alpha=0.1,0.4,0.8",
+        "--samples",
+        "256",
+        "-o",
+        str(tmp_path / "t.npz"),
+        "--plot",
+        str(tmp_path / "t.png"),
+        "-q",
+    )
+    assert summary["plot"] == str((tmp_path / "t.png").resolve())
+    width, height = png_size(tmp_path / "t.png")
+    assert width > 100 and height > 100
+
+
+# ------------------------------------------------------------------------ dfg, energy
+
+
+def test_dfg_table_is_the_split_sum_of_the_albedo(tmp_path):
+    out = tmp_path / "dfg.npz"
+    summary = run_json(
+        "dfg",
+        "ggx",
+        "--mu",
+        "0.2,0.9",
+        "--roughness",
+        "0.1,0.6",
+        "--samples",
+        "4096",
+        "-o",
+        str(out),
+    )
+    table = brdf_rs.Table.load(out)
+    assert summary["shape"] == [2, 2] and table.value.shape == (2, 2, 3)
+    assert list(table.axes) == ["mu", "alpha"]
+    a, b = table.value[..., 0], table.value[..., 1]
+    assert np.all((a > 0) & (a <= 1)) and np.all((b >= 0) & (b < a))
+    assert summary["max_stderr"] == float(table.stderr[..., :2].max())
+    # F0·A + B is the specular albedo at that F0: check against a direct estimate at
+    # F0 = 0.5 (independent points, so both errors count).
+    direct = brdf_rs.albedo(
+        "ggx", [[0.2], [0.9]], alpha=[[0.1, 0.6]], kd=0, ks=0.5, samples=1 << 15, seed=3
+    )
+    split = 0.5 * a + b
+    se = np.hypot(direct.stderr[..., 0], np.hypot(0.5 * table.stderr[..., 0], table.stderr[..., 1]))
+    assert np.all(np.abs(split - direct.value[..., 0]) <= 5 * se + 1e-12)
+
+
+def test_dfg_defaults_cover_blinn_phong_fresnel_roughness_p(tmp_path):
+    summary = run_json(
+        "dfg", "blinn_phong_fresnel", "--mu", "0.5,1", "--samples", "256", "-q", cwd=tmp_path
+    )
+    assert summary["axes"]["p"] == [1.0, 10000.0, 32]
+    assert Path(summary["output"]) == tmp_path / "dfg_blinn_phong_fresnel.npz"
+
+
+def test_energy_table_file_json_and_library_agree(tmp_path):
+    out = tmp_path / "e.npz"
+    summary = run_json(
+        "energy",
+        "beckmann",
+        "--mu",
+        "mid:0:1:4",
+        "--alpha",
+        "0.05,0.5,1",
+        "--tol",
+        "1e-3",
+        "-o",
+        str(out),
+    )
+    want = brdf_rs.energy_compensation_table(
+        "beckmann", (np.arange(4) + 0.5) / 4, [0.05, 0.5, 1.0], tol=1e-3
+    )
+    with np.load(out) as data:
+        np.testing.assert_array_equal(data["e"], want.e)
+        np.testing.assert_array_equal(data["e_avg"], want.e_avg)
+        assert data["e"].shape == (4, 3) and json.loads(str(data["meta"]))["model"] == "beckmann"
+    assert summary["e_avg"] == want.e_avg.tolist()
+    assert summary["max_stderr"] <= 1e-3
+    # Single scattering loses energy, more for rougher surfaces; none is created.
+    e_avg = np.array(summary["e_avg"])
+    assert np.all(e_avg <= 1 + 4 * np.array(summary["e_avg_stderr"]))
+    assert e_avg[0] > e_avg[1] > e_avg[2] > 0.3
+
+
+# ----------------------------------------------------------------------------- bench
+
+
+def test_bench_json_reports_real_timings_and_a_checked_table():
+    models = ["lambert", "ggx", "kajiya_kay"]  # kajiya_kay needs a tangent
+    result = run_json(
+        "bench", "--models", *models, "--n", "2000", "--repeat", "1", "--table-size", "4",
+        "--tol", "1e-3", "--threads", "1",
+    )  # fmt: skip
+    assert result["machine"]["threads"] == 1
+    assert result["machine"]["isa"] in ("avx512", "avx2", "baseline")
+    rows = {(r["model"], r["dtype"]): r for r in result["eval"]}
+    assert set(rows) == {(m, d) for m in models for d in ("float64", "float32")}
+    for r in rows.values():
+        assert r["n"] == 2000 and r["seconds"] > 0
+        assert math.isclose(r["mevals_per_s"], 2000 / r["seconds"] / 1e6)
+    table = result["albedo_table"]
+    assert table["shape"] == [4, 4] and table["samples"] > 0
+    assert table["max_stderr"] <= 1e-3
+    # normalized_phong's albedo is exactly 1 at mu = 1: the table must agree.
+    assert table["max_error_in_stderr_at_mu_1"] < 6
+    assert table["max_error_at_mu_1"] < 6e-3
+
+
+def test_bench_text_is_a_table():
+    out = run("bench", "--models", "lambert", "--n", "1000", "--repeat", "1", "--table-size", "2")
+    lines = out.stdout.splitlines()
+    assert any(line.split()[:1] == ["lambert"] and line.count("M/s") == 2 for line in lines)
+    assert "albedo table: normalized_phong 2x2" in out.stdout
+
+
+# ------------------------------------------------------------------------- plot-lobe
+
+
+def test_plot_lobe_writes_a_png(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "lobe.png"
+    summary = run_json(
+        "plot-lobe", "ward", "-p", "alpha_x=0.1", "-p", "alpha_y=0.3", "--theta-i", "30",
+        "--theta-i", "60", "-o", str(out),
+    )  # fmt: skip
+    assert summary == {"model": "ward", "theta_i": [30.0, 60.0], "plot": str(out.resolve())}
+    assert png_size(out) == (500, 220)  # the default 5.0 x 2.2 inches at 100 dpi
+
+
+# ------------------------------------------------------------------ errors, exit codes
+
+
+BAD = [
+    (["eval", "foo", "--wi", "0,0,1", "--wo", "0,0,1"], 'unknown model "foo"'),
+    (["eval", "ggx", "--wi", "0,0,1", "--wo", "0,0,1", "-p", "alpha=-1"], "alpha = -1.0 is out"),
+    (["eval", "ggx", "--wi", "0,0,1", "--wo", "0,0,1", "-p", "beta=1"], 'parameter "beta"'),
+    (["eval", "ggx", "--wi", "0,0,0", "--wo", "0,0,1"], "wi is a zero-length vector"),
+    (["eval", "ggx", "--wi", "0,0", "--wo", "0,0,1"], "expected three comma-separated"),
+    (["table", "lambert_shading", "-q"], "family-B shading term"),
+    (["table", "ggx", "--axis", "q=1,2", "-q"], "needs a 'mu' axis"),
+    (["table", "ggx", "-o", "x.jpg"], "-o x.jpg: unknown format; use .npz, .exr, .png"),
+    (["table", "ggx", "-o", "no/such/dir/t.npz"], "directory no/such/dir does not exist"),
+    (["table", "ggx", "--plot", "t.gif"], "--plot t.gif: unknown format"),
+    (["table", "ggx", "--tol", "-1", "-q"], "tol: must be a positive number"),
+    (["dfg", "lambert"], "a split-sum table takes ggx, beckmann, blinn_phong_fresnel"),
+    (["dfg", "--mu", "0:1"], "argument --mu: need start:stop:count"),
+    (["energy", "phong"], "energy compensation takes ggx, beckmann"),
+    (["energy", "ggx", "-o", "e.exr"], "-o e.exr: unknown format; use .npz"),
+    (["bench", "--models", "nope"], "unknown model 'nope'"),
+    (["bench", "--n", "0"], "must be at least 1"),
+    (["plot-lobe", "ggx", "--theta-i", "100", "-o", "l.png"], "theta_i: expected angles"),
+    (["plot-lobe", "ggx", "-o", "l.txt"], "unknown format; use .png, .svg, .pdf"),
+    (["nonsense"], "invalid choice: 'nonsense'"),
+]
+
+
+@pytest.mark.parametrize(("args", "message"), BAD, ids=[" ".join(a) for a, _ in BAD])
+def test_bad_input_is_one_line_and_exit_code_2(tmp_path, args, message):
+    result = run(*args, cwd=tmp_path, code=2)
+    assert "Traceback" not in result.stderr
+    assert message in result.stderr
+    # Our own errors are exactly one line; argparse's add its usage lines before it.
+    last = result.stderr.strip().splitlines()[-1]
+    assert message in last
+    if not last.startswith("usage") and "error: argument" not in last and "invalid" not in last:
+        assert len(result.stderr.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []  # nothing written, no work done
+
+
+def test_a_file_that_cannot_be_written_is_a_failure_exit_1(tmp_path):
+    (tmp_path / "t.npz").mkdir()  # a directory where the table should go
+    result = run(
+        "table", "lambert", "--axis", "mu=0.5", "-o", str(tmp_path / "t.npz"), "-q", code=1
+    )
+    assert "Traceback" not in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
+def test_missing_matplotlib_is_a_clear_failure_before_any_work(tmp_path):
+    code = (
+        "import sys; sys.modules['matplotlib'] = None\n"
+        "from brdf_rs.cli import main\n"
+        "sys.exit(main(sys.argv[1:]))\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code, "table", "-q", "--plot", "t.png"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert result.returncode == 1
+    assert result.stderr.strip() == (
+        "brdf-rs table: brdf_rs.plot needs matplotlib: pip install 'brdf-rs[plot]'"
+        " (or matplotlib>=3.7)"
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_console_script_is_installed():
+    script = Path(sys.executable).parent / ("brdf-rs.exe" if os.name == "nt" else "brdf-rs")
+    if not script.exists():
+        pytest.skip("brdf-rs is not installed next to this interpreter")
+    result = subprocess.run([script, "models", "--json"], capture_output=True, text=True)
+    assert result.returncode == 0 and "torrance_sparrow" in json.loads(result.stdout)
+
+
+# ----------------------------------------------------------- the library never prints
+
+
+def test_the_library_never_prints_only_the_cli_does():
+    """Library modules report through logging.getLogger("brdf_rs"); only cli.py (and
+    __main__) write to stdout/stderr. Checked on the source (every call of print, and
+    every use of sys.stdout / sys.stderr), and on a run that exercises the main paths."""
+    import ast
+
+    package = Path(brdf_rs.__file__).parent
+    offenders = []
+    for path in sorted(package.glob("*.py")):
+        if path.name in ("cli.py", "__main__.py"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "print":
+                offenders.append(f"{path.name}:{node.lineno} print()")
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr in ("stdout", "stderr")
+                and getattr(node.value, "id", None) == "sys"
+            ):
+                offenders.append(f"{path.name}:{node.lineno} sys.{node.attr}")
+    assert offenders == []
+    code = """
+import brdf_rs, numpy as np
+brdf_rs.eval("ggx", [0, 0, 1], [0.1, 0, 1])
+brdf_rs.albedo_table("ggx", {"mu": [0.5, 1]}, tol=1e-3)
+brdf_rs.dfg_table("ggx", [0.5], [0.3], samples=256)
+brdf_rs.energy_compensation_table("ggx", [0.5], [0.3], tol=1e-3)
+brdf_rs.render({"camera": {"position": [0, 0, 5], "resolution": [8, 8]}})
+"""
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert (result.stdout, result.stderr) == ("", "")
