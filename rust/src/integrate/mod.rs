@@ -36,6 +36,7 @@ use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
 pub mod cells;
+mod ggx;
 
 /// The largest sample count one cell may use (2^40 ≈ 1.1e12).
 pub const MAX_SAMPLES_PER_CELL: u64 = 1 << 40;
@@ -191,6 +192,9 @@ struct Lobe<P> {
     colour: [f64; 3],
     prepared: P,
     warp: Warp,
+    /// GGX's lobe from its visible normals, weighted in closed form (then `prepared` and
+    /// `warp` are unused).
+    ggx: Option<ggx::VisibleLobe>,
 }
 
 /// The per-sample weights `f·mu_o/pdf` of every lobe of a cell.
@@ -222,6 +226,25 @@ impl<K: Kernel> CellIntegrand<K> {
                         *e += c * v;
                     }
                 }
+                Integral::GgxVisible { alpha, f0, basis } => {
+                    let ggx = match sampler {
+                        SamplerChoice::Auto | SamplerChoice::Importance => {
+                            Some(ggx::VisibleLobe::new(alpha, f0, wi))
+                        }
+                        SamplerChoice::Uniform | SamplerChoice::Cosine => None,
+                    };
+                    let warp = if sampler == SamplerChoice::Cosine {
+                        Warp::CosineHemisphere
+                    } else {
+                        Warp::UniformHemisphere
+                    };
+                    lobes.push(Lobe {
+                        colour: term.colour,
+                        prepared: K::prepare::<f64, [f64]>(&basis[..]),
+                        warp,
+                        ggx,
+                    });
+                }
                 Integral::Lobe { basis, importance } => {
                     let prepared = K::prepare::<f64, [f64]>(&basis[..]);
                     let warp = match (sampler, importance) {
@@ -250,6 +273,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         colour: term.colour,
                         prepared,
                         warp,
+                        ggx: None,
                     });
                 }
             }
@@ -273,6 +297,10 @@ impl<K: Kernel> CellIntegrand<K> {
     #[inline(always)]
     fn weights(&self, k: usize, u0: &[f64], u1: &[f64], w: &mut [f64]) {
         let lobe = &self.lobes[k];
+        if let Some(ggx) = &lobe.ggx {
+            ggx.weights(self.fold, u0, u1, w);
+            return;
+        }
         let wi = self.wi;
         let eval = |wo: DVec3| {
             let d = Directions::<f64> {
