@@ -22,7 +22,7 @@
 use glam::DVec3;
 
 use crate::math::geometry::ggx_mu_lambda;
-use crate::sampling::{GgxVisibleNormals, one_minus_dot};
+use crate::sampling::GgxVisibleNormals;
 
 /// One cell's GGX lobe: the incidence, its Smith term and the visible-normal warp.
 pub(super) struct VisibleLobe {
@@ -31,7 +31,6 @@ pub(super) struct VisibleLobe {
     alpha2: f64,
     /// `mu_i + L_i`.
     mu_l_i: f64,
-    l_i: f64,
     /// F = 1 (F0 = 1), else F = (1 − cos_b)^5 (F0 = 0), else the affine mix.
     f0: f64,
     /// `mu_i > 0`: family-A lobes are 0 at grazing incidence `mu_i = 0`.
@@ -49,7 +48,6 @@ impl VisibleLobe {
             wi,
             alpha2,
             mu_l_i: mu_i + l_i,
-            l_i,
             f0,
             lit: mu_i > 0.0,
         }
@@ -72,28 +70,38 @@ impl VisibleLobe {
         }
     }
 
+    /// The weights, with `h̃` the unnormalized half vector (`q = |h̃|²`): with
+    /// `M = 2(wi·h̃)h̃.z − mu_i·q = q·mu_o` and `R = sqrt(M² + α²(q² − M²)) = q·r_o`,
+    ///
+    /// `G2/G1(wi) = 2M(mu_i + L_i)(R + M) / (2M(mu_i + L_i)(R + M) + mu_i·α²(q² − M²))`
+    ///
+    /// (the factors of `q` cancel): one square root and one division per point, no
+    /// normalization.
     #[inline(always)]
     fn fill<const FOLD: bool, const F_ONE: bool>(&self, u0: &[f64], u1: &[f64], w: &mut [f64]) {
         let (wi, mu_i) = (self.wi, self.wi.z);
+        let (alpha2, mu_l_i) = (self.alpha2, self.mu_l_i);
         for ((w, &u), &a) in w.iter_mut().zip(u0).zip(u1) {
             // s = 1 − u0 in (0, 1]; r² = 1 − s² = u0·(1 + s), accurate for small u0.
             let s = 1.0 - u;
             let r = (u * (1.0 + s)).sqrt();
-            let h = self.normals.half_vector(r, a, !FOLD);
-            let cos_b = wi.dot(h);
-            let mu_o = 2.0 * cos_b * h.z - mu_i;
-            let sin2_o = ((1.0 - mu_o) * (1.0 + mu_o)).max(0.0);
-            let l_o = ggx_mu_lambda(mu_o, sin2_o, self.alpha2);
-            let g = mu_o * self.mu_l_i / (mu_i * mu_o + mu_o * self.l_i + mu_i * l_o);
+            let h = self.normals.scaled_half_vector(r, a, !FOLD);
+            let q = h.length_squared();
+            let c = wi.dot(h);
+            let m = 2.0 * c * h.z - mu_i * q;
+            let q2_sin2 = (q - m) * (q + m); // q²·sin²θo
+            let big_r = (m * m + alpha2 * q2_sin2).sqrt();
+            let num = 2.0 * m * mu_l_i * (big_r + m);
+            let g = num / (num + mu_i * alpha2 * q2_sin2);
             let fresnel = if F_ONE {
                 1.0
             } else {
-                let x = one_minus_dot(wi, h);
+                let x = 1.0 - c / q.sqrt();
                 let x2 = x * x;
                 self.f0 + (1.0 - self.f0) * (x2 * x2 * x)
             };
             let x = 2.0 * s * fresnel * g;
-            *w = if mu_o > 0.0 { x } else { 0.0 };
+            *w = if m > 0.0 { x } else { 0.0 };
         }
     }
 }

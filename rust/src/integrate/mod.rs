@@ -393,8 +393,18 @@ impl LobeSums {
         self.n += len as u64;
         for k in 0..lobes {
             let ck = self.shift[k];
-            for (j, x) in w[k][..len].iter().enumerate() {
-                self.sum[k][j % LANES] += x - ck;
+            // Point j goes to lane j % LANES, written as whole chunks so that the loop
+            // vectorizes (the same additions in the same order as one point at a time).
+            let lanes = &mut self.sum[k];
+            let chunks = w[k][..len].chunks_exact(LANES);
+            let rest = chunks.remainder();
+            for chunk in chunks {
+                for (acc, x) in lanes.iter_mut().zip(chunk) {
+                    *acc += x - ck;
+                }
+            }
+            for (acc, x) in lanes.iter_mut().zip(rest) {
+                *acc += x - ck;
             }
             if cross {
                 for l in 0..=k {

@@ -154,6 +154,13 @@ impl GgxVisibleNormals {
     /// `wi` in the xz plane is the side `h.y >= 0` (the azimuth fold).
     #[inline(always)]
     pub fn half_vector(&self, r: f64, a: f64, full: bool) -> DVec3 {
+        self.scaled_half_vector(r, a, full).normalize()
+    }
+
+    /// Returns the half vector of [`Self::half_vector`] before normalization: a positive
+    /// multiple of it (for callers that need only ratios and can spare the square root).
+    #[inline(always)]
+    pub fn scaled_half_vector(&self, r: f64, a: f64, full: bool) -> DVec3 {
         let (s_phi, c_phi) = if full {
             azimuth(a, true)
         } else {
@@ -166,7 +173,7 @@ impl GgxVisibleNormals {
         let nh =
             self.t1v * t1 + self.t2v * t2 + self.vh * (1.0 - t1 * t1 - t2 * t2).max(0.0).sqrt();
         let alpha = self.alpha;
-        DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
+        DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0))
     }
 }
 
