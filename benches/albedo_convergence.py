@@ -1,5 +1,5 @@
 """Run time against error for albedo tables: every sampler x sequence, adaptive `tol`,
-the azimuth fold, and a natural NumPy Monte Carlo baseline.
+the azimuth fold, a natural NumPy Monte Carlo baseline and, for GGX, Mitsuba 3.
 
 Samplers: "importance" is each lobe's own sampler; "auto" is the library's default (the
 same, except that diffuse lobes are drawn uniformly with Sobol points, measured faster).
@@ -8,15 +8,34 @@ Tables (as the albedo issue specifies):
 - torrance_sparrow 64x64: mu_j = (j+0.5)/64, p log-spaced in [1, 1e4], kd=0, ks=1, eta=1.5
 - normalized_phong 64x64: the same grid, kd=0, ks=1
 - oren_nayar 32x32: mu_j = (j+0.5)/32, sigma in [0, pi/2], kd=1
+- ggx 64x64: mu_j = (j+0.5)/64 (0.0078 to 0.992), alpha log-spaced in [0.01, 1],
+  kd=0, ks=1 (F = 1): the table of Kulla-Conty energy compensation. Methods: the
+  library's VNDF sampler with Sobol points (fixed samples and adaptive `tol`), random
+  points, no azimuth fold, the uniform sampler, and Mitsuba 3 (below); no NumPy baseline.
 
 The error is the RMS over the table against a converged deterministic quadrature
 (tests/quadrature.py, refined until successive resolutions agree to 1e-9; cached in
 benches/results/). Every method doubles its samples per cell until it passes the time
 budget or RMS 1e-5/2. Prints "time to RMS <= 1e-3 / 1e-4 / 1e-5" (log-log interpolation
 between measured points) and writes benches/results/albedo_convergence.{md,json,png}.
+`--repeat N` times every brdf-rs point N times and keeps the fastest (the results are
+bitwise identical; the machine is shared and noisy).
 
     python benches/albedo_convergence.py                    # all tables
     python benches/albedo_convergence.py --tables torrance_sparrow --budget 10
+    python benches/albedo_convergence.py --tables ggx --repeat 3 \
+        --mitsuba-python /path/to/venv/bin/python --out benches/results/albedo_convergence_ggx
+
+Mitsuba 3 (GGX only; optional, not a brdf-rs dependency): `pip install mitsuba` into the
+benchmark's Python or into a venv of its own, named by `--mitsuba-python` (default: this
+Python). It runs in a subprocess (benches/mitsuba_ggx.py: `roughconductor`, GGX,
+`material: none` so F = 1, visible-normal `BSDF.sample` on vectorized lanes from Python,
+variant `--mitsuba-variant`, default llvm_ad_rgb, which needs libLLVM 16 or later, e.g.
+Debian's libllvm19; see that file). When mitsuba cannot be imported the column is skipped
+with a note. Mitsuba's GGX uses the separable Smith G1(wi)·G1(wo), not brdf-rs's
+height-correlated G2, so its error is measured against the quadrature reference of the
+separable model (the same quadrature, the BRDF multiplied by G1·G1/G2): each method is
+measured against the function it computes.
 """
 
 from __future__ import annotations
@@ -26,7 +45,9 @@ import functools
 import hashlib
 import itertools
 import json
+import os
 import platform
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -59,42 +80,93 @@ def tables() -> dict:
             "axes": {"mu": mu32, "sigma": np.linspace(0.0, np.pi / 2, 32)},
             "fixed": {"kd": 1.0},
         },
+        "ggx": {
+            "axes": {"mu": mu64, "alpha": np.geomspace(0.01, 1.0, 64)},
+            "fixed": {"kd": 0.0, "ks": 1.0},
+        },
     }
 
 
-def reference(model: str, spec: dict) -> np.ndarray:
-    """The converged quadrature table (channel 0), cached by a hash of its definition."""
-    key = json.dumps(
-        {
-            "model": model,
-            **{k: np.asarray(v).tolist() for k, v in spec["axes"].items()},
-            **spec["fixed"],
-        },
-        sort_keys=True,
-    )
+def reference(model: str, spec: dict, variant: str | None = None) -> np.ndarray:
+    """The converged quadrature table (channel 0), cached by a hash of its definition.
+
+    `variant="separable"` (ggx only): the GGX with the separable Smith G1(wi)·G1(wo)
+    that Mitsuba implements."""
+    definition = {
+        "model": model,
+        **{k: np.asarray(v).tolist() for k, v in spec["axes"].items()},
+        **spec["fixed"],
+    }
+    if variant:
+        definition["variant"] = variant
+    key = json.dumps(definition, sort_keys=True)
     digest = hashlib.sha256(key.encode()).hexdigest()[:12]
-    path = RESULTS / f"reference_{model}_{digest}.npy"
+    name = f"{model}_{variant}" if variant else model
+    path = RESULTS / f"reference_{name}_{digest}.npy"
     if path.exists():
         return np.load(path)
     (_, a), (name_b, b) = spec["axes"].items()
-    print(f"computing the quadrature reference for {model} (cached in {path.name}) ...", flush=True)
+    print(f"computing the quadrature reference for {name} (cached in {path.name}) ...", flush=True)
     t = time.perf_counter()
-    ref = np.array(
-        [
-            [quadrature.directional_albedo(model, mu, **{name_b: v}, **spec["fixed"])[0] for v in b]
-            for mu in a
-        ]
-    )
+    saved = quadrature.brdf_rs
+    if variant == "separable":
+        quadrature.brdf_rs = _SeparableGgx()
+    elif variant is not None:
+        raise ValueError(variant)
+    try:
+        ref = np.array(
+            [
+                [
+                    quadrature.directional_albedo(model, mu, **{name_b: v}, **spec["fixed"])[0]
+                    for v in b
+                ]
+                for mu in a
+            ]
+        )
+    finally:
+        quadrature.brdf_rs = saved
     print(f"  {time.perf_counter() - t:.1f} s", flush=True)
     RESULTS.mkdir(parents=True, exist_ok=True)
     np.save(path, ref)
     return ref
 
 
-def run_brdf_rs(model, spec, ref, **options):
-    t = time.perf_counter()
-    table = brdf_rs.albedo_table(model, spec["axes"], **spec["fixed"], **options)
-    seconds = time.perf_counter() - t
+class _SeparableGgx:
+    """brdf_rs, except that `eval("ggx", ...)` is GGX with the separable Smith term
+    G1(wi)·G1(wo) in place of the height-correlated G2 = 1/(1 + Λi + Λo): the BRDF times
+    G1·G1/G2 = (1 + Λi + Λo)/((1 + Λi)(1 + Λo)) = (1 + Λi/(1 + Λo))/(1 + Λi)."""
+
+    def __getattr__(self, name):
+        return getattr(brdf_rs, name)
+
+    @staticmethod
+    def eval(model, wi, wo, **params):
+        if model != "ggx":
+            raise ValueError(model)
+        f = brdf_rs.eval(model, wi, wo, **params)
+        a2 = float(params["alpha"]) ** 2
+        wi, wo = np.broadcast_arrays(np.asarray(wi, float), np.asarray(wo, float))
+
+        def smith_lambda(w):
+            mu = w[..., 2] / np.linalg.norm(w, axis=-1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                lam = 0.5 * (np.sqrt(1.0 + a2 * (1.0 - mu * mu) / (mu * mu)) - 1.0)
+            return np.where(mu > 0, lam, np.inf), mu > 0
+
+        li, up_i = smith_lambda(wi)
+        lo, up_o = smith_lambda(wo)
+        with np.errstate(invalid="ignore"):
+            ratio = (1.0 + li / (1.0 + lo)) / (1.0 + li)
+        return f * np.where(up_i & up_o, ratio, 0.0)[..., None]
+
+
+def run_brdf_rs(model, spec, ref, repeat=1, **options):
+    """One point: the fastest of `repeat` identical runs (deterministic: same bits)."""
+    seconds = np.inf
+    for _ in range(repeat):
+        t = time.perf_counter()
+        table = brdf_rs.albedo_table(model, spec["axes"], **spec["fixed"], **options)
+        seconds = min(seconds, time.perf_counter() - t)
     err = table.value[..., 0] - ref
     return {
         "seconds": seconds,
@@ -163,6 +235,69 @@ def run_numpy(model, spec, ref, samples, rng):
     }
 
 
+# ------------------------------------------------------------------- Mitsuba
+
+
+def run_mitsuba(spec, python, variant, budget, repeat):
+    """Mitsuba's GGX table (benches/mitsuba_ggx.py in `python`), against the separable-
+    Smith reference; [] with a printed note if mitsuba is not available there."""
+    label = f"Mitsuba 3 {variant}"
+    probe = subprocess.run(
+        [python, "-c", "import mitsuba, numpy"], capture_output=True, text=True, check=False
+    )
+    if probe.returncode != 0:
+        print(
+            f"  {label:34s} skipped: mitsuba is not importable by {python} "
+            "(pip install mitsuba, or pass --mitsuba-python)",
+            flush=True,
+        )
+        return []
+    ref = reference("ggx", spec, variant="separable")
+    request = {
+        "variant": variant,
+        "mu": spec["axes"]["mu"].tolist(),
+        "alpha": spec["axes"]["alpha"].tolist(),
+        "samples": [64 * 2**k for k in range(16)],
+        "budget": budget,
+        "seed": 0,
+        "repeat": max(2, repeat),
+    }
+    points = []
+    with subprocess.Popen(
+        [python, str(HERE / "mitsuba_ggx.py")],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    ) as proc:
+        proc.stdin.write(json.dumps(request))
+        proc.stdin.close()
+        for line in proc.stdout:
+            result = json.loads(line)
+            table = np.asarray(result["table"])
+            point = {
+                "seconds": result["seconds"],
+                "rms": float(np.sqrt(np.mean((table - ref) ** 2))),
+                "samples": float(result["samples"] * table.size),
+                "samples_per_cell": result["samples"],
+            }
+            points.append(point)
+            print(
+                f"  {label:34s} {json.dumps({'samples': result['samples']}):40s} "
+                f"{point['seconds']:8.2f} s  RMS {point['rms']:.2e}",
+                flush=True,
+            )
+            if point["rms"] < TARGETS[-1] / 2:
+                proc.kill()
+                break
+        err = proc.stderr.read()
+    if proc.returncode not in (0, -9) or not points:
+        tail = "\n    ".join(err.strip().splitlines()[-5:])
+        print(f"  {label}: stopped with exit code {proc.returncode}:\n    {tail}", flush=True)
+    return points
+
+
 # ------------------------------------------------------------------- driver
 
 
@@ -202,7 +337,16 @@ def main() -> None:
     parser.add_argument("--tables", nargs="*", default=list(tables()))
     parser.add_argument("--budget", type=float, default=20.0, help="seconds per method")
     parser.add_argument("--threads", type=int, default=None)
+    parser.add_argument("--repeat", type=int, default=1, help="best of N runs per point")
     parser.add_argument("--no-numpy", action="store_true", help="skip the NumPy baseline")
+    parser.add_argument(
+        "--mitsuba-python",
+        default=sys.executable,
+        help="a Python with mitsuba installed (GGX side-by-side; default: this one)",
+    )
+    parser.add_argument("--mitsuba-variant", default="llvm_ad_rgb")
+    parser.add_argument("--mitsuba-budget", type=float, default=None, help="default: --budget")
+    parser.add_argument("--no-mitsuba", action="store_true", help="skip Mitsuba")
     parser.add_argument("--out", type=Path, default=RESULTS / "albedo_convergence")
     args = parser.parse_args()
     if args.threads:
@@ -218,31 +362,42 @@ def main() -> None:
         brdf_rs.albedo_table(model, spec["axes"], **spec["fixed"], samples=64)
         methods = {}
         sizes = [256 * 2**k for k in range(14)]
-        for sequence in ("sobol", "random"):
-            for sampler in ("auto", "importance", "cosine", "uniform"):
-                label = f"{sampler} + {sequence}"
-                runs = [{"samples": n, "sampler": sampler, "sequence": sequence} for n in sizes]
-                methods[label] = series(
-                    label, runs, functools.partial(run_brdf_rs, model, spec, ref), args.budget
-                )
+        run = functools.partial(run_brdf_rs, model, spec, ref, args.repeat)
+        if model == "ggx":
+            # GGX has no diffuse lobe: "auto" is "importance" (VNDF); cosine is uniform's
+            # story again. Fewer, slower-to-converge combinations keep the run short.
+            combos = [("auto", "sobol"), ("auto", "random"), ("uniform", "sobol")]
+        else:
+            combos = [
+                (sampler, sequence)
+                for sequence in ("sobol", "random")
+                for sampler in ("auto", "importance", "cosine", "uniform")
+            ]
+        for sampler, sequence in combos:
+            label = f"{sampler} + {sequence}"
+            runs = [{"samples": n, "sampler": sampler, "sequence": sequence} for n in sizes]
+            methods[label] = series(label, runs, run, args.budget)
         tols = [1e-3 / 2**k for k in range(16)]
         label = "auto + sobol + adaptive tol"
         runs = [{"samples": 256, "tol": t, "max_samples": 1 << 24} for t in tols]
-        methods[label] = series(
-            label, runs, functools.partial(run_brdf_rs, model, spec, ref), args.budget
-        )
+        methods[label] = series(label, runs, run, args.budget)
         label = "auto + sobol, no azimuth fold"
         runs = [{"samples": n, "fold_azimuth": False} for n in sizes]
-        methods[label] = series(
-            label, runs, functools.partial(run_brdf_rs, model, spec, ref), args.budget
-        )
-        if not args.no_numpy:
+        methods[label] = series(label, runs, run, args.budget)
+        if not args.no_numpy and model != "ggx":
             rng = np.random.default_rng(0)
             label = "NumPy Monte Carlo (importance)"
             runs = [{"samples": n, "rng": rng} for n in [16, 64, 256, 1024, 4096, 16384]]
             methods[label] = series(
                 label, runs, functools.partial(run_numpy, model, spec, ref), args.budget
             )
+        if model == "ggx" and not args.no_mitsuba:
+            budget = args.mitsuba_budget if args.mitsuba_budget is not None else args.budget
+            points = run_mitsuba(
+                spec, args.mitsuba_python, args.mitsuba_variant, budget, args.repeat
+            )
+            if points:
+                methods[f"Mitsuba 3 {args.mitsuba_variant} (separable G)"] = points
         results[model] = methods
 
     meta = {
@@ -252,6 +407,7 @@ def main() -> None:
         "brdf_rs": brdf_rs.__version__,
         "python": platform.python_version(),
         "budget_seconds": args.budget,
+        "repeat": args.repeat,
         "date": time.strftime("%Y-%m-%d %H:%M:%S"),
     }
     args.out.parent.mkdir(parents=True, exist_ok=True)
@@ -272,7 +428,8 @@ def report(meta, results):
         "# Albedo tables: run time against error",
         "",
         f"CPU: {meta['cpu']}, {meta['threads']} threads ({meta['isa']}); {meta['date']}; "
-        f"budget {meta['budget_seconds']:.0f} s per method. RMS error over the table against "
+        f"budget {meta['budget_seconds']:.0f} s per method, best of {meta.get('repeat', 1)} "
+        "runs per point. RMS error over the table against "
         "a quadrature converged to 1e-9. Seconds to reach each RMS (— = not within budget).",
     ]
     for model, methods in results.items():
@@ -290,6 +447,14 @@ def report(meta, results):
                 cells.append("—" if t is None else f"{t:.2f} s")
             best = min(p["rms"] for p in points)
             lines.append(f"| {label} | {' | '.join(cells)} | {best:.1e} |")
+        if any(label.startswith("Mitsuba") for label in methods):
+            lines += [
+                "",
+                "Mitsuba's GGX has the separable Smith term G1(wi)·G1(wo): its RMS is measured "
+                "against that model's own converged quadrature. Its times exclude the "
+                "interpreter start, the import and the JIT compilation (best of at least 2 "
+                "identical runs per point, after a warm-up pass).",
+            ]
     return lines
 
 

@@ -36,6 +36,7 @@ use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
 pub mod cells;
+mod ggx;
 
 /// The largest sample count one cell may use (2^40 ≈ 1.1e12).
 pub const MAX_SAMPLES_PER_CELL: u64 = 1 << 40;
@@ -191,6 +192,9 @@ struct Lobe<P> {
     colour: [f64; 3],
     prepared: P,
     warp: Warp,
+    /// GGX's lobe from its visible normals, weighted in closed form (then `prepared` and
+    /// `warp` are unused).
+    ggx: Option<ggx::VisibleLobe>,
 }
 
 /// The per-sample weights `f·mu_o/pdf` of every lobe of a cell.
@@ -222,6 +226,25 @@ impl<K: Kernel> CellIntegrand<K> {
                         *e += c * v;
                     }
                 }
+                Integral::GgxVisible { alpha, f0, basis } => {
+                    let ggx = match sampler {
+                        SamplerChoice::Auto | SamplerChoice::Importance => {
+                            Some(ggx::VisibleLobe::new(alpha, f0, wi))
+                        }
+                        SamplerChoice::Uniform | SamplerChoice::Cosine => None,
+                    };
+                    let warp = if sampler == SamplerChoice::Cosine {
+                        Warp::CosineHemisphere
+                    } else {
+                        Warp::UniformHemisphere
+                    };
+                    lobes.push(Lobe {
+                        colour: term.colour,
+                        prepared: K::prepare::<f64, [f64]>(&basis[..]),
+                        warp,
+                        ggx,
+                    });
+                }
                 Integral::Lobe { basis, importance } => {
                     let prepared = K::prepare::<f64, [f64]>(&basis[..]);
                     let warp = match (sampler, importance) {
@@ -250,6 +273,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         colour: term.colour,
                         prepared,
                         warp,
+                        ggx: None,
                     });
                 }
             }
@@ -273,6 +297,10 @@ impl<K: Kernel> CellIntegrand<K> {
     #[inline(always)]
     fn weights(&self, k: usize, u0: &[f64], u1: &[f64], w: &mut [f64]) {
         let lobe = &self.lobes[k];
+        if let Some(ggx) = &lobe.ggx {
+            ggx.weights(self.fold, u0, u1, w);
+            return;
+        }
         let wi = self.wi;
         let eval = |wo: DVec3| {
             let d = Directions::<f64> {
@@ -365,8 +393,18 @@ impl LobeSums {
         self.n += len as u64;
         for k in 0..lobes {
             let ck = self.shift[k];
-            for (j, x) in w[k][..len].iter().enumerate() {
-                self.sum[k][j % LANES] += x - ck;
+            // Point j goes to lane j % LANES, written as whole chunks so that the loop
+            // vectorizes (the same additions in the same order as one point at a time).
+            let lanes = &mut self.sum[k];
+            let chunks = w[k][..len].chunks_exact(LANES);
+            let rest = chunks.remainder();
+            for chunk in chunks {
+                for (acc, x) in lanes.iter_mut().zip(chunk) {
+                    *acc += x - ck;
+                }
+            }
+            for (acc, x) in lanes.iter_mut().zip(rest) {
+                *acc += x - ck;
             }
             if cross {
                 for l in 0..=k {

@@ -42,6 +42,12 @@ pub enum Integral {
         basis: Slots,
         importance: Importance,
     },
+    /// GGX's specular lobe `D·G2·F/(4·mu_i·mu_o)` (height-correlated Smith `G2`) with
+    /// Schlick's `F` for the grey F0 `f0` (1: F = 1; 0: F = `(1 − cos_b)^5`), the lobe
+    /// of the `ggx` model at `basis`. Drawn from the visible normals (`Importance::
+    /// GgxVisible`), its weight `f·mu_o/pdf = F·G2/G1(wi)` is known in closed form, and
+    /// the integrator computes it so; `basis` serves the uniform and cosine samplers.
+    GgxVisible { alpha: f64, f0: f64, basis: Slots },
 }
 
 /// `colour · integral`, per channel.

@@ -10,7 +10,7 @@
 //! `G2/(4 mu_i mu_o) = 1/(4(mu_i mu_o + mu_o·L_i + mu_i·L_o))` with `L = μ·Λ(μ)` in the
 //! bounded form of [`ggx_mu_lambda`] (finite at grazing angles, where `Λ` overflows).
 
-use super::albedo::{Importance, Integral, Term, basis, colour};
+use super::albedo::{Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
@@ -99,10 +99,16 @@ impl Kernel for Ggx {
         above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
     }
 
-    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals.
+    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals
+    /// with their closed-form weights ([`Integral::GgxVisible`]).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = colour(slots, 3);
-        let importance = Importance::GgxVisible { alpha: slots[6] };
+        let alpha = slots[6];
+        let lobe = |f0: f64| Integral::GgxVisible {
+            alpha,
+            f0,
+            basis: basis(slots, &[(0, 0.0), (3, f0)]),
+        };
         Some(vec![
             Term {
                 colour: colour(slots, 0),
@@ -110,17 +116,11 @@ impl Kernel for Ggx {
             },
             Term {
                 colour: f0,
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
-                    importance,
-                },
+                integral: lobe(1.0),
             },
             Term {
                 colour: f0.map(|c| 1.0 - c),
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 0.0)]),
-                    importance,
-                },
+                integral: lobe(0.0),
             },
         ])
     }

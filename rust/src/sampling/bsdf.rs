@@ -59,6 +59,7 @@ impl Mixture {
             let (warp, weight) = match term.integral {
                 Integral::Exact(v) => (Warp::CosineHemisphere, strength * v),
                 Integral::Lobe { importance, .. } => (warp_of(importance), strength),
+                Integral::GgxVisible { alpha, .. } => (Warp::GgxVisible { alpha }, strength),
             };
             if !(weight > 0.0) {
                 continue;

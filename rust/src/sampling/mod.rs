@@ -115,6 +115,68 @@ fn ggx_g1_over_mu(alpha2: f64, wi: DVec3) -> f64 {
     1.0 / (wi.z + crate::math::geometry::ggx_mu_lambda(wi.z, sin2, alpha2))
 }
 
+/// Heitz's (2018) warp from the projected disk to GGX's visible normals for one incident
+/// direction, with the constants that depend only on `wi` computed once: warp `wi` to
+/// the hemisphere configuration (α = 1), sample the projected disk, warp back.
+#[derive(Clone, Copy, Debug)]
+pub struct GgxVisibleNormals {
+    alpha: f64,
+    /// `wi` in the hemisphere configuration, and the disk's axes.
+    vh: DVec3,
+    t1v: DVec3,
+    t2v: DVec3,
+    /// The weight of the disk's lower half in the warp that makes it the visible part.
+    s_mix: f64,
+}
+
+impl GgxVisibleNormals {
+    /// The warp for roughness `alpha` and the local unit incident direction `wi`.
+    #[inline(always)]
+    pub fn new(alpha: f64, wi: DVec3) -> Self {
+        let vh = DVec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
+        let lensq = vh.x * vh.x + vh.y * vh.y;
+        let t1v = if lensq > 0.0 {
+            DVec3::new(-vh.y, vh.x, 0.0) * (1.0 / lensq.sqrt())
+        } else {
+            DVec3::X
+        };
+        GgxVisibleNormals {
+            alpha,
+            vh,
+            t1v,
+            t2v: vh.cross(t1v),
+            s_mix: 0.5 * (1.0 + vh.z),
+        }
+    }
+
+    /// Returns the half vector at radius `r` in [0, 1] of the projected disk and azimuth
+    /// `a` in [0, 1): the full circle, or (`full = false`) the half `t1 >= 0`, which for
+    /// `wi` in the xz plane is the side `h.y >= 0` (the azimuth fold).
+    #[inline(always)]
+    pub fn half_vector(&self, r: f64, a: f64, full: bool) -> DVec3 {
+        self.scaled_half_vector(r, a, full).normalize()
+    }
+
+    /// Returns the half vector of [`Self::half_vector`] before normalization: a positive
+    /// multiple of it (for callers that need only ratios and can spare the square root).
+    #[inline(always)]
+    pub fn scaled_half_vector(&self, r: f64, a: f64, full: bool) -> DVec3 {
+        let (s_phi, c_phi) = if full {
+            azimuth(a, true)
+        } else {
+            let (s, c) = sin_cos_pi(a);
+            (-c, s) // φ in [−π/2, π/2): cos φ >= 0
+        };
+        let t1 = r * c_phi;
+        let s_mix = self.s_mix;
+        let t2 = (1.0 - s_mix) * (1.0 - t1 * t1).max(0.0).sqrt() + s_mix * r * s_phi;
+        let nh =
+            self.t1v * t1 + self.t2v * t2 + self.vh * (1.0 - t1 * t1 - t2 * t2).max(0.0).sqrt();
+        let alpha = self.alpha;
+        DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0))
+    }
+}
+
 /// A warp of the unit square onto directions about the local +z axis (the normal or
 /// the mirror direction); the half-vector warps return the half vector `h`, to be
 /// reflected into `wo` (density `pdf_h / (4 |wo·h|)`).
@@ -216,28 +278,7 @@ impl Warp {
                 spherical(cos, omc, (s, c), pdf)
             }
             Warp::GgxVisible { alpha } => {
-                // Heitz 2018: warp to the hemisphere configuration (α = 1), sample the
-                // projected disk, warp back. The folded half is t1 >= 0.
-                let vh = DVec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
-                let lensq = vh.x * vh.x + vh.y * vh.y;
-                let t1v = if lensq > 0.0 {
-                    DVec3::new(-vh.y, vh.x, 0.0) * (1.0 / lensq.sqrt())
-                } else {
-                    DVec3::X
-                };
-                let t2v = vh.cross(t1v);
-                let r = u0.sqrt();
-                let (s_phi, c_phi) = if full {
-                    azimuth(a, true)
-                } else {
-                    let (s, c) = sin_cos_pi(a);
-                    (-c, s) // φ in [−π/2, π/2): cos φ >= 0
-                };
-                let t1 = r * c_phi;
-                let s_mix = 0.5 * (1.0 + vh.z);
-                let t2 = (1.0 - s_mix) * (1.0 - t1 * t1).max(0.0).sqrt() + s_mix * r * s_phi;
-                let nh = t1v * t1 + t2v * t2 + vh * (1.0 - t1 * t1 - t2 * t2).max(0.0).sqrt();
-                let h = DVec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize();
+                let h = GgxVisibleNormals::new(alpha, wi).half_vector(u0.sqrt(), a, full);
                 let omc = 0.5 * (h - DVec3::Z).length_squared();
                 let alpha2 = alpha * alpha;
                 let pdf =

@@ -1,0 +1,195 @@
+"""Two builds of brdf-rs side by side on the GGX albedo table, in one run.
+
+Each build lives in its own Python environment (e.g. one with the current tree, one
+with a wheel of an earlier commit: `git archive <commit> | tar -x -C /tmp/base`, then
+`maturin build --release` there and `pip install` the wheel into a second venv). The
+script runs the same series of tables (64x64 GGX, mu x alpha as in
+benches/albedo_convergence.py; fixed sample counts and adaptive `tol`) in a subprocess
+per build, alternating the builds for `--rounds` rounds, and keeps each point's fastest
+time (the machine is shared and noisy; interleaving spreads the noise over both). The
+error is the RMS against the cached quadrature reference
+(benches/results/reference_ggx_*.npy, made by albedo_convergence.py). Prints the time
+to RMS 1e-4 and 1e-5 of each build and the ratio, and writes
+benches/results/ab_builds.{md,json,png}.
+
+    python benches/ab_builds.py --a /path/to/before/bin/python --b .venv/bin/python \\
+        --label-a "main (generic VNDF weights)" --label-b "closed-form weights"
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+RESULTS = HERE / "results"
+TARGETS = (1e-4, 1e-5)
+
+
+def axes() -> dict:
+    return {"mu": (np.arange(64) + 0.5) / 64, "alpha": np.geomspace(0.01, 1.0, 64)}
+
+
+def series() -> dict:
+    return {
+        "sobol, fixed samples": [{"samples": 256 * 2**k} for k in range(10)],
+        "sobol, adaptive tol": [
+            {"samples": 256, "tol": 1e-3 / 2**k, "max_samples": 1 << 24} for k in range(12)
+        ],
+    }
+
+
+def worker(reference: str, budget: float) -> None:
+    """Runs every series with the brdf_rs importable here; JSON on stdout."""
+    import brdf_rs
+
+    ref = np.load(reference)
+    grid = axes()
+    brdf_rs.albedo_table("ggx", grid, kd=0.0, ks=1.0, samples=64)  # warm-up
+    out = {}
+    for name, runs in series().items():
+        points = []
+        for options in runs:
+            t = time.perf_counter()
+            table = brdf_rs.albedo_table("ggx", grid, kd=0.0, ks=1.0, **options)
+            seconds = time.perf_counter() - t
+            err = table.value[..., 0] - ref
+            points.append(
+                {
+                    **options,
+                    "seconds": seconds,
+                    "rms": float(np.sqrt(np.mean(err**2))),
+                    "rms_stderr": float(np.sqrt(np.mean(table.stderr[..., 0] ** 2))),
+                    "samples_total": float(table.samples.sum()),
+                }
+            )
+            if seconds > budget or points[-1]["rms"] < TARGETS[-1] / 2:
+                break
+        out[name] = points
+    print(json.dumps(out))
+
+
+def time_to(points, target):
+    """Seconds to reach RMS <= target, log-log interpolated; None if never reached."""
+    pts = sorted((p["seconds"], p["rms"]) for p in points)
+    best = None
+    for (t0, e0), (t1, e1) in itertools.pairwise(pts):
+        if e0 <= target:
+            best = t0
+            break
+        if e1 <= target:
+            f = (np.log(target) - np.log(e0)) / (np.log(e1) - np.log(e0))
+            best = float(np.exp(np.log(t0) + f * (np.log(t1) - np.log(t0))))
+            break
+    if best is None and pts and pts[0][1] <= target:
+        best = pts[0][0]
+    return best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument(
+        "--build",
+        action="append",
+        default=[],
+        metavar="LABEL=PYTHON",
+        help="a build: its label and the Python that imports it (the first is the baseline)",
+    )
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--budget", type=float, default=8.0, help="seconds per table")
+    parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--reference", default=None, help=argparse.SUPPRESS)
+    parser.add_argument("--out", type=Path, default=RESULTS / "ab_builds")
+    args = parser.parse_args()
+    if args.worker:
+        worker(args.reference, args.budget)
+        return
+    if len(args.build) < 2 or not all("=" in b for b in args.build):
+        parser.error("give at least two --build LABEL=PYTHON")
+    refs = sorted(RESULTS.glob("reference_ggx_[0-9a-f]*.npy"))
+    if not refs:
+        sys.exit("no GGX reference: run benches/albedo_convergence.py --tables ggx first")
+    reference = str(refs[0])
+    builds = dict(b.split("=", 1) for b in args.build)
+    base = next(iter(builds))
+    best: dict[str, dict[str, list[dict]]] = {}
+    for r in range(args.rounds):
+        for label, python in builds.items():
+            cmd = [python, __file__, "--worker"]
+            cmd += ["--reference", reference, "--budget", str(args.budget)]
+            run = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
+            print(f"round {r + 1}, {label}: done", flush=True)
+            if label not in best:
+                best[label] = run
+                continue
+            for name, points in run.items():
+                known = best[label][name]
+                for old, new in zip(known, points, strict=False):
+                    old["seconds"] = min(old["seconds"], new["seconds"])
+                known.extend(points[len(known) :])
+    lines = [
+        "# Two builds on the 64x64 GGX albedo table",
+        "",
+        f"{time.strftime('%Y-%m-%d %H:%M:%S')}; {args.rounds} interleaved rounds, fastest time "
+        "per point; RMS against the converged quadrature. Seconds to reach each RMS "
+        f"(speed-up over {base}).",
+        "",
+        "| series | build | RMS 1e-4 | RMS 1e-5 |",
+        "|---|---|---:|---:|",
+    ]
+    ratios = {}
+    for name in series():
+        times = {}
+        for label in builds:
+            times[label] = [time_to(best[label][name], t) for t in TARGETS]
+            cells = ["—" if t is None else f"{t:.3f} s" for t in times[label]]
+            if label != base:
+                ratio = [
+                    x / y if x and y else None
+                    for x, y in zip(times[base], times[label], strict=True)
+                ]
+                ratios[f"{name}: {label}"] = ratio
+                cells = [
+                    c if q is None else f"{c} ({q:.1f}x)" for c, q in zip(cells, ratio, strict=True)
+                ]
+            lines.append(f"| {name} | {label} | {' | '.join(cells)} |")
+    print("\n".join(lines))
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.with_suffix(".md").write_text("\n".join(lines) + "\n")
+    args.out.with_suffix(".json").write_text(
+        json.dumps({"builds": builds, "results": best, "speedup": ratios}, indent=1)
+    )
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("matplotlib not installed: no plot")
+        return
+    fig, axs = plt.subplots(1, len(series()), figsize=(12, 5), squeeze=False)
+    for ax, name in zip(axs[0], series(), strict=True):
+        for label in builds:
+            pts = sorted((p["seconds"], p["rms"]) for p in best[label][name])
+            ax.loglog(*zip(*pts, strict=True), "-o", markersize=3, label=label)
+        for t in TARGETS:
+            ax.axhline(t, color="grey", lw=0.5)
+        ax.set_title(f"GGX 64x64, {name}")
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("RMS error over the table")
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(args.out.with_suffix(".png"), dpi=110)
+    print(f"wrote {args.out.with_suffix('.md')}, .json, .png")
+
+
+if __name__ == "__main__":
+    main()
