@@ -21,6 +21,7 @@ from ._albedo import (
 from ._api import Model, eval, isa, models, num_threads, set_num_threads
 from ._brdf_rs import __version__
 from ._sampling import pdf, sample
+from ._stress import StressReport, stress
 from .scene import (
     Scene,
     SceneError,
@@ -40,6 +41,7 @@ __all__ = [
     "Model",
     "Scene",
     "SceneError",
+    "StressReport",
     "Table",
     "__version__",
     "albedo",
@@ -61,5 +63,6 @@ __all__ = [
     "scene_tables",
     "set_num_threads",
     "shade",
+    "stress",
     "tonemap",
 ]

@@ -157,6 +157,7 @@ class _Geometry:
     """
 
     def __init__(self, wi: IntVector, wo: IntVector, n: IntVector) -> None:
+        self.n = n
         self.n_n = _dot(n, n)
         self.i_i = _dot(wi, wi)
         self.o_o = _dot(wo, wo)
@@ -243,6 +244,29 @@ class _Geometry:
         difference = _sum_of_roots(1, self.i_o, -self.c, 1)  # |wi||wo| − wi·wo
         one_minus_square = difference / (2 * mpmath.sqrt(self.i_o))
         return one_minus_square / (1 + self.cos_b)
+
+    @cached_property
+    def sin2_th(self) -> mpf:
+        """``sin²θh = |n × h|²`` without cancellation near ``h = n``.
+
+        With ``s = ŵi + ŵo``: ``|n × s|²·|wi|²|wo|² = X + Y·sqrt(|wi|²|wo|²)`` (integers
+        ``X = |n×wi|²|wo|² + |n×wo|²|wi|²``, ``Y = 2(n×wi)·(n×wo)``) and
+        ``|s|² = 2T/(|wi||wo|)``, so no digit is lost however close ``h`` is to ``n``.
+        """
+        cross_dot = self.n_n * self.c - self.a * self.b  # (n × wi)·(n × wo)
+        numerator = _sum_of_roots(
+            self.cross_i * self.o_o + self.cross_o * self.i_i, 1, 2 * cross_dot, self.i_o
+        )
+        # |n×s|²/(|n|²|s|²) = numerator / (i_o · n_n · 2T / sqrt(i_o))
+        return numerator / (mpmath.sqrt(self.i_o) * self.n_n * 2 * self.sum_length)
+
+    @cached_property
+    def unit_h(self) -> tuple[mpf, mpf, mpf]:
+        """``h`` as an mp vector (working precision)."""
+        li, lo = mpmath.sqrt(self.i_i), mpmath.sqrt(self.o_o)
+        s = [self.wi[k] / li + self.wo[k] / lo for k in range(3)]
+        length = mpmath.sqrt(sum(x * x for x in s))
+        return s[0] / length, s[1] / length, s[2] / length
 
     # exact comparisons against a threshold t -----------------------------------------
 
@@ -351,6 +375,160 @@ def _torrance_sparrow(g: _Geometry, kd: Colour, ks: Colour, p: mpf, eta: mpf) ->
     return _per_channel(lambda d, s: d / mpmath.pi + s * specular, kd, ks)
 
 
+# Beyond the sources: GGX, Beckmann, Ward, Ashikhmin-Shirley ---------------------------
+
+
+#: exp(-x) for x beyond this is below 1e-43000: 0 in every float format even after a
+#: division by the smallest cosines (1e-648 squared) the inputs can produce.
+_DEAD = 1e5
+
+
+def _schlick(g: _Geometry, f0: Colour) -> Colour:
+    """Schlick's ``F0 + (1 − F0)(1 − cos_b)^5`` per channel."""
+    weight = g.one_minus_cos_b**5
+    return _per_channel(lambda f: f + (1 - f) * weight, f0)
+
+
+def _tan2(cross: int, dot: int) -> mpf:
+    """``tan²θ = |n × w|² / (n·w)²`` from the exact integers."""
+    return mpf(cross) / (mpf(dot) * dot)
+
+
+def _microfacet(
+    g: _Geometry, kd: Colour, ks: Colour, ndf: mpf, lambda_i: mpf, lambda_o: mpf
+) -> Colour:
+    """``kd/π + D·G2·F/(4 mu_i mu_o)``, height-correlated ``G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))``."""
+    specular = ndf / ((1 + lambda_i + lambda_o) * 4 * g.mu_i * g.mu_o) if g.h_defined else mpf(0)
+    fresnel = _schlick(g, ks)
+    return _per_channel(lambda d, f: d / mpmath.pi + f * specular, kd, fresnel)
+
+
+def _ggx_lambda(tan2: mpf, alpha: mpf) -> mpf:
+    """``(−1 + sqrt(1 + α² tan²θ))/2``, as ``x / (2(1 + sqrt(1 + x)))``."""
+    x = alpha * alpha * tan2
+    return x / (2 * (1 + mpmath.sqrt(1 + x)))
+
+
+def _ggx(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    a2 = alpha * alpha
+    cos_th = g.cos_th
+    ndf = a2 / (mpmath.pi * (g.sin2_th + a2 * cos_th * cos_th) ** 2)
+    lambda_i = _ggx_lambda(_tan2(g.cross_i, g.a), alpha)
+    lambda_o = _ggx_lambda(_tan2(g.cross_o, g.b), alpha)
+    return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
+
+
+def _beckmann_lambda(cross: int, dot: int, alpha: mpf) -> mpf:
+    """``(erf(c) − 1)/2 + exp(−c²)/(2c·sqrt(π))``, ``c = μ/(α sqrt(1 − μ²))``; 0 at ``μ = 1``."""
+    if cross == 0:
+        return mpf(0)
+    c = dot / (alpha * mpmath.sqrt(cross))
+    if c > 1e8:  # Λ < exp(-1e16): 0 to any precision that matters next to 1 + Λ
+        return mpf(0)
+    return -mpmath.erfc(c) / 2 + mpmath.exp(-c * c) / (2 * c * mpmath.sqrt(mpmath.pi))
+
+
+def _beckmann(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    a2 = alpha * alpha
+    cos2 = g.cos_th * g.cos_th
+    exponent = g.sin2_th / (cos2 * a2) if cos2 != 0 else mpf(0)
+    if cos2 == 0 or exponent > _DEAD:
+        ndf = mpf(0)  # exp(-exponent) is below every float format, whatever divides it
+    else:
+        ndf = mpmath.exp(-exponent) / (mpmath.pi * a2 * cos2 * cos2)
+    lambda_i = _beckmann_lambda(g.cross_i, g.a, alpha)
+    lambda_o = _beckmann_lambda(g.cross_o, g.b, alpha)
+    return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
+
+
+def _tangent_frame(g: _Geometry, tangent: IntVector | None) -> tuple[list[mpf], list[mpf]]:
+    """``x``: the tangent (default +x) projected on the tangent plane and normalized;
+    ``y = n × x``. A tangent along ``n`` has no projection: then Duff et al.'s unit vector
+    perpendicular to ``n`` (as the kernels)."""
+    length = mpmath.sqrt(g.n_n)
+    n = [mpf(c) / length for c in g.n]
+    t = tangent if tangent is not None else (1, 0, 0)
+    cross = (
+        g.n[1] * t[2] - g.n[2] * t[1],
+        g.n[2] * t[0] - g.n[0] * t[2],
+        g.n[0] * t[1] - g.n[1] * t[0],
+    )
+    if cross == (0, 0, 0):
+        sign = -1 if n[2] < 0 else 1
+        a = -1 / (sign + n[2])
+        b = n[0] * n[1] * a
+        x = [b, sign + n[1] * n[1] * a, -n[1]]
+    else:
+        t_dot_n = sum(t[k] * n[k] for k in range(3))
+        p = [t[k] - t_dot_n * n[k] for k in range(3)]
+        p_length = mpmath.sqrt(sum(c * c for c in p))
+        x = [c / p_length for c in p]
+    y = [n[1] * x[2] - n[2] * x[1], n[2] * x[0] - n[0] * x[2], n[0] * x[1] - n[1] * x[0]]
+    return x, y
+
+
+def _ward(
+    g: _Geometry, tangent: IntVector | None, kd: Colour, ks: Colour, alpha_x: mpf, alpha_y: mpf
+) -> Colour:
+    lobe = mpf(0)
+    if g.h_defined and g.cos_th != 0:
+        if alpha_x == alpha_y:  # isotropic: (h·x)² + (h·y)² = sin²θh, whatever the frame
+            numerator = g.sin2_th / (alpha_x * alpha_x)
+        else:
+            x, y = _tangent_frame(g, tangent)
+            h = g.unit_h
+            hx = sum(h[k] * x[k] for k in range(3)) / alpha_x
+            hy = sum(h[k] * y[k] for k in range(3)) / alpha_y
+            numerator = hx * hx + hy * hy
+        exponent = numerator / (g.cos_th * g.cos_th)
+        if exponent <= _DEAD:
+            lobe = mpmath.exp(-exponent) / (
+                4 * mpmath.pi * alpha_x * alpha_y * mpmath.sqrt(g.mu_i * g.mu_o)
+            )
+    return _per_channel(lambda d, s: d / mpmath.pi + s * lobe, kd, ks)
+
+
+def _coupling(mu: mpf) -> mpf:
+    """``1 − (1 − mu/2)^5`` as ``y(5 − 10y + 10y² − 5y³ + y⁴)``, ``y = mu/2``."""
+    y = mu / 2
+    return y * (5 + y * (-10 + y * (10 + y * (-5 + y))))
+
+
+def _ashikhmin_shirley(
+    g: _Geometry, tangent: IntVector | None, Rd: Colour, Rs: Colour, nu: mpf, nv: mpf
+) -> Colour:
+    specular = mpf(0)
+    if g.h_defined:
+        # a = h·u, b = h·v; near h = n they cancel: 40 more digits for them, and where
+        # even those cancel (h within ~1e-90 of n) the exponent no longer matters and is
+        # taken as (nu + nv)/2, as at h = n.
+        a = b = mpf(0)
+        if g.sin2_th != 0:
+            with mpmath.extradps(40):
+                u, v = _tangent_frame(g, tangent)
+                h = _Geometry(g.wi, g.wo, g.n).unit_h
+                a = sum(h[k] * u[k] for k in range(3))
+                b = sum(h[k] * v[k] for k in range(3))
+        if a == 0 and b == 0:
+            exponent = (nu + nv) / 2
+        else:
+            exponent = (nu * a * a + nv * b * b) / (a * a + b * b)
+        specular = (
+            mpmath.sqrt((nu + 1) * (nv + 1))
+            / (8 * mpmath.pi)
+            * _power(max(mpf(0), g.cos_th), exponent)
+            / (g.cos_b * max(g.mu_i, g.mu_o))
+        )
+    fresnel = _schlick(g, Rs)
+    coupling = _coupling(g.mu_i) * _coupling(g.mu_o)
+    return _per_channel(
+        lambda rd, rs, f: f * specular + 28 * rd / (23 * mpmath.pi) * (1 - rs) * coupling,
+        Rd,
+        Rs,
+        fresnel,
+    )
+
+
 def _lambert_shading(g: _Geometry, kd: Colour) -> Colour:
     cosine = max(mpf(0), g.mu_i)
     return _per_channel(lambda k: k * cosine, kd)
@@ -426,6 +604,13 @@ _KINDS = {
     "eta": _SCALAR,
     "sigma": _SCALAR,
     "threshold": _SCALAR,
+    "alpha": _SCALAR,
+    "alpha_x": _SCALAR,
+    "alpha_y": _SCALAR,
+    "nu": _SCALAR,
+    "nv": _SCALAR,
+    "Rd": _COLOUR,
+    "Rs": _COLOUR,
     "thresholds": _SCALARS,
     "colors": _COLOURS,
 }
@@ -437,7 +622,8 @@ class _Model:
     function: Callable[..., Colour]
     defaults: dict[str, Any]
     required: tuple[str, ...] = ()
-    tangent: bool = False
+    tangent: bool = False  # required
+    tangent_optional: bool = False
 
 
 _LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
@@ -453,6 +639,20 @@ _MODELS: dict[str, _Model] = {
     "normalized_blinn_phong": _Model("A", _normalized_blinn_phong, _LOBE),
     "blinn_phong_fresnel": _Model("A", _blinn_phong_fresnel, {"kd": 0.0, "ks": 0.04, "p": 32.0}),
     "torrance_sparrow": _Model("A", _torrance_sparrow, {**_LOBE, "eta": 1.5}),
+    "ggx": _Model("A", _ggx, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
+    "beckmann": _Model("A", _beckmann, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
+    "ward": _Model(
+        "A",
+        _ward,
+        {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
+        tangent_optional=True,
+    ),
+    "ashikhmin_shirley": _Model(
+        "A",
+        _ashikhmin_shirley,
+        {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
+        tangent_optional=True,
+    ),
     "lambert_shading": _Model("B", _lambert_shading, {"kd": 0.5}),
     "oren_nayar_shading": _Model("B", _oren_nayar_shading, {"kd": 0.5, "sigma": 0.5}),
     "toon_diffuse": _Model("B", _toon_diffuse, {}, ("thresholds", "colors")),
@@ -494,12 +694,27 @@ def _convert(name: str, value: Any) -> Any:
     return tuple(_colour(x, name) for x in value)
 
 
-def _evaluate(model: str, wi: Any, wo: Any, n: Any, tangent: Any, params: dict[str, Any]) -> Colour:
-    """The model's RGB value at the current mpmath precision; ``params`` complete."""
+def _evaluate(
+    model: str,
+    wi: Any,
+    wo: Any,
+    n: Any,
+    tangent: Any,
+    params: dict[str, Any],
+    cache: dict[tuple[IntVector, ...], _Geometry] | None = None,
+) -> Colour:
+    """The model's RGB value at the current mpmath precision; ``params`` complete.
+
+    ``cache`` (optional) keeps each direction set's geometry, whose derived quantities
+    are computed once: :func:`condition` steps parameters without moving directions.
+    """
     spec = _spec(model)
-    geometry = _Geometry(
-        _integer_vector(wi, "wi"), _integer_vector(wo, "wo"), _integer_vector(n, "n")
-    )
+    vectors = (_integer_vector(wi, "wi"), _integer_vector(wo, "wo"), _integer_vector(n, "n"))
+    geometry = None if cache is None else cache.get(vectors)
+    if geometry is None:
+        geometry = _Geometry(*vectors)
+        if cache is not None:
+            cache[vectors] = geometry
     zero = (mpf(0), mpf(0), mpf(0))
     if spec.family == "A" and not (geometry.a > 0 and geometry.b > 0):
         return zero
@@ -508,6 +723,8 @@ def _evaluate(model: str, wi: Any, wo: Any, n: Any, tangent: Any, params: dict[s
         if tangent is None:
             raise TypeError(f"{model}: missing required argument 'tangent'")
         values["tangent"] = _integer_vector(tangent, "tangent")
+    elif spec.tangent_optional:
+        values["tangent"] = None if tangent is None else _integer_vector(tangent, "tangent")
     red, green, blue = spec.function(geometry, **values)
     return +red, +green, +blue
 
@@ -546,8 +763,10 @@ def _nearest_float(x: mpf) -> float:
     if not mpmath.isfinite(x):
         return float(x)
     sign, man, exp, bits = x._mpf_
-    if man == 0:
-        return 0.0
+    if man == 0 or exp + bits < -1075:
+        return -0.0 if sign and man else 0.0  # below half the smallest subnormal
+    if exp + bits > 1030:
+        return -math.inf if sign else math.inf
     dropped = max(exp + bits - 53, -1074) - exp  # low bits below the binary64 quantum
     if dropped > 0:
         man, rest = divmod(man, 1 << dropped)
@@ -617,6 +836,7 @@ def condition(
     tangent: Sequence[float] | None = None,
     *,
     dps: int = 60,
+    reach: float | None = None,
     **params: Any,
 ) -> float:
     """Returns the relative condition number κ of ``model`` at these inputs.
@@ -630,6 +850,14 @@ def condition(
     value is exactly 0 contributes 0 if every perturbation keeps it 0, else ``inf``.
     Inputs equal to 0 stay 0 under relative perturbation and are skipped.
 
+    ``reach`` (a relative distance, e.g. 64 units in the last place of the inputs' float
+    format) replaces the ``1e-30`` probe by steps of ``±reach``: a value that moves there
+    by far more than its slope at ``1e-20`` explains (on the same side) has a
+    discontinuity within rounding distance of the inputs, which a probe at the point
+    itself cannot see (the horizon at ``mu = 1e-17`` under a general normal, a toon
+    threshold a few ulps from ``n·l``); κ is then ``inf``. Otherwise the steeper of the
+    two slopes counts, so a value that curves strongly within ``reach`` counts as steep.
+
     A float64 kernel can at best be off by about ``κ·2^-53`` relative.
     """
     spec = _spec(model)
@@ -638,6 +866,9 @@ def condition(
         if tangent is None:
             raise TypeError(f"{model}: missing required argument 'tangent'")
         inputs["tangent"] = tangent
+    elif spec.tangent_optional and tangent is not None:
+        inputs["tangent"] = tangent
+    cache: dict[tuple[IntVector, ...], _Geometry] = {}
 
     def value(arguments: dict[str, Any]) -> Colour:
         arguments = dict(arguments)
@@ -648,34 +879,42 @@ def condition(
             arguments.pop("n"),
             arguments.pop("tangent", None),
             arguments,
+            cache,
         )
 
     with mpmath.workdps(dps):
         base = value(inputs)
-        steps = (mpf(10) ** -20, mpf(10) ** -30)
+        fine_step = mpf(10) ** -20
+        probe = mpf(10) ** -30 if reach is None else _exact_mpf(reach)
         totals = [mpf(0)] * 3
         moved_from_zero = [False] * 3
         for path in _leaf_paths(inputs, ()):
             x = _exact_mpf(_leaf(inputs, path))
             if x == 0:
                 continue
+            # slopes[step][side][channel], side 0: x·(1 + step), side 1: x·(1 − step)
             slopes = []
-            for step in steps:
-                plus = value(_replaced(inputs, path, x * (1 + step)))
-                minus = value(_replaced(inputs, path, x * (1 - step)))
-                slope = []
-                for channel in range(3):
-                    if base[channel] == 0 and (plus[channel] != 0 or minus[channel] != 0):
-                        moved_from_zero[channel] = True
-                    up = abs(plus[channel] - base[channel])
-                    down = abs(base[channel] - minus[channel])
-                    slope.append(max(up, down) / step)
-                slopes.append(slope)
+            for step in (fine_step, probe):
+                sides = []
+                for sign in (1, -1):
+                    moved = value(_replaced(inputs, path, x * (1 + sign * step)))
+                    slope = []
+                    for channel in range(3):
+                        if base[channel] == 0 and moved[channel] != 0:
+                            moved_from_zero[channel] = True
+                        slope.append(abs(moved[channel] - base[channel]) / step)
+                    sides.append(slope)
+                slopes.append(sides)
             for channel in range(3):
-                coarse, fine = slopes[0][channel], slopes[1][channel]
-                if base[channel] != 0 and fine > 10 * coarse + abs(base[channel]) * mpf(10) ** -10:
-                    return math.inf  # the slope grows as the step shrinks: a jump
-                totals[channel] += max(coarse, fine)
+                fine = max(slopes[0][0][channel], slopes[0][1][channel])
+                if base[channel] != 0:
+                    floor = abs(base[channel]) * mpf(10) ** -10
+                    for side in (0, 1):
+                        fine_side = slopes[0][side][channel] if reach is not None else fine
+                        if slopes[1][side][channel] > 10 * fine_side + floor:
+                            return math.inf  # a jump (or an infinite slope) within the probe
+                coarse = max(slopes[1][0][channel], slopes[1][1][channel])
+                totals[channel] += max(fine, coarse)
         worst = 0.0
         for channel in range(3):
             if base[channel] == 0:

@@ -54,15 +54,22 @@ def _normalize(v: Sequence[float]) -> Vector:
 
     The vector is first divided by its largest absolute component (exact scaling, so
     subnormal components keep their ratios), then by ``math.hypot`` of the result,
-    which lies in [1, sqrt(3)].
+    which lies in [1, sqrt(3)]. A nonzero component too small to survive the division
+    (``(1e300, 0, 1e-300)``: 1e-600) becomes the smallest subnormal of its sign, so the
+    side of a surface the vector is on stays exact (as in the Rust kernels).
     """
-    x, y, z = (float(c) for c in v)
-    largest = max(abs(x), abs(y), abs(z))
+    raw = tuple(float(c) for c in v)
+    largest = max(abs(c) for c in raw)
     if not math.isfinite(largest) or largest == 0.0:
         raise ValueError(f"vector must be finite and nonzero, got {tuple(v)!r}")
-    x, y, z = x / largest, y / largest, z / largest
+    x, y, z = (c / largest for c in raw)
     length = math.hypot(x, y, z)
-    return (x / length, y / length, z / length)
+    unit = (x / length, y / length, z / length)
+    x, y, z = (
+        math.copysign(math.ulp(0.0), c) if u == 0.0 and c != 0.0 else u
+        for u, c in zip(unit, raw, strict=True)
+    )
+    return (x, y, z)
 
 
 def _dot(a: Vector, b: Vector) -> float:
@@ -76,6 +83,26 @@ def _cos(a: Vector, b: Vector) -> float:
     ``acos`` in its domain and ``x**p`` at most 1.
     """
     return min(1.0, max(-1.0, _dot(a, b)))
+
+
+def _cross(a: Vector, b: Vector) -> Vector:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _length(v: Vector) -> float:
+    """Returns ``|v|`` (``math.hypot`` scales: no underflow of the squares)."""
+    return math.hypot(*v)
+
+
+def _clamped_cosine(u: Vector, v: Vector) -> tuple[float, float]:
+    """Returns ``(max(0, u·v), 1 - max(0, u·v))`` for unit ``u``, ``v``, the complement
+    computed as ``|u - v|²/2``: accurate near 1, where ``1 - u·v`` would keep only the
+    digits of the rounded cosine (a power ``cos^p`` with ``p = 1e6`` needs them)."""
+    c = _cos(u, v)
+    if c <= 0.0:
+        return 0.0, 1.0
+    d = (u[0] - v[0], u[1] - v[1], u[2] - v[2])
+    return c, min(1.0, _dot(d, d) / 2.0)
 
 
 def _mirror(wi: Vector, n: Vector, mu_i: float) -> Vector:
@@ -107,23 +134,26 @@ def _cos_b(wi: Vector, wo: Vector) -> float:
     return min(1.0, math.hypot(wi[0] + wo[0], wi[1] + wo[1], wi[2] + wo[2]) / 2.0)
 
 
-def _tangent_projection(w: Vector, n: Vector, mu: float) -> Vector | None:
-    """Returns ``w - mu n`` normalized (``w`` projected on the tangent plane), or None
-    where that projection has zero length."""
-    p = (w[0] - mu * n[0], w[1] - mu * n[1], w[2] - mu * n[2])
-    if p == (0.0, 0.0, 0.0):
-        return None
-    return _normalize(p)
+def _one_minus_cos_b(wi: Vector, wo: Vector, cos_b: float) -> float:
+    """Returns ``1 - cos_b`` without cancellation: ``(1 - cos_b²)/(1 + cos_b)`` with
+    ``1 - cos_b² = |wi - wo|²/4`` (``|wi + wo|² + |wi - wo|² = 4``). Where ``wi ≈ wo``
+    the subtraction ``1 - cos_b`` keeps no correct digit, and Schlick's ``(1 - cos_b)^5``
+    with ``F0 = 0`` is all there is."""
+    d = (wi[0] - wo[0], wi[1] - wo[1], wi[2] - wo[2])
+    return min(1.0, _dot(d, d) / 4.0 / (1.0 + cos_b))
 
 
-def _cos_phi_difference(wi: Vector, wo: Vector, n: Vector, mu_i: float, mu_o: float) -> float:
+def _cos_phi_difference(wi: Vector, wo: Vector, n: Vector) -> float:
     """Returns ``cos(phi_i - phi_o)``: the cosine between the tangent-plane projections
-    of ``wi`` and ``wo``; 0 when either projection has zero length (``MODELS.md``)."""
-    projected_i = _tangent_projection(wi, n, mu_i)
-    projected_o = _tangent_projection(wo, n, mu_o)
-    if projected_i is None or projected_o is None:
+    of ``wi`` and ``wo``; 0 when either projection has zero length (``MODELS.md``).
+
+    The projections are taken as ``n × wi`` and ``n × wo`` (the projections turned by 90°
+    about ``n``: same angle between them), which do not cancel near the normal the way
+    ``w - (n·w) n`` does."""
+    cross_i, cross_o = _cross(n, wi), _cross(n, wo)
+    if cross_i == (0.0, 0.0, 0.0) or cross_o == (0.0, 0.0, 0.0):
         return 0.0
-    return _cos(projected_i, projected_o)
+    return _cos(_normalize(cross_i), _normalize(cross_o))
 
 
 def _rgb(colour: Colour) -> RGB:
@@ -142,27 +172,41 @@ def _three(values: Iterable[float]) -> RGB:
     return (r, g, b)
 
 
-def _pow(x: float, p: float) -> float:
+def _log_base(x: float, one_minus: float | None) -> float:
+    """Returns ``ln x``, from the complement ``1 - x`` when given and ``x > 1/2``."""
+    if one_minus is not None and x > 0.5:
+        return math.log1p(-one_minus)
+    return math.log(x)
+
+
+def _pow(x: float, p: float, one_minus: float | None = None) -> float:
     """Returns ``x**p`` for ``0 <= x <= 1`` and ``p >= 0``, with ``0**0 = 1``.
 
-    The base never exceeds 1, so the power cannot overflow; it may underflow to 0.
+    The base never exceeds 1, so the power cannot overflow; it may underflow to 0. With
+    ``one_minus`` (an accurate ``1 - x``) a base near 1 is taken as ``exp(p·log1p(-(1-x)))``:
+    ``x`` rounded to the nearest float would put an error of up to ``p·2^-53`` (1e-10 at
+    ``p = 1e6``) into the power.
     """
-    if x == 0.0 and p == 0.0:
+    if p == 0.0:
         return 1.0  # MODELS.md: x^p with x = 0, p = 0 is 1
+    if x == 0.0:
+        return 0.0
+    if one_minus is not None and x > 0.5:
+        return math.exp(p * math.log1p(-one_minus))
     return float(x**p)
 
 
-def _frexp_power(x: float, p: float) -> tuple[float, int]:
+def _frexp_power(x: float, p: float, one_minus: float | None = None) -> tuple[float, int]:
     """Returns ``(m, e)`` with ``x**p = m·2**e``, for ``0 < x <= 1`` and ``p >= 0``.
 
     Where ``x**p`` is a normal float it is split exactly; where it underflows (below
     ~2.2e-308) it is taken in the log domain, ``p·log2(x)``, with an integer exponent,
     so a later division by a tiny ``mu`` can still bring it back into range.
     """
-    y = x**p
+    y = _pow(x, p, one_minus)
     if y >= sys.float_info.min:
         return math.frexp(y)
-    log2_y = p * math.log2(x)
+    log2_y = p * _log_base(x, one_minus) / math.log(2.0)
     e = math.floor(log2_y)
     m, e2 = math.frexp(2.0 ** (log2_y - e))
     return m, e + e2
@@ -171,26 +215,28 @@ def _frexp_power(x: float, p: float) -> tuple[float, int]:
 def _product_quotient(
     numerators: Sequence[float],
     denominators: Sequence[float],
-    power: tuple[float, float] = (1.0, 1.0),
+    power: tuple[float, float] | tuple[float, float, float] = (1.0, 1.0),
 ) -> float:
     """Returns ``prod(numerators)·x**p / prod(denominators)``, ``(x, p) = power``, for
-    finite factors >= 0, ``0 <= x <= 1`` and ``p >= 0`` (``0**0 = 1``).
+    finite factors >= 0, ``0 <= x <= 1`` and ``p >= 0`` (``0**0 = 1``). ``power`` may
+    carry a third element, an accurate ``1 - x`` (see :func:`_pow`).
 
     Each factor is split into mantissa and exponent (``math.frexp``) and the exponents
     are summed as integers, so no intermediate product overflows or underflows: the
     result is 0 if a numerator is 0, and inf only if the exact value is beyond the float
     range (or a denominator is 0 with all numerators nonzero). Never 0*inf or inf/inf.
     """
-    x, p = power
+    x, p = power[0], power[1]
+    one_minus = power[2] if len(power) > 2 else None
     if x == 0.0:
         if p != 0.0:
             return 0.0
-        x = 1.0  # MODELS.md: x^p with x = 0, p = 0 is 1
+        x, one_minus = 1.0, 0.0  # MODELS.md: x^p with x = 0, p = 0 is 1
     if any(factor == 0.0 for factor in numerators):
         return 0.0
     if any(factor == 0.0 for factor in denominators):
         return math.inf
-    mantissa, exponent = _frexp_power(x, p)
+    mantissa, exponent = _frexp_power(x, p, one_minus)
     for factor in numerators:
         m, e = math.frexp(factor)
         mantissa, e2 = math.frexp(mantissa * m)
@@ -205,11 +251,24 @@ def _product_quotient(
         return math.inf
 
 
-def _oren_nayar_factor(sigma: float, mu_i: float, mu_o: float, cos_phi: float) -> float:
-    """Returns ``A + B·max(0, cos(phi_i - phi_o))·sin a·tan b`` (``MODELS.md``).
+def _oren_nayar_factor(
+    sigma: float,
+    mu_i: float,
+    mu_o: float,
+    sin_i: float,
+    sin_o: float,
+    cos_phi: float,
+    weight: float = 1.0,
+) -> float:
+    """Returns ``weight·(A + B·max(0, cos(phi_i - phi_o))·sin a·tan b)`` (``MODELS.md``).
 
     ``a = max(theta_i, theta_o)``, ``b = min(theta_i, theta_o)``,
     ``A = 1 - 0.5 sigma²/(sigma² + 0.33)``, ``B = 0.45 sigma²/(sigma² + 0.09)``.
+    The angle with the smaller cosine is ``a``: ``sin a`` is its sine and ``tan b`` the
+    other's sine over its cosine, sines from ``|n × w|``. No ``acos``/``tan``:
+    ``tan(acos(1e-300))`` is ``tan`` of the float nearest π/2, about 1.6e16, not 1e300.
+    ``weight`` (at most the larger cosine: the shading term's ``n·l``) divides ``cos b``
+    first, so ``weight·tan b`` stays finite where ``tan b`` alone overflows.
     """
     sigma2 = sigma * sigma
     big_a = 1.0 - 0.5 * sigma2 / (sigma2 + 0.33)
@@ -217,14 +276,14 @@ def _oren_nayar_factor(sigma: float, mu_i: float, mu_o: float, cos_phi: float) -
     g = max(0.0, cos_phi)
     if big_b == 0.0 or g == 0.0:
         # The second term is 0 whatever tan b is: never form 0 * tan(b).
-        return big_a
-    theta_i = math.acos(mu_i)
-    theta_o = math.acos(mu_o)
-    a = max(theta_i, theta_o)
-    b = min(theta_i, theta_o)
-    # Callers guarantee mu_i > 0, so b < pi/2 and tan b is finite (pi/2 itself is not
-    # a float: tan of the nearest float is about 1.6e16).
-    return big_a + big_b * g * math.sin(a) * math.tan(b)
+        return weight * big_a
+    # Callers guarantee max(mu_i, mu_o) > 0, so tan b is finite (or beyond the range,
+    # where the exact value is).
+    if mu_i >= mu_o:
+        sin_a, sin_b, cos_b = sin_o, sin_i, mu_i
+    else:
+        sin_a, sin_b, cos_b = sin_i, sin_o, mu_o
+    return weight * big_a + big_b * g * sin_a * sin_b * (weight / cos_b)
 
 
 def _frame(
@@ -256,9 +315,12 @@ def oren_nayar(
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
     if not (mu_i > 0.0 and mu_o > 0.0):
         return BLACK
-    cos_phi = _cos_phi_difference(wi, wo, n, mu_i, mu_o)
-    factor = _oren_nayar_factor(sigma, mu_i, mu_o, cos_phi)
-    return _three(kd_c / math.pi * factor for kd_c in _rgb(kd))
+    cos_phi = _cos_phi_difference(wi, wo, n)
+    sin_i, sin_o = _length(_cross(n, wi)), _length(_cross(n, wo))
+    factor = _oren_nayar_factor(sigma, mu_i, mu_o, sin_i, sin_o, cos_phi)
+    # A kd channel of 0 is 0 even where the factor is infinite (both directions within
+    # 1e-308 of the horizon).
+    return _three(0.0 if kd_c == 0.0 else kd_c / math.pi * factor for kd_c in _rgb(kd))
 
 
 def phong(
@@ -281,9 +343,9 @@ def phong(
     if not (mu_i > 0.0 and mu_o > 0.0):
         return BLACK
     r = _mirror(wi, n, mu_i)
-    cos_ar = max(0.0, _cos(r, wo))
+    cos_ar, one_minus = _clamped_cosine(r, wo)
     return _three(
-        kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_ar, p))
+        kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_ar, p, one_minus))
         for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
@@ -303,8 +365,8 @@ def modified_phong(
     if not (mu_i > 0.0 and mu_o > 0.0):
         return BLACK
     r = _mirror(wi, n, mu_i)
-    cos_ar = max(0.0, _cos(r, wo))
-    lobe = _pow(cos_ar, p)
+    cos_ar, one_minus = _clamped_cosine(r, wo)
+    lobe = _pow(cos_ar, p, one_minus)
     return _three(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
 
 
@@ -323,8 +385,8 @@ def normalized_phong(
     if not (mu_i > 0.0 and mu_o > 0.0):
         return BLACK
     r = _mirror(wi, n, mu_i)
-    cos_ar = max(0.0, _cos(r, wo))
-    lobe = (p + 2.0) / (2.0 * math.pi) * _pow(cos_ar, p)
+    cos_ar, one_minus = _clamped_cosine(r, wo)
+    lobe = (p + 2.0) / (2.0 * math.pi) * _pow(cos_ar, p, one_minus)
     return _three(
         kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
@@ -350,9 +412,9 @@ def blinn_phong(
     h = _half_vector(wi, wo)
     if h is None:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
-    cos_th = max(0.0, _cos(n, h))
+    cos_th, one_minus = _clamped_cosine(n, h)
     return _three(
-        kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_th, p))
+        kd_c + _product_quotient((ks_c,), (mu_i,), power=(cos_th, p, one_minus))
         for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
@@ -374,8 +436,8 @@ def modified_blinn_phong(
     h = _half_vector(wi, wo)
     if h is None:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
-    cos_th = max(0.0, _cos(n, h))
-    lobe = _pow(cos_th, p)
+    cos_th, one_minus = _clamped_cosine(n, h)
+    lobe = _pow(cos_th, p, one_minus)
     return _three(kd_c + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
 
 
@@ -397,8 +459,8 @@ def normalized_blinn_phong(
     h = _half_vector(wi, wo)
     if h is None:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
-    cos_th = max(0.0, _cos(n, h))
-    lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p)
+    cos_th, one_minus = _clamped_cosine(n, h)
+    lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p, one_minus)
     return _three(
         kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
@@ -423,10 +485,10 @@ def blinn_phong_fresnel(
     h = _half_vector(wi, wo)
     if h is None:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
-    cos_th = max(0.0, _cos(n, h))
+    cos_th, one_minus = _clamped_cosine(n, h)
     cos_b = _cos_b(wi, wo)
-    lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p)
-    schlick = (1.0 - cos_b) ** 5
+    lobe = (p + 8.0) / (8.0 * math.pi) * _pow(cos_th, p, one_minus)
+    schlick = _one_minus_cos_b(wi, wo, cos_b) ** 5
     return _three(
         kd_c / math.pi + (f0_c + (1.0 - f0_c) * schlick) * lobe
         for kd_c, f0_c in zip(_rgb(kd), _rgb(ks), strict=True)
@@ -455,11 +517,11 @@ def torrance_sparrow(
     h = _half_vector(wi, wo)
     if h is None:
         return BLACK  # h undefined; unreachable with mu_i, mu_o > 0 (see module doc)
-    cos_th = max(0.0, _cos(n, h))
+    cos_th, one_minus = _clamped_cosine(n, h)
     cos_b = _cos_b(wi, wo)
     d_scale = (p + 2.0) / (2.0 * math.pi)  # D = d_scale·cos_th^p
     r0 = ((eta - 1.0) / (eta + 1.0)) ** 2
-    f = r0 + (1.0 - r0) * (1.0 - cos_b) ** 5
+    f = r0 + (1.0 - r0) * _one_minus_cos_b(wi, wo, cos_b) ** 5
 
     # G / (4 mu_i mu_o) is distributed over the min of G:
     #     min(1/(4 mu_i mu_o), cos_th/(2 cos_b mu_i), cos_th/(2 cos_b mu_o)).
@@ -469,7 +531,7 @@ def torrance_sparrow(
     # passed as its power, as it may underflow where the quotient does not), which gives
     # 0 for a zero factor and inf only for a value beyond the float range.
     def specular(ks_c: float) -> float:
-        d_power = (cos_th, p)
+        d_power = (cos_th, p, one_minus)
         return min(
             _product_quotient((ks_c, d_scale, f), (4.0, mu_i, mu_o), power=d_power),
             _product_quotient((ks_c, d_scale, f, cos_th), (2.0, cos_b, mu_i), power=d_power),
@@ -525,7 +587,9 @@ def _microfacet(
 
     ``G2/(4 mu_i mu_o)`` is written ``1/(4(mu_i mu_o + mu_o·mu_iΛ(mu_i) + mu_i·mu_oΛ(mu_o)))``
     with ``mu_lambda(μ, sin²θ) = μ·Λ(μ)``, which stays finite at grazing angles where
-    ``Λ`` itself overflows."""
+    ``Λ`` itself overflows; the larger cosine ``m`` is divided out of the sum first
+    (``min(mu_i, mu_o) + (mu_o/m)·l_i + (mu_i/m)·l_o``), whose products then do not
+    underflow when both cosines are tiny."""
     wi, wo, n = _frame(wi, wo, n)
     mu_i, mu_o = _cos(n, wi), _cos(n, wo)
     if not (mu_i > 0.0 and mu_o > 0.0):
@@ -537,11 +601,14 @@ def _microfacet(
     d = ndf(cos_th, _sin2(n, h))
     l_i = mu_lambda(mu_i, _sin2(n, wi))
     l_o = mu_lambda(mu_o, _sin2(n, wo))
-    g_over = 1.0 / (4.0 * (mu_i * mu_o + mu_o * l_i + mu_i * l_o))
-    schlick = (1.0 - _cos_b(wi, wo)) ** 5
+    m = max(mu_i, mu_o)
+    inner = min(mu_i, mu_o) + mu_o / m * l_i + mu_i / m * l_o
+    specular = 0.0 if d == 0.0 else d / (4.0 * inner) / m  # D·G2/(4 mu_i mu_o)
+    schlick = _one_minus_cos_b(wi, wo, _cos_b(wi, wo)) ** 5
+    fresnel = [f0_c + (1.0 - f0_c) * schlick for f0_c in _rgb(ks)]
     return _three(
-        kd_c / math.pi + (f0_c + (1.0 - f0_c) * schlick) * d * g_over
-        for kd_c, f0_c in zip(_rgb(kd), _rgb(ks), strict=True)
+        kd_c / math.pi + (0.0 if f_c == 0.0 else f_c * specular)
+        for kd_c, f_c in zip(_rgb(kd), fresnel, strict=True)
     )
 
 
@@ -666,20 +733,24 @@ def ashikhmin_shirley(
     a, b = _dot(h, u), _dot(h, v)
     s2 = a * a + b * b
     exponent = (nu * a * a + nv * b * b) / s2 if s2 > 0.0 else (nu + nv) / 2.0
-    cos_th = max(0.0, _cos(n, h))
+    cos_th, one_minus = _clamped_cosine(n, h)
     k_dot_h = _cos_b(wi, wo)
-    lobe = (
-        math.sqrt((nu + 1.0) * (nv + 1.0))
-        / (8.0 * math.pi)
-        * _pow(cos_th, exponent)
-        / (k_dot_h * max(mu_i, mu_o))
+    norm = math.sqrt((nu + 1.0) * (nv + 1.0)) / (8.0 * math.pi)
+    lobe = _product_quotient(
+        (norm,), (k_dot_h, max(mu_i, mu_o)), power=(cos_th, exponent, one_minus)
     )
-    schlick = (1.0 - k_dot_h) ** 5
-    coupling = (1.0 - (1.0 - mu_i / 2.0) ** 5) * (1.0 - (1.0 - mu_o / 2.0) ** 5)
+    schlick = _one_minus_cos_b(wi, wo, k_dot_h) ** 5
+
+    def coupling(mu: float) -> float:
+        # 1 - (1 - mu/2)^5 = (mu/2)(1 + z + z² + z³ + z⁴), z = 1 - mu/2: no cancellation
+        z = 1.0 - mu / 2.0
+        return mu / 2.0 * (1.0 + z * (1.0 + z * (1.0 + z * (1.0 + z))))
+
+    diffuse = 28.0 / (23.0 * math.pi) * coupling(mu_i) * coupling(mu_o)
+    fresnel = [rs_c + (1.0 - rs_c) * schlick for rs_c in _rgb(Rs)]
     return _three(
-        (rs_c + (1.0 - rs_c) * schlick) * lobe
-        + 28.0 * rd_c / (23.0 * math.pi) * (1.0 - rs_c) * coupling
-        for rd_c, rs_c in zip(_rgb(Rd), _rgb(Rs), strict=True)
+        (0.0 if f_c == 0.0 else f_c * lobe) + rd_c * (1.0 - rs_c) * diffuse
+        for rd_c, rs_c, f_c in zip(_rgb(Rd), _rgb(Rs), fresnel, strict=True)
     )
 
 
@@ -706,9 +777,10 @@ def oren_nayar_shading(
     mu_i, mu_o = _cos(n, l), _cos(n, v)
     if mu_i <= 0.0:
         return BLACK  # clamp(n·l, 0, 1) = 0; skip tan b, which grows as n·l -> 0
-    cos_phi = _cos_phi_difference(l, v, n, mu_i, mu_o)
-    factor = _oren_nayar_factor(sigma, mu_i, mu_o, cos_phi)
-    return _three(kd_c * mu_i * factor for kd_c in _rgb(kd))
+    cos_phi = _cos_phi_difference(l, v, n)
+    sin_i, sin_o = _length(_cross(n, l)), _length(_cross(n, v))
+    shaded = _oren_nayar_factor(sigma, mu_i, mu_o, sin_i, sin_o, cos_phi, weight=min(1.0, mu_i))
+    return _three(kd_c * shaded for kd_c in _rgb(kd))
 
 
 def toon_diffuse(
@@ -740,7 +812,8 @@ def phong_specular(
     if n_dot_l <= 0.0:
         return BLACK
     r = _mirror(l, n, n_dot_l)
-    lobe = _pow(max(0.0, _cos(v, r)), p)
+    cos_vr, one_minus = _clamped_cosine(v, r)
+    lobe = _pow(cos_vr, p, one_minus)
     return _three(ks_c * lobe for ks_c in _rgb(ks))
 
 
@@ -756,7 +829,8 @@ def blinn_specular(
     h = _half_vector(l, v)
     if h is None:
         return BLACK  # l = -v: h undefined, the model returns 0 (MODELS.md)
-    lobe = _pow(max(0.0, _cos(n, h)), p)
+    cos_th, one_minus = _clamped_cosine(n, h)
+    lobe = _pow(cos_th, p, one_minus)
     return _three(ks_c * lobe for ks_c in _rgb(ks))
 
 
@@ -792,16 +866,24 @@ def kajiya_kay(
     ``sin_l = sqrt(max(0, 1 - (l·t)²))``, ``sin_v`` likewise; 0 when ``n·l <= 0``.
 
     ``t`` is the fibre tangent, normalized but not projected onto the tangent plane.
+    Sines are ``|l × t|`` (``sqrt(1 - (l·t)²)`` keeps no digit of a sine below 1e-8).
+    With ``A = (-l·t, sin_l)`` and ``B = (v·t, sin_v)`` the lobe's cosine is ``A·B`` and
+    its complement ``|A - B|²/2 = (a² + b²)/2``, ``a = (l + v)·t``,
+    ``b = sin_l - sin_v = a·((v - l)·t)/(sin_l + sin_v)``: accurate at the highlight's
+    peak, where ``p = 1e6`` needs every digit of ``1 - A·B``.
     """
     l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
     t = _normalize(tangent)
     if _cos(n, l) <= 0.0:
         return BLACK
     l_dot_t, v_dot_t = _cos(l, t), _cos(v, t)
-    sin_l = math.sqrt(max(0.0, 1.0 - l_dot_t * l_dot_t))
-    sin_v = math.sqrt(max(0.0, 1.0 - v_dot_t * v_dot_t))
+    sin_l, sin_v = _length(_cross(l, t)), _length(_cross(v, t))
     # sin_l·sin_v - (l·t)(v·t) is the cosine of an angle difference: at most 1 exactly.
-    lobe = _pow(min(1.0, max(0.0, sin_l * sin_v - l_dot_t * v_dot_t)), p)
+    x = min(1.0, max(0.0, sin_l * sin_v - l_dot_t * v_dot_t))
+    a = _dot((l[0] + v[0], l[1] + v[1], l[2] + v[2]), t)
+    sines = sin_l + sin_v
+    b = a * _dot((v[0] - l[0], v[1] - l[1], v[2] - l[2]), t) / sines if sines > 0.0 else 0.0
+    lobe = _pow(x, p, min(1.0, (a * a + b * b) / 2.0)) if x > 0.0 else _pow(0.0, p)
     return _three(kd_c * sin_l + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True))
 
 

@@ -13,6 +13,8 @@ pub enum ErrorClass {
     Value,
     /// A wrong name or a missing argument (`TypeError`).
     Type,
+    /// Memory that could not be allocated (`MemoryError`).
+    Memory,
 }
 
 /// Everything that can go wrong in brdf-rs.
@@ -55,6 +57,8 @@ pub enum BrdfError {
     Shape(String),
     /// Any other invalid argument (message says which and why).
     InvalidArgument(String),
+    /// An allocation that failed (message says what and how large).
+    OutOfMemory(String),
 }
 
 impl BrdfError {
@@ -64,9 +68,24 @@ impl BrdfError {
             BrdfError::UnknownParameter { .. } | BrdfError::MissingParameter { .. } => {
                 ErrorClass::Type
             }
+            BrdfError::OutOfMemory(_) => ErrorClass::Memory,
             _ => ErrorClass::Value,
         }
     }
+}
+
+/// Returns a vector of `len` default values, or [`BrdfError::OutOfMemory`] naming `what`
+/// when the memory is not there (`vec![x; len]` would abort the process instead).
+pub fn try_filled_vec<T: Clone + Default>(len: usize, what: &str) -> Result<Vec<T>, BrdfError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| {
+        BrdfError::OutOfMemory(format!(
+            "{what}: cannot allocate {len} elements of {} bytes",
+            std::mem::size_of::<T>()
+        ))
+    })?;
+    v.resize(len, T::default());
+    Ok(v)
 }
 
 /// Formats an index as `[i, j]` (empty string for a scalar).
@@ -160,7 +179,9 @@ impl fmt::Display for BrdfError {
                     write!(f, "{argument}{idx} is {problem} (first bad index {idx})")
                 }
             }
-            BrdfError::Shape(msg) | BrdfError::InvalidArgument(msg) => f.write_str(msg),
+            BrdfError::Shape(msg)
+            | BrdfError::InvalidArgument(msg)
+            | BrdfError::OutOfMemory(msg) => f.write_str(msg),
         }
     }
 }

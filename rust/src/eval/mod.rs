@@ -241,7 +241,7 @@ pub fn eval_to_vec<F: Real>(
 ) -> Result<(Vec<usize>, Vec<F>), BrdfError> {
     let plan = plan(kind, inputs, options)?;
     let shape = plan.output_shape();
-    let mut out = vec![F::ZERO; plan.rows * 3];
+    let mut out = crate::error::try_filled_vec::<F>(plan.rows * 3, "output")?;
     let view = ArrayViewMutD::from_shape(ndarray::IxDyn(&shape), &mut out)
         .map_err(|e| BrdfError::Shape(e.to_string()))?;
     plan.execute(view)?;

@@ -173,6 +173,17 @@ pub fn broadcast_shapes(named: &[(&str, Vec<usize>)]) -> Result<Vec<usize>, Brdf
             )));
         }
     }
+    // Every batch row becomes 3 floats of output: refuse batches no array can hold
+    // (the product would overflow, or pass isize::MAX bytes as NumPy's own limit).
+    let rows = out.iter().try_fold(1usize, |a, &b| a.checked_mul(b));
+    if rows.is_none_or(|r| r > isize::MAX as usize / 24) {
+        let names: Vec<&str> = named.iter().map(|(n, _)| *n).collect();
+        return Err(BrdfError::Shape(format!(
+            "the broadcast batch shape {} of {} is too large for any array",
+            format_shape(&out),
+            names.join(", ")
+        )));
+    }
     Ok(out)
 }
 

@@ -261,14 +261,17 @@ fn scale_f64(m: f64, kd: f64) -> f64 {
     if sub { f64::from_bits(rb) } else { rn }
 }
 
-/// 2^(yh + yl) for yh <= ~1024 (pow path); exactly 0 below 2^-1100.
+/// 2^(yh + yl - e) for an integer |e| <= 1100 (pow path; `e` = 0 for a plain power);
+/// exactly 0 below 2^-1100 and +inf beyond the float range.
 #[inline(always)]
-fn exp2_dd_f64<const FMA: bool>(yh: f64, yl: f64) -> f64 {
+fn exp2_dd_f64<const FMA: bool>(yh: f64, yl: f64, e: f64) -> f64 {
     // far below the subnormal range: replace by 2^-1100 (rounds to +0) so
-    // that garbage in yl cannot reach the arithmetic
-    let dead = yh < -1090.0;
-    let yh = if dead { -1100.0 } else { yh };
-    let yl = if dead { 0.0 } else { yl };
+    // that garbage in yl cannot reach the arithmetic; far above: by 2^1025 (+inf)
+    let dead = yh - e < -1090.0;
+    let huge = yh - e > 1024.0;
+    let yh = if dead { e - 1100.0 } else { yh };
+    let yh = if huge { e + 1025.0 } else { yh };
+    let yl = if dead | huge { 0.0 } else { yl };
     // n = round(yh + yl): |yl| can reach 2^-10 (f32: 0.15), so rounding yh
     // alone could push |y - n| past the polynomial's range.
     let kd = (yh + yl) + SHIFT_F64;
@@ -279,11 +282,14 @@ fn exp2_dd_f64<const FMA: bool>(yh: f64, yl: f64) -> f64 {
     let v = mla::<FMA>(yl - (t - rh), LN2_F64, t * LN2_L32_F64);
     let z = u + v;
     let w = v - (z - u);
-    scale_f64(exp_mant_f64::<FMA>(z, w), kd)
+    // kd - e = 1.5 * 2^52 + n - e, exact: the scaling by 2^-e is folded into 2^n
+    scale_f64(exp_mant_f64::<FMA>(z, w), kd - e)
 }
 
+/// x^p 2^-e for x in [0, 1] and an integer e with |e| <= 1100 (`e` = 0: plain x^p,
+/// bit for bit); see [`pow_unit_f64`]. Results beyond the float range are +inf.
 #[inline(always)]
-fn pow_unit_impl_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64) -> f64 {
+fn pow_unit_scaled_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64, e: f64) -> f64 {
     let (k, f, c15) = reduce_f64(x);
     let f = if x > SQRT3_HALF_F64 { -one_minus_x } else { f };
     let (t1, t2) = log2_dd_f64::<FMA>(k, f, c15);
@@ -291,10 +297,41 @@ fn pow_unit_impl_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64) -> f64 {
     let p1 = hi21(p);
     let yh = p1 * t1;
     let yl = mla::<FMA>(p - p1, t1, p * t2);
-    let r = exp2_dd_f64::<FMA>(yh, yl);
-    let r = if one_minus_x == 0.0 { 1.0 } else { r };
+    let r = exp2_dd_f64::<FMA>(yh, yl, e);
+    let one = exp2_dd_f64::<FMA>(0.0, 0.0, e); // 2^-e, exact (or +inf)
+    let r = if one_minus_x == 0.0 { one } else { r };
     let r = if x == 0.0 { 0.0 } else { r };
-    if p == 0.0 { 1.0 } else { r }
+    if p == 0.0 { one } else { r }
+}
+
+#[inline(always)]
+fn pow_unit_impl_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64) -> f64 {
+    pow_unit_scaled_f64::<FMA>(x, one_minus_x, p, 0.0)
+}
+
+/// Splits d > 0 (subnormal included) as m 2^e, m in [1, 2); e as an f64.
+#[inline(always)]
+fn split_f64(d: f64) -> (f64, f64) {
+    let tiny = d < f64::MIN_POSITIVE;
+    let ds = if tiny { d * TWO54_F64 } else { d };
+    let bits = ds.to_bits();
+    let e = f64::from_bits((bits >> 52) | TWO52_BITS_F64) - 4503599627371519.0; // 2^52+1023
+    let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | ONE_BITS_F64);
+    (m, e - if tiny { 54.0 } else { 0.0 })
+}
+
+/// x^p / d for x in [0, 1] (given with `one_minus_x`, as [`pow_unit_f64`]) and finite
+/// d > 0, without underflow of x^p before the division: d = m 2^e is split exactly and
+/// the result is (x^p 2^-e) / m, so `x^p` below the float range still counts when `d`
+/// is tiny (`cos^p / mu_i` at mu_i = 1e-300). p == 0 gives 1/d; beyond the float range,
+/// +inf. Two roundings (about 1 ulp more than [`pow_unit_f64`]).
+#[inline(always)]
+pub fn pow_unit_over_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
+    let (m, e) = split_f64(d);
+    // An e outside the exponent range (d = 0, inf, NaN: callers select those away)
+    // would corrupt the bit tricks: keep it in range.
+    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
+    pow_unit_scaled_f64::<false>(x, one_minus_x, p, e) / m
 }
 
 /// x^p for x in [0, 1], given both x and `one_minus_x` = 1 - x.
@@ -447,12 +484,15 @@ fn scale_f32(m: f32, kd: f32) -> f32 {
     if sub { f32::from_bits(rb) } else { rn }
 }
 
-/// f32 analogue of [`exp2_dd_f64`]; exactly 0 below 2^-170.
+/// f32 analogue of [`exp2_dd_f64`]: 2^(yh + yl - e), |e| <= 160; exactly 0 below
+/// 2^-170, +inf beyond the float range.
 #[inline(always)]
-fn exp2_dd_f32<const FMA: bool>(yh: f32, yl: f32) -> f32 {
-    let dead = yh < -160.0;
-    let yh = if dead { -170.0 } else { yh };
-    let yl = if dead { 0.0 } else { yl };
+fn exp2_dd_f32<const FMA: bool>(yh: f32, yl: f32, e: f32) -> f32 {
+    let dead = yh - e < -160.0;
+    let huge = yh - e > 128.0;
+    let yh = if dead { e - 170.0 } else { yh };
+    let yh = if huge { e + 129.0 } else { yh };
+    let yl = if dead | huge { 0.0 } else { yl };
     let kd = (yh + yl) + SHIFT_F32;
     let n = kd - SHIFT_F32;
     let rh = yh - n; // exact
@@ -461,11 +501,12 @@ fn exp2_dd_f32<const FMA: bool>(yh: f32, yl: f32) -> f32 {
     let v = mla32::<FMA>(yl - (t - rh), LN2_F32, t * LN2_L12_F32);
     let z = u + v;
     let w = v - (z - u);
-    scale_f32(exp_mant_f32::<FMA>(z, w), kd)
+    scale_f32(exp_mant_f32::<FMA>(z, w), kd - e)
 }
 
+/// f32 analogue of [`pow_unit_scaled_f64`]: x^p 2^-e, |e| <= 160.
 #[inline(always)]
-fn pow_unit_impl_f32<const FMA: bool>(x: f32, one_minus_x: f32, p: f32) -> f32 {
+fn pow_unit_scaled_f32<const FMA: bool>(x: f32, one_minus_x: f32, p: f32, e: f32) -> f32 {
     let (k, f, c15) = reduce_f32(x);
     let near1 = x > SQRT3_HALF_F32;
     let f = if near1 { -one_minus_x } else { f };
@@ -478,10 +519,35 @@ fn pow_unit_impl_f32<const FMA: bool>(x: f32, one_minus_x: f32, p: f32) -> f32 {
     let p1 = hi12(p);
     let yh = p1 * t1;
     let yl = mla32::<FMA>(p - p1, t1, p * t2);
-    let r = exp2_dd_f32::<FMA>(yh, yl);
-    let r = if one_minus_x == 0.0 { 1.0 } else { r };
+    let r = exp2_dd_f32::<FMA>(yh, yl, e);
+    let one = exp2_dd_f32::<FMA>(0.0, 0.0, e);
+    let r = if one_minus_x == 0.0 { one } else { r };
     let r = if x == 0.0 { 0.0 } else { r };
-    if p == 0.0 { 1.0 } else { r }
+    if p == 0.0 { one } else { r }
+}
+
+#[inline(always)]
+fn pow_unit_impl_f32<const FMA: bool>(x: f32, one_minus_x: f32, p: f32) -> f32 {
+    pow_unit_scaled_f32::<FMA>(x, one_minus_x, p, 0.0)
+}
+
+/// f32 analogue of [`split_f64`].
+#[inline(always)]
+fn split_f32(d: f32) -> (f32, f32) {
+    let tiny = d < f32::MIN_POSITIVE;
+    let ds = if tiny { d * TWO24_F32 } else { d };
+    let bits = ds.to_bits();
+    let e = f32::from_bits((bits >> 23) | TWO23_BITS_F32) - 8388735.0; // 2^23+127
+    let m = f32::from_bits((bits & 0x007F_FFFF) | ONE_BITS_F32);
+    (m, e - if tiny { 24.0 } else { 0.0 })
+}
+
+/// f32 analogue of [`pow_unit_over_f64`]: x^p / d without underflow of x^p first.
+#[inline(always)]
+pub fn pow_unit_over_f32(x: f32, one_minus_x: f32, p: f32, d: f32) -> f32 {
+    let (m, e) = split_f32(d);
+    let e = if e > -160.0 && e < 160.0 { e } else { 0.0 };
+    pow_unit_scaled_f32::<false>(x, one_minus_x, p, e) / m
 }
 
 /// f32 x^p for x in [0, 1]; same contract as [`pow_unit_f64`], computed in

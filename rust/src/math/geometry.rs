@@ -26,6 +26,14 @@ impl<F: Real> Cosine<F> {
     pub fn powf(self, p: F) -> F {
         F::flush_subnormal(F::pow_unit(self.cos, self.one_minus, p))
     }
+
+    /// Returns `cos^p / d` for `d > 0` without forming `cos^p` first, which may
+    /// underflow where the quotient does not (`cos^p / mu_i` at grazing `mu_i`); see
+    /// [`Real::pow_unit_over`]. The `f32` flush applies to the quotient.
+    #[inline(always)]
+    pub fn powf_over(self, p: F, d: F) -> F {
+        F::flush_subnormal(F::pow_unit_over(self.cos, self.one_minus, p, d))
+    }
 }
 
 /// Returns `max(0, u·v)` and `1 - max(0, u·v)` for unit `u`, `v`.
@@ -42,6 +50,23 @@ pub fn clamped_cosine<F: Real>(u: F::V3, v: F::V3) -> Cosine<F> {
     }
 }
 
+/// Returns whether `u·v >= t` for unit `u`, `v`, decided where it is accurate: for
+/// `t > 1/2` as `|u − v|²/2 <= 1 − t` (both sides exact or nearly, where `u·v` would round
+/// to 1 within 1e-16 of it), for `t < −1/2` as `|u + v|²/2 >= 1 + t`, else directly.
+#[inline(always)]
+pub fn cosine_at_least<F: Real>(u: F::V3, v: F::V3, t: F) -> bool {
+    let near_one = (u - v).length_squared() * F::HALF <= F::ONE - t;
+    let near_minus_one = (u + v).length_squared() * F::HALF >= F::ONE + t;
+    let direct = u.dot(v) >= t;
+    if t > F::HALF {
+        near_one
+    } else if t < -F::HALF {
+        near_minus_one
+    } else {
+        direct
+    }
+}
+
 /// Returns `r = 2 (n·wi) n - wi`, the mirror direction of `wi` about `n`.
 #[inline(always)]
 pub fn mirror<F: Real>(wi: F::V3, n: F::V3, mu_i: F) -> F::V3 {
@@ -53,7 +78,8 @@ pub fn mirror<F: Real>(wi: F::V3, n: F::V3, mu_i: F) -> F::V3 {
 pub struct HalfVector<F: Real> {
     /// `h = (wi + wo) / |wi + wo|`.
     pub h: F::V3,
-    /// `cos_b = wi·h = wo·h = |wi + wo| / 2`, with `1 - cos_b = |wi - h|^2 / 2`.
+    /// `cos_b = wi·h = wo·h = |wi + wo| / 2`, with
+    /// `1 - cos_b = (|wi - wo|^2 / 4) / (1 + cos_b)`.
     pub cos_b: Cosine<F>,
     /// False when `wi = -wo` exactly: `h` is undefined and the caller returns 0.
     pub defined: bool,
@@ -62,22 +88,35 @@ pub struct HalfVector<F: Real> {
 /// Returns the half vector of unit `wi`, `wo` and the angle it makes with them.
 ///
 /// `wi + wo` is exact where the two nearly cancel (Sterbenz), so `h` and
-/// `cos_b = |wi + wo| / 2` stay accurate for tiny sums, where `wi·h` would cancel.
+/// `cos_b = |wi + wo| / 2` stay accurate for tiny sums, where `wi·h` would cancel. The
+/// sum is scaled by a power of two before it is squared ([`Real::normalize`],
+/// [`Real::length`]), so a sum of 1e-300 (grazing `wi`, `wo` on opposite sides) still has
+/// a direction: `h` is undefined only when `wi + wo` is exactly 0. The complement comes
+/// from `|wi + wo|² + |wi − wo|² = 4`: `1 − cos_b = (1 − cos_b²)/(1 + cos_b)` with
+/// `1 − cos_b² = |wi − wo|²/4`, accurate at both ends (`wi ≈ wo`: the difference is
+/// exact; `wi ≈ −wo`: nothing cancels), where `|wi − h|²/2` lost the digits of `h`'s
+/// rounding as `h` turned perpendicular to `wi`.
 #[inline(always)]
 pub fn half_vector<F: Real>(wi: F::V3, wo: F::V3) -> HalfVector<F> {
     let s = wi + wo;
-    let len2 = s.length_squared();
-    let defined = len2 > F::ZERO;
-    // When undefined, divide by 1 to keep the lane finite (the caller zeroes it).
-    let len = if defined { len2.sqrt() } else { F::ONE };
-    let h = s * (F::ONE / len);
-    let one_minus = min((wi - h).length_squared() * F::HALF, F::ONE);
+    let (h, _) = F::normalize(s);
+    let len = F::length(s);
+    let defined = len > F::ZERO;
+    // When undefined, use n-free finite values (the caller zeroes the lane).
+    let h = F::V3::new(
+        if defined { h.x() } else { wi.x() },
+        if defined { h.y() } else { wi.y() },
+        if defined { h.z() } else { wi.z() },
+    );
+    let cos = min(len * F::HALF, F::ONE);
+    let d = wi - wo;
+    let one_minus = min(
+        d.length_squared() * F::from_f64(0.25) / (F::ONE + cos),
+        F::ONE,
+    );
     HalfVector {
         h,
-        cos_b: Cosine {
-            cos: min(len * F::HALF, F::ONE),
-            one_minus,
-        },
+        cos_b: Cosine { cos, one_minus },
         defined,
     }
 }
@@ -157,6 +196,34 @@ pub fn ggx_mu_lambda<F: Real>(mu: F, sin2: F, alpha2: F) -> F {
     a2s2 / (F::TWO * (r + mu))
 }
 
+/// Returns `weight·x`, or 0 when `weight` is 0 whatever `x` is: a colour channel (or a
+/// Fresnel factor, a distribution value) of 0 times a lobe that is infinite where the
+/// exact value is (`1/mu_i` at grazing) is 0, never `0·inf = NaN`.
+#[inline(always)]
+pub fn weighted<F: Real>(weight: F, x: F) -> F {
+    if weight == F::ZERO {
+        F::ZERO
+    } else {
+        weight * x
+    }
+}
+
+/// Returns `x / (4 (mu_i mu_o + mu_o l_i + mu_i l_o))`, `l = mu·Λ(mu)`: a distribution
+/// value `x` times the height-correlated Smith `G2/(4 mu_i mu_o)`.
+///
+/// The larger cosine `m` is factored out first, `(mu_i mu_o + mu_o l_i + mu_i l_o)/m =
+/// min(mu_i, mu_o) + (mu_o/m) l_i + (mu_i/m) l_o`, whose terms are no smaller than the
+/// result needs: with both cosines at 1e-38 in `f32` (or 1e-320 in `f64`) the products
+/// `mu_o l_i` underflowed to 0 and gave an infinity where the exact value is finite. A
+/// zero `x` gives 0. Valid for `mu_i, mu_o > 0` (other lanes are finite garbage).
+#[inline(always)]
+pub fn smith_quotient<F: Real>(x: F, mu_i: F, mu_o: F, l_i: F, l_o: F) -> F {
+    let m = max(mu_i, mu_o);
+    let m = if m > F::ZERO { m } else { F::ONE };
+    let inner = min(mu_i, mu_o) + mu_o / m * l_i + mu_i / m * l_o;
+    x / (F::from_f64(4.0) * inner) / m
+}
+
 /// Zeroes an RGB value unless both directions are above the surface (family A).
 #[inline(always)]
 pub fn above_both<F: Real>(mu_i: F, mu_o: F, rgb: [F; 3]) -> [F; 3] {
@@ -199,6 +266,78 @@ mod tests {
         let got = oren_nayar_angular::<f64>(wi, wo, n, wi.z, wo.z);
         let want = to.sin() * ti.tan() * dphi.cos();
         assert!((got - want).abs() < 1e-15, "{got} {want}");
+    }
+
+    #[test]
+    fn half_vector_of_grazing_opposite_directions_is_the_normal() {
+        // wi + wo = (0, 0, 2e-300): its square underflows, its direction does not.
+        let hv = half_vector::<f64>(DVec3::new(1.0, 0.0, 1e-300), DVec3::new(-1.0, 0.0, 1e-300));
+        assert!(hv.defined);
+        assert!(hv.h.x == 0.0 && hv.h.y == 0.0 && (hv.h.z - 1.0).abs() <= f64::EPSILON);
+        assert!((hv.cos_b.cos - 1e-300).abs() <= 2.0 * f64::EPSILON * 1e-300);
+        assert_eq!(hv.cos_b.one_minus, 1.0);
+        let hv = half_vector::<f64>(DVec3::X, -DVec3::X);
+        assert!(!hv.defined);
+    }
+
+    #[test]
+    fn cos_b_complement_is_accurate_for_nearly_opposite_directions() {
+        // wi = (c, s, 0), wo = (-c, s, 0) up to rounding: cos_b = |s|, 1 − cos_b needs
+        // no cancellation, while |wi − h|²/2 carried h's rounding (1e-13 here).
+        for t in [1e-3_f64, 1e-6, 1e-9] {
+            let wi = DVec3::new(t.cos(), t.sin(), 0.0);
+            let wo = DVec3::new(-t.cos(), t.sin(), 1e-7).normalize();
+            let hv = half_vector::<f64>(wi, wo);
+            let want = 1.0 - hv.cos_b.cos; // cos_b <= 1/2: the subtraction is exact-ish
+            let got = hv.cos_b.one_minus;
+            assert!(
+                (got - want).abs() <= 2.0 * f64::EPSILON * want,
+                "{t}: {got} vs {want}"
+            );
+        }
+        // Nearly equal directions: the complement from the exact difference.
+        let wi = DVec3::new(0.6, 0.0, 0.8);
+        let wo = DVec3::new(0.6 + 1e-9, 0.0, 0.8).normalize();
+        let d = (wi - wo).length();
+        let hv = half_vector::<f64>(wi, wo);
+        let want = d * d / 4.0 / (1.0 + hv.cos_b.cos);
+        assert!((hv.cos_b.one_minus - want).abs() <= 4.0 * f64::EPSILON * want);
+    }
+
+    #[test]
+    fn cosine_comparisons_at_the_ends_are_exact() {
+        // u·v is within an ulp of 1 for v one ulp away from u; only u itself is at
+        // cosine 1 (for unit vectors).
+        let u = DVec3::new(0.6, 0.0, 0.8);
+        let v = DVec3::new(f64::from_bits(0.6f64.to_bits() + 1), 0.0, 0.8);
+        assert!(u.dot(v) >= 1.0 - f64::EPSILON);
+        assert!(cosine_at_least::<f64>(u, u, 1.0));
+        assert!(!cosine_at_least::<f64>(u, v, 1.0));
+        assert!(cosine_at_least::<f64>(u, -u, -1.0));
+        assert!(cosine_at_least::<f64>(u, DVec3::X, 0.5) == (u.dot(DVec3::X) >= 0.5));
+        assert!(
+            !cosine_at_least::<f64>(u, u, f64::INFINITY),
+            "unused toon thresholds"
+        );
+    }
+
+    #[test]
+    fn smith_quotient_does_not_underflow_at_grazing_angles() {
+        // f32, both cosines 1e-38, mu·Λ(mu) = 5e-8, D = 1e-15: the exact value is
+        // 1e-15/(4e-7·1e-38) = 2.5e30, while mu_o·l_i = 5e-46 underflows to 0 in f32.
+        let (mu, l) = (1e-38_f32, 5e-8_f32);
+        let got = smith_quotient::<f32>(1e-15, mu, mu, l, l);
+        let want = 1e-15 / (4.0 * (1e-38_f64 * 1e-38 + 2.0 * 1e-38 * 5e-8));
+        assert!(
+            ((f64::from(got) - want) / want).abs() < 1e-6,
+            "{got} vs {want}"
+        );
+        // Ordinary cosines: the plain formula.
+        let (mi, mo, li, lo) = (0.3, 0.7, 0.05, 0.02);
+        let plain = 0.8 / (4.0 * (mi * mo + mo * li + mi * lo));
+        let got = smith_quotient::<f64>(0.8, mi, mo, li, lo);
+        assert!((got - plain).abs() <= 4.0 * f64::EPSILON * plain);
+        assert_eq!(smith_quotient::<f64>(0.0, 5e-324, 5e-324, 0.25, 0.25), 0.0);
     }
 
     #[test]

@@ -139,7 +139,19 @@ pub trait Real:
     /// Returns `v / |v|` computed without overflow or underflow for any finite nonzero
     /// `v` (tiny 1e-300 and huge 1e300 vectors included), and whether `v` was usable
     /// (finite and nonzero). Unusable inputs give a non-finite vector.
+    ///
+    /// A nonzero component whose share of the length is below the smallest subnormal
+    /// (`(1e300, 0, 1e-300)`: 1e-600) becomes the smallest subnormal of its sign, not 0:
+    /// the sign of every dot product with an axis-aligned normal stays exact, so a
+    /// direction just above the surface is never taken for one on it.
     fn normalize(v: Self::V3) -> (Self::V3, bool);
+    /// Returns `|v|`, scaled by a power of two before squaring so that it neither
+    /// overflows nor underflows (exact to a few ulps, subnormal lengths included).
+    fn length(v: Self::V3) -> Self;
+    /// Returns `x^p / d` for `x` in [0, 1] (with its complement, as [`Real::pow_unit`])
+    /// and `d > 0`, with no underflow of `x^p` before the division: `cos^p / mu_i` at
+    /// `mu_i = 1e-300` keeps every digit. `p = 0` (also `0^0`) gives `1/d`.
+    fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
     /// Returns whether `v` is finite and nonzero, without normalizing it.
     fn usable(v: Self::V3) -> bool;
     /// Returns `x`, or 0 for an `f32` below 2^-100 ≈ 7.9e-31; identity for `f64`.
@@ -188,7 +200,7 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 }
 
 macro_rules! impl_real {
-    ($f:ident, $v:ty, $pow:ident, $exp:ident, $log:ident, $erf:path, flush = $flush:expr,
+    ($f:ident, $v:ty, $pow:ident, $pow_over:ident, $exp:ident, $log:ident, $erf:path, flush = $flush:expr,
      small = $small:expr, big = $big:expr, up = $up:expr, down = $down:expr) => {
         impl Real for $f {
             type V3 = $v;
@@ -235,6 +247,10 @@ macro_rules! impl_real {
                 fastmath::$pow(x, one_minus_x, p)
             }
             #[inline(always)]
+            fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
+                fastmath::$pow_over(x, one_minus_x, p, d)
+            }
+            #[inline(always)]
             fn exp(self) -> Self {
                 fastmath::$exp(self)
             }
@@ -260,10 +276,32 @@ macro_rules! impl_real {
                 // Scale by an exact power of two so that squaring neither overflows nor
                 // underflows, then divide by the length. Both selects are exact.
                 let s = max_abs::<$f>(v);
+                let raw = v;
                 let v = if s < $small { v * $up } else { v };
                 let v = if s > $big { v * $down } else { v };
                 let len = v.length_squared().sqrt();
-                (v * (1.0 / len), finite_nonzero::<$f>(v))
+                let u = v * (1.0 / len);
+                // Keep the sign of components that underflowed (see the trait method).
+                let keep = |u: $f, raw: $f| {
+                    if u == 0.0 && raw != 0.0 {
+                        $f::from_bits(1).copysign(raw)
+                    } else {
+                        u
+                    }
+                };
+                let u = <$v>::new(keep(u.x, raw.x), keep(u.y, raw.y), keep(u.z, raw.z));
+                (u, finite_nonzero::<$f>(v))
+            }
+            #[inline(always)]
+            fn length(v: Self::V3) -> Self {
+                let s = max_abs::<$f>(v);
+                let small = s < $small;
+                let big = s > $big;
+                let v = if small { v * $up } else { v };
+                let v = if big { v * $down } else { v };
+                let len = v.length_squared().sqrt();
+                let len = if small { len * $down } else { len };
+                if big { len * $up } else { len }
             }
         }
     };
@@ -274,6 +312,7 @@ impl_real!(
     f64,
     DVec3,
     pow_unit_f64,
+    pow_unit_over_f64,
     exp_f64,
     log_f64,
     libm::erf,
@@ -288,6 +327,7 @@ impl_real!(
     f32,
     Vec3,
     pow_unit_f32,
+    pow_unit_over_f32,
     exp_f32,
     log_f32,
     libm::erff,
@@ -329,6 +369,73 @@ mod tests {
             assert!(ok);
             assert!((u.length() - 1.0).abs() < 1e-6, "{scale}: {u}");
         }
+    }
+
+    #[test]
+    fn length_survives_extreme_and_subnormal_vectors() {
+        for scale in [5e-324, 1e-320, 1e-300, 1e-160, 1.0, 1e160, 1e300] {
+            let v = DVec3::new(0.0, 3.0 * scale, -4.0 * scale);
+            let want = 5.0 * scale;
+            let got = f64::length(v);
+            // subnormal lengths are rounded to the subnormal grid
+            let tol = (4.0 * f64::EPSILON * want).max(f64::from_bits(1));
+            assert!((got - want).abs() <= tol, "{scale}: {got} vs {want}");
+        }
+        let v = Vec3::new(3e-40, 0.0, 4e-40);
+        assert!((f32::length(v) - 5e-40).abs() <= 2e-45);
+        assert_eq!(f64::length(DVec3::ZERO), 0.0);
+    }
+
+    #[test]
+    fn normalize_keeps_the_sign_of_components_below_the_range() {
+        // 1e-300 / 1e300 = 1e-600 is below the smallest subnormal: it becomes ±2^-1074,
+        // not 0, so the side of the xy-plane stays exact.
+        let (u, ok) = f64::normalize(DVec3::new(1e300, 0.0, 1e-300));
+        assert!(ok);
+        assert_eq!(u, DVec3::new(1.0, 0.0, f64::from_bits(1)));
+        let (u, _) = f64::normalize(DVec3::new(-1e300, 0.0, -1e-300));
+        assert_eq!(u.z, -f64::from_bits(1));
+        assert_eq!(u.y.to_bits(), 0, "a zero component stays +0");
+        let (u, _) = f32::normalize(Vec3::new(1e38, 1e-38, 0.0));
+        assert_eq!(u, Vec3::new(1.0, f32::from_bits(1), 0.0));
+    }
+
+    #[test]
+    fn pow_unit_over_does_not_underflow_before_dividing() {
+        // 0.5^1100 / 2^-100 = 2^-1000 exactly, though 0.5^1100 is below the float range.
+        let got = f64::pow_unit_over(0.5, 0.5, 1100.0, 2f64.powi(-100));
+        assert_eq!(got, 2f64.powi(-1000));
+        // The same with a subnormal divisor and a non-power-of-two mantissa.
+        let d = 3.0 * f64::from_bits(1);
+        let got = f64::pow_unit_over(0.5, 0.5, 1060.0, d);
+        let want = 2f64.powi(14) / 3.0; // 2^-1060 / (3·2^-1074)
+        assert!(
+            (got - want).abs() <= 2.0 * f64::EPSILON * want,
+            "{got} vs {want}"
+        );
+        // p = 0 (also 0^0) gives 1/d; beyond the range +inf, never NaN.
+        assert_eq!(f64::pow_unit_over(0.0, 1.0, 0.0, 0.25), 4.0);
+        assert_eq!(
+            f64::pow_unit_over(0.3, 0.7, 0.0, f64::from_bits(1)),
+            f64::INFINITY
+        );
+        assert_eq!(f64::pow_unit_over(1.0, 0.0, 1e6, 1e-320), f64::INFINITY);
+        assert_eq!(f64::pow_unit_over(0.0, 1.0, 2.0, 1e-300), 0.0);
+        // Ordinary arguments: the plain power over d, within two roundings.
+        for (x, p, d) in [(0.7, 3.5, 0.3), (0.999, 1e4, 1e-10), (0.1, 0.5, 7.0)] {
+            let want = f64::pow_unit(x, 1.0 - x, p) / d;
+            let got = f64::pow_unit_over(x, 1.0 - x, p, d);
+            assert!(
+                (got - want).abs() <= 2.0 * f64::EPSILON * want,
+                "{x} {p} {d}"
+            );
+        }
+        // f32: 0.5^140 / 2^-20 = 2^-120 (a normal f32) though 0.5^140 underflows.
+        assert_eq!(
+            f32::pow_unit_over(0.5, 0.5, 140.0, 2f32.powi(-20)),
+            2f32.powi(-120)
+        );
+        assert_eq!(f32::pow_unit_over(0.5, 0.5, 0.0, 1e-45), f32::INFINITY);
     }
 
     #[test]

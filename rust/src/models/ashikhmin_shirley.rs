@@ -16,7 +16,7 @@ use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
-    above_both, clamped_cosine, half_vector, schlick_weight, tangent_frame,
+    above_both, clamped_cosine, half_vector, schlick_weight, tangent_frame, weighted,
 };
 use crate::math::{Real, Vector3, max};
 
@@ -77,12 +77,13 @@ pub struct Prepared<F> {
     norm: F,
 }
 
-/// `1 − (1 − x/2)^5`.
+/// `1 − (1 − x/2)^5`, as `(x/2)(1 + z + z² + z³ + z⁴)` with `z = 1 − x/2`: every term
+/// positive, so grazing `x` (1e-300) keeps its digits where `1 − z⁵` would give 0.
 #[inline(always)]
 fn coupling<F: Real>(x: F) -> F {
-    let y = F::ONE - F::HALF * x;
-    let y2 = y * y;
-    F::ONE - y2 * y2 * y
+    let y = F::HALF * x;
+    let z = F::ONE - y;
+    y * (F::ONE + z * (F::ONE + z * (F::ONE + z * (F::ONE + z))))
 }
 
 impl Kernel for AshikhminShirley {
@@ -121,13 +122,15 @@ impl Kernel for AshikhminShirley {
         } else {
             F::HALF * (pp.nu + pp.nv)
         };
-        let lobe = pp.norm * cos_th.powf(e) / (hv.cos_b.cos * max(mu_i, mu_o));
+        // (n·h)^e / max(mu_i, mu_o) in one step: the power may underflow where the
+        // quotient does not (grazing), and 0/0 must not come of a product that underflows.
+        let lobe = pp.norm * cos_th.powf_over(e, max(mu_i, mu_o)) / hv.cos_b.cos;
         let lobe = if hv.defined { lobe } else { F::ZERO };
         let w = schlick_weight(hv.cos_b);
         let diffuse = coupling(mu_i) * coupling(mu_o);
         let rgb = [0, 1, 2].map(|c| {
             let fresnel = pp.rs[c] + (F::ONE - pp.rs[c]) * w;
-            fresnel * lobe + pp.diffuse[c] * diffuse
+            weighted(fresnel, lobe) + pp.diffuse[c] * diffuse
         });
         above_both(mu_i, mu_o, rgb)
     }

@@ -13,7 +13,9 @@
 use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_rgb, schlick_weight};
+use crate::math::geometry::{
+    above_both, clamped_cosine, half_vector, schlick_rgb, schlick_weight, smith_quotient, weighted,
+};
 use crate::math::{Real, Vector3};
 
 /// The Beckmann kernel.
@@ -89,11 +91,11 @@ impl Kernel for Beckmann {
         let ndf = if t < F::from_f64(700.0) { ndf } else { F::ZERO };
         let l_i = mu_lambda(mu_i, d.n.cross(d.wi).length_squared(), pp.alpha);
         let l_o = mu_lambda(mu_o, d.n.cross(d.wo).length_squared(), pp.alpha);
-        let g_over = F::ONE / (F::from_f64(4.0) * (mu_i * mu_o + mu_o * l_i + mu_i * l_o));
-        let spec = F::flush_subnormal(ndf) * g_over;
+        // D is 0 far from the peak, where G2/(4 mu_i mu_o) alone may be infinite.
+        let spec = smith_quotient(F::flush_subnormal(ndf), mu_i, mu_o, l_i, l_o);
         let spec = if hv.defined { spec } else { F::ZERO };
         let fresnel = schlick_rgb(pp.f0, schlick_weight(hv.cos_b));
-        let rgb = [0, 1, 2].map(|c| fresnel[c] * spec + pp.kd_over_pi[c]);
+        let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);
         above_both(mu_i, mu_o, rgb)
     }
 

@@ -41,7 +41,8 @@ impl Kernel for BlinnPhong {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let (cos_th, defined) = half_cosine(d);
-        let lobe = cos_th.powf(pp.p) / mu_i;
+        // cos_th^p / mu_i in one step: cos_th^p may underflow where the quotient does not
+        let lobe = cos_th.powf_over(pp.p, mu_i);
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
     }

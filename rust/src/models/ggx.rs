@@ -15,6 +15,7 @@ use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     above_both, clamped_cosine, ggx_mu_lambda, half_vector, schlick_rgb, schlick_weight,
+    smith_quotient, weighted,
 };
 use crate::math::{Real, Vector3};
 
@@ -67,8 +68,8 @@ pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, F, bool) {
     let sin2_o = d.n.cross(d.wo).length_squared();
     let l_i = ggx_mu_lambda(mu_i, sin2_i, alpha2);
     let l_o = ggx_mu_lambda(mu_o, sin2_o, alpha2);
-    let g_over = F::ONE / (F::from_f64(4.0) * (mu_i * mu_o + mu_o * l_i + mu_i * l_o));
-    (ndf * g_over, schlick_weight(hv.cos_b), hv.defined)
+    let spec = smith_quotient(ndf, mu_i, mu_o, l_i, l_o);
+    (spec, schlick_weight(hv.cos_b), hv.defined)
 }
 
 impl Kernel for Ggx {
@@ -95,7 +96,7 @@ impl Kernel for Ggx {
         let (spec, w, defined) = lobe(d, pp.alpha2, pp.d_scale);
         let spec = if defined { spec } else { F::ZERO };
         let fresnel = schlick_rgb(pp.f0, w);
-        let rgb = [0, 1, 2].map(|c| fresnel[c] * spec + pp.kd_over_pi[c]);
+        let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);
         above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
     }
 

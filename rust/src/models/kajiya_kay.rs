@@ -5,9 +5,13 @@
 //! (normalized, not projected); 0 when `n·l <= 0`. The sign `−(l·t)(v·t)` is right for
 //! directions pointing away from the surface.
 //!
-//! Sines are `|l × t|` (accurate near 0), and with `A = (−l·t, sin_l)`,
-//! `B = (v·t, sin_v)` the lobe cosine is `A·B`, so `1 − A·B = |A − B|²/2` stays accurate
-//! near the highlight peak for large `p`.
+//! Sines are `|l × t|` (accurate near 0; the cross product is scaled before it is
+//! squared, so a fibre within 1e-200 of the light still has its sine), and with
+//! `A = (−l·t, sin_l)`, `B = (v·t, sin_v)` the lobe cosine is `A·B`, so
+//! `1 − A·B = |A − B|²/2 = (a² + b²)/2` stays accurate near the highlight peak for large
+//! `p`: `a = l·t + v·t = (l + v)·t` (the sum formed before the dot product, exact where
+//! `l ≈ −v`) and `b = sin_l − sin_v = a·((v − l)·t)/(sin_l + sin_v)` (from
+//! `sin_l² − sin_v² = (v·t)² − (l·t)²`; the difference of two rounded sines would cancel).
 
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -44,10 +48,26 @@ impl Kernel for KajiyaKay {
     fn eval<F: Real>(pp: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let cos_l = d.wi.dot(d.t);
         let cos_v = d.wo.dot(d.t);
-        let sin_l = d.wi.cross(d.t).length_squared().sqrt();
-        let sin_v = d.wo.cross(d.t).length_squared().sqrt();
+        let sin_l = F::length(d.wi.cross(d.t));
+        let sin_v = F::length(d.wo.cross(d.t));
         let x = sin_l * sin_v - cos_l * cos_v;
-        let (a, b) = (cos_l + cos_v, sin_l - sin_v);
+        // a = l·t + v·t; where l·t ≈ ±1 and v·t ≈ ∓1 the two cosines cancel and a is the
+        // difference of their complements, 1 − w·t = |w − t|²/2 and 1 + w·t = |w + t|²/2
+        // (accurate however close w is to ±t); elsewhere the sum of the vectors first.
+        let half_sq = |w: F::V3| w.length_squared() * F::HALF;
+        let a_direct = (d.wi + d.wo).dot(d.t);
+        let a_l_up = half_sq(d.wo + d.t) - half_sq(d.wi - d.t);
+        let a_l_down = half_sq(d.wi + d.t) - half_sq(d.wo - d.t);
+        let a = if cos_l > F::HALF && cos_v < -F::HALF {
+            a_l_up
+        } else if cos_l < -F::HALF && cos_v > F::HALF {
+            a_l_down
+        } else {
+            a_direct
+        };
+        let sines = sin_l + sin_v;
+        // Both sines 0 (l and v along the fibre): then b = 0 exactly.
+        let b = a * (d.wo - d.wi).dot(d.t) / if sines > F::ZERO { sines } else { F::ONE };
         let one_minus = min((a * a + b * b) * F::HALF, F::ONE);
         let positive = x > F::ZERO;
         let lobe = Cosine {

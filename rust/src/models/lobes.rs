@@ -2,7 +2,7 @@
 //! prepared "diffuse colour + specular colour + exponent" triple.
 
 use super::{Directions, ParamSource};
-use crate::math::geometry::{Cosine, clamped_cosine, half_vector, mirror};
+use crate::math::geometry::{Cosine, clamped_cosine, half_vector, mirror, weighted};
 use crate::math::{Real, Vector3};
 
 /// Prepared constants of a diffuse + cosine-power lobe: `kd` and `ks` already carry the
@@ -27,10 +27,11 @@ impl<F: Real> DiffuseSpecular<F> {
         }
     }
 
-    /// Returns `kd + ks·lobe` per channel.
+    /// Returns `kd + ks·lobe` per channel; a channel with `ks = 0` is `kd` whatever the
+    /// lobe (an infinite `cos^p / mu_i` must not make `0·inf = NaN` there).
     #[inline(always)]
     pub fn combine(&self, lobe: F) -> [F; 3] {
-        [0, 1, 2].map(|c| self.ks[c] * lobe + self.kd[c])
+        [0, 1, 2].map(|c| weighted(self.ks[c], lobe) + self.kd[c])
     }
 }
 

@@ -10,7 +10,7 @@ use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
 use crate::math::Vector3;
-use crate::math::geometry::{above_both, oren_nayar_ab, oren_nayar_angular};
+use crate::math::geometry::{above_both, oren_nayar_ab, oren_nayar_angular, weighted};
 
 /// The Oren-Nayar BRDF kernel.
 pub struct OrenNayar;
@@ -56,7 +56,9 @@ impl Kernel for OrenNayar {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);
-        let rgb = [0, 1, 2].map(|c| pp.kd_b[c] * g + pp.kd_a[c]);
+        // g is infinite where the exact value is beyond the float range (both directions
+        // within 1e-308 of the horizon); a channel with kd·B = 0 stays kd·A there.
+        let rgb = [0, 1, 2].map(|c| weighted(pp.kd_b[c], g) + pp.kd_a[c]);
         above_both(mu_i, mu_o, rgb)
     }
 

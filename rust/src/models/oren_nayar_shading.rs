@@ -6,8 +6,8 @@
 
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{oren_nayar_ab, oren_nayar_angular};
-use crate::math::{Real, Vector3, clamp};
+use crate::math::geometry::oren_nayar_ab;
+use crate::math::{Real, Vector3, clamp, max};
 
 /// The Oren-Nayar shading kernel.
 pub struct OrenNayarShading;
@@ -52,9 +52,13 @@ impl Kernel for OrenNayarShading {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let cos_l = clamp(mu_i, F::ZERO, F::ONE);
-        // With the light above, max(mu_i, mu_o) > 0 and the angular factor is finite.
-        let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);
+        // cos_l·sin a·tan b·G = max(0, (n × l)·(n × v))·cos_l/max(mu_i, mu_o): the ratio
+        // is at most 1, so the product stays finite where tan b alone overflows (light and
+        // viewer within 1e-308 of the horizon).
+        let cos_b = max(mu_i, mu_o);
+        let ratio = cos_l / if cos_b > F::ZERO { cos_b } else { F::ONE };
+        let g = max(d.n.cross(d.wi).dot(d.n.cross(d.wo)), F::ZERO) * ratio;
         let g = if mu_i > F::ZERO { g } else { F::ZERO };
-        [0, 1, 2].map(|c| (pp.kd_b[c] * g + pp.kd_a[c]) * cos_l)
+        [0, 1, 2].map(|c| pp.kd_b[c] * g + pp.kd_a[c] * cos_l)
     }
 }

@@ -41,7 +41,8 @@ impl Kernel for Phong {
     fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
         let (mu_i, cos_ar) = mirror_cosine(d);
         let mu_o = d.n.dot(d.wo);
-        let lobe = cos_ar.powf(pp.p) / mu_i;
+        // cos_ar^p / mu_i in one step: cos_ar^p may underflow where the quotient does not
+        let lobe = cos_ar.powf_over(pp.p, mu_i);
         above_both(mu_i, mu_o, pp.combine(lobe))
     }
 

@@ -7,7 +7,8 @@
 
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::{Real, Vector3};
+use crate::math::Real;
+use crate::math::geometry::cosine_at_least;
 
 /// Most thresholds a toon ramp may have (so at most `MAX_THRESHOLDS + 1` bands).
 pub const MAX_THRESHOLDS: usize = 7;
@@ -73,11 +74,11 @@ impl Kernel for ToonDiffuse {
 
     #[inline(always)]
     fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let cos_l = d.n.dot(d.wi);
-        // Thresholds ascend, so the last one passed names the band.
+        // Thresholds ascend, so the last one passed names the band. Each comparison is
+        // decided where it is accurate (`n·l` rounds to ±1 near the ends).
         let mut rgb = pp.colors[0];
         for k in 0..MAX_THRESHOLDS {
-            let passed = pp.thresholds[k] <= cos_l;
+            let passed = cosine_at_least::<F>(d.n, d.wi, pp.thresholds[k]);
             rgb = [0, 1, 2].map(|c| if passed { pp.colors[k + 1][c] } else { rgb[c] });
         }
         rgb

@@ -1,11 +1,12 @@
 //! `toon_specular`: the shading assignment's two-level specular highlight.
 //!
 //! `s(l, v) = high` if `v·r >= threshold` else `low` (the assignment's m_S1, m_S0, t_S),
-//! 0 when `n·l <= 0`.
+//! 0 when `n·l <= 0`. The comparison is decided from `1 ∓ v·r` near the ends of the
+//! range (see [`cosine_at_least`]): at `threshold = 1` only the exact mirror direction is inside.
 
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::mirror;
+use crate::math::geometry::{cosine_at_least, mirror};
 use crate::math::{Real, Vector3};
 
 /// The toon specular kernel.
@@ -75,7 +76,7 @@ impl Kernel for ToonSpecular {
     fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let r = mirror::<F>(d.wi, d.n, mu_i);
-        let inside = d.wo.dot(r) >= pp.threshold;
+        let inside = cosine_at_least::<F>(d.wo, r, pp.threshold);
         let lit = mu_i > F::ZERO;
         [0, 1, 2].map(|c| {
             let s = if inside { pp.high[c] } else { pp.low[c] };

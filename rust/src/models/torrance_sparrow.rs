@@ -12,7 +12,7 @@
 use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
+use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
 use crate::math::{Real, Vector3, min};
 
 /// The Torrance-Sparrow kernel.
@@ -92,9 +92,11 @@ impl Kernel for TorranceSparrow {
             ),
             ratio * half / mu_o,
         );
-        let spec = d_lobe * fresnel * g_over;
+        // D·F is 0 where cos_th^p underflows; G/(4 mu_i mu_o) is infinite where the
+        // exact value is (grazing): never multiply the two into NaN.
+        let spec = weighted(d_lobe * fresnel, g_over);
         let spec = if hv.defined { spec } else { F::ZERO };
-        let rgb = [0, 1, 2].map(|c| pp.ks_norm[c] * spec + pp.kd_over_pi[c]);
+        let rgb = [0, 1, 2].map(|c| weighted(pp.ks_norm[c], spec) + pp.kd_over_pi[c]);
         above_both(mu_i, mu_o, rgb)
     }
 

@@ -8,7 +8,7 @@
 use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, half_vector, tangent_frame};
+use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
 use crate::math::{Real, Vector3};
 
 /// The Ward kernel.
@@ -81,7 +81,7 @@ impl Kernel for Ward {
         } else {
             F::ZERO
         };
-        let rgb = [0, 1, 2].map(|c| pp.ks[c] * lobe + pp.kd_over_pi[c]);
+        let rgb = [0, 1, 2].map(|c| weighted(pp.ks[c], lobe) + pp.kd_over_pi[c]);
         above_both(mu_i, mu_o, rgb)
     }
 

@@ -9,11 +9,11 @@ use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 use numpy::{Element, IntoPyArray, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
-use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::error::{BrdfError, ErrorClass};
+use crate::error::{BrdfError, ErrorClass, try_filled_vec};
 use crate::eval::{self, EvalInputs, EvalOptions};
 use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
@@ -29,6 +29,7 @@ impl From<BrdfError> for PyErr {
         match e.class() {
             ErrorClass::Type => PyTypeError::new_err(e.to_string()),
             ErrorClass::Value => PyValueError::new_err(e.to_string()),
+            ErrorClass::Memory => PyMemoryError::new_err(e.to_string()),
         }
     }
 }
@@ -79,8 +80,13 @@ fn eval_impl<'py, F: Real + Element>(
     let shape = plan.output_shape();
     let out = match out {
         Some(out) => out,
-        // SAFETY: every element is written by `execute` before the array is returned.
-        None => unsafe { PyArrayDyn::<F>::new(py, shape.as_slice(), false) },
+        // NumPy allocates (and raises MemoryError when it cannot): `PyArrayDyn::new` would
+        // panic on the null pointer instead. Every element is written by `execute`.
+        None => py
+            .import("numpy")?
+            .call_method1("empty", (shape.clone(), numpy::dtype::<F>(py)))?
+            .cast_into::<PyArrayDyn<F>>()
+            .map_err(PyErr::from)?,
     };
     {
         let mut guard = out.try_readwrite().map_err(|e| {
@@ -296,7 +302,7 @@ fn albedo<'py>(
     let cells = grid.count();
     options.validate(cells)?;
     let counters = Progress::default();
-    let mut out = vec![CellResult::default(); cells];
+    let mut out = try_filled_vec::<CellResult>(cells, "albedo cells")?;
     run_interruptible(py, &counters, progress.as_ref(), || {
         integrate::albedo(kind, &grid, &options, &counters, &mut out)
     })??;

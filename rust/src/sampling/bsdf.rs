@@ -168,7 +168,7 @@ mod tests {
 /// Model-level sampling over broadcast arrays (`brdf_rs.sample` / `brdf_rs.pdf`).
 pub mod batch {
     use super::Mixture;
-    use crate::error::{BrdfError, format_shape};
+    use crate::error::{BrdfError, format_shape, try_filled_vec};
     use crate::eval::engine::read_row;
     use crate::eval::params::ParamRows;
     use crate::eval::rows::Rows;
@@ -263,9 +263,9 @@ pub mod batch {
             let tangent = inputs.tangent.map(|v| Rows::new(v, true, 3, &batch));
             let mut out = Output {
                 batch,
-                wo: vec![0.0; 3 * count],
-                weight: vec![0.0; 3 * count],
-                pdf: vec![0.0; count],
+                wo: try_filled_vec(3 * count, "sampled directions")?,
+                weight: try_filled_vec(3 * count, "sample weights")?,
+                pdf: try_filled_vec(count, "pdf values")?,
             };
             let batch = &out.batch.clone();
             let element =
