@@ -100,7 +100,7 @@ def main() -> None:
         action="append",
         default=[],
         metavar="LABEL=PYTHON",
-        help="a build: its label and the Python that imports it (the first is the baseline)",
+        help="LABEL=PYTHON: a Python that imports the build (split at the last =; first: baseline)",
     )
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--budget", type=float, default=8.0, help="seconds per table")
@@ -117,7 +117,7 @@ def main() -> None:
     if not refs:
         sys.exit("no GGX reference: run benches/albedo_convergence.py --tables ggx first")
     reference = str(refs[0])
-    builds = dict(b.split("=", 1) for b in args.build)
+    builds = dict(b.rsplit("=", 1) for b in args.build)
     base = next(iter(builds))
     best: dict[str, dict[str, list[dict]]] = {}
     for r in range(args.rounds):
@@ -135,7 +135,7 @@ def main() -> None:
                     old["seconds"] = min(old["seconds"], new["seconds"])
                 known.extend(points[len(known) :])
     lines = [
-        "# Two builds on the 64x64 GGX albedo table",
+        "# Builds compared on the 64x64 GGX albedo table",
         "",
         f"{time.strftime('%Y-%m-%d %H:%M:%S')}; {args.rounds} interleaved rounds, fastest time "
         "per point; RMS against the converged quadrature. Seconds to reach each RMS "

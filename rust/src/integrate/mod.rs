@@ -5,7 +5,8 @@
 //! `Σ colour_k · I_k` ([`crate::models::albedo`]): exact terms are added, zero-colour
 //! terms skipped, and the remaining scalar integrals estimated together from the same
 //! points, each with its lobe's own importance sampler (or the uniform / cosine sampler
-//! the caller asks for).
+//! the caller asks for). GGX's lobes, drawn from their visible normals, are weighted in
+//! closed form on a smoothed disk radius (`integrate/ggx.rs`).
 //!
 //! Estimators:
 //! - `sobol`: randomized QMC. `replicates` independent Owen scrambles, each a prefix of
