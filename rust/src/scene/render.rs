@@ -200,7 +200,7 @@ fn prepare(
         }
         desc.check()?;
         let first_stat = stats.parts.len();
-        let parts: Vec<Part> = material_parts(desc, component)
+        let parts: Vec<Part> = material_parts(desc, component)?
             .iter()
             .map(Part::prepare)
             .collect();

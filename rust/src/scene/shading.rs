@@ -278,7 +278,7 @@ pub enum DiffuseTerm {
     Absent,
     /// The diffuse term depends on the specular parameters (`ashikhmin_shirley`: `Rd` is
     /// scaled by `1 − Rs`): the specular term alone is the model with `Rd = 0`, the
-    /// diffuse term alone is not one kernel (Python refuses `only="diffuse"` for it).
+    /// diffuse term alone is not one kernel ([`material_parts`] refuses it).
     Coupled,
 }
 
@@ -308,8 +308,12 @@ pub struct PartDesc {
     pub role: Role,
 }
 
-/// Returns the kernels a material needs to render `component`, zero-weight terms left out.
-pub fn material_parts(material: &MaterialDesc, component: Component) -> Vec<PartDesc> {
+/// Returns the kernels a material needs to render `component`, zero-weight terms left out;
+/// an error for a diffuse term that is not a kernel of its own (`ashikhmin_shirley`).
+pub fn material_parts(
+    material: &MaterialDesc,
+    component: Component,
+) -> Result<Vec<PartDesc>, BrdfError> {
     let mut parts = Vec::new();
     let mut push = |term: Term, role: Role| {
         if !is_zero_weight(&term) {
@@ -347,7 +351,14 @@ pub fn material_parts(material: &MaterialDesc, component: Component) -> Vec<Part
                     rest.slots[rd].fill(0.0);
                     push(rest, Role::Specular);
                 }
-                _ => push(term.clone(), Role::Brdf),
+                Component::Both => push(term.clone(), Role::Brdf),
+                Component::Diffuse => {
+                    return Err(BrdfError::InvalidArgument(format!(
+                        "only: {}'s diffuse term depends on the specular parameters and \
+                         cannot be rendered alone; render only='specular' or both",
+                        term.kind.name()
+                    )));
+                }
             },
             Some(DiffuseTerm::Lambert(scale)) => {
                 let kd = term.param_slots("kd");
@@ -367,7 +378,7 @@ pub fn material_parts(material: &MaterialDesc, component: Component) -> Vec<Part
             }
         },
     }
-    parts
+    Ok(parts)
 }
 
 /// Pixel-light pairs to shade with one kernel, structure of arrays: the directions (unit
@@ -754,28 +765,35 @@ mod tests {
             diffuse: Some(lambert_d.clone()),
             specular: Some(phong_s0),
         };
-        let parts = material_parts(&m, Component::Both);
+        let parts = material_parts(&m, Component::Both).unwrap();
         assert_eq!(parts.len(), 1);
         assert_eq!(parts[0].term, lambert_d);
 
         let phong_a = term(ModelKind::Phong, &[("kd", vec![0.5]), ("ks", vec![0.0])]);
-        let parts = material_parts(&MaterialDesc::Brdf(phong_a.clone()), Component::Both);
+        let parts = material_parts(&MaterialDesc::Brdf(phong_a.clone()), Component::Both).unwrap();
         assert_eq!(parts.len(), 1);
         assert_eq!(parts[0].term.kind, ModelKind::Lambert);
         assert!((parts[0].term.slots[0] - 0.5 * std::f64::consts::PI).abs() < 1e-15);
-        assert!(material_parts(&MaterialDesc::Brdf(phong_a), Component::Specular).is_empty());
+        assert!(
+            material_parts(&MaterialDesc::Brdf(phong_a), Component::Specular)
+                .unwrap()
+                .is_empty()
+        );
 
         let ts = term(
             ModelKind::TorranceSparrow,
             &[("kd", vec![0.2]), ("ks", vec![0.8])],
         );
         let m = MaterialDesc::Brdf(ts);
-        assert_eq!(material_parts(&m, Component::Both)[0].role, Role::Brdf);
         assert_eq!(
-            material_parts(&m, Component::Diffuse)[0].term.kind,
+            material_parts(&m, Component::Both).unwrap()[0].role,
+            Role::Brdf
+        );
+        assert_eq!(
+            material_parts(&m, Component::Diffuse).unwrap()[0].term.kind,
             ModelKind::Lambert
         );
-        let spec = &material_parts(&m, Component::Specular)[0];
+        let spec = &material_parts(&m, Component::Specular).unwrap()[0];
         assert_eq!(spec.term.kind, ModelKind::TorranceSparrow);
         assert_eq!(&spec.term.slots[0..3], &[0.0; 3]);
     }
@@ -784,9 +802,9 @@ mod tests {
     fn parts_of_the_newer_models() {
         let ms = term(ModelKind::GgxMs, &[("ks", vec![0.5])]);
         let m = MaterialDesc::Brdf(ms.clone());
-        assert!(material_parts(&m, Component::Diffuse).is_empty());
+        assert!(material_parts(&m, Component::Diffuse).unwrap().is_empty());
         for component in [Component::Both, Component::Specular] {
-            let parts = material_parts(&m, component);
+            let parts = material_parts(&m, component).unwrap();
             assert_eq!(
                 parts,
                 vec![PartDesc {
@@ -800,10 +818,20 @@ mod tests {
             &[("Rd", vec![0.5]), ("Rs", vec![0.1])],
         );
         let m = MaterialDesc::Brdf(a_s.clone());
-        assert_eq!(material_parts(&m, Component::Both)[0].role, Role::Brdf);
-        let spec = material_parts(&m, Component::Specular);
+        assert_eq!(
+            material_parts(&m, Component::Both).unwrap()[0].role,
+            Role::Brdf
+        );
+        let spec = material_parts(&m, Component::Specular).unwrap();
         assert_eq!(spec.len(), 1);
         assert_eq!(spec[0].term.slots[0..3], [0.0; 3]);
         assert_eq!(spec[0].term.slots[3..], a_s.slots[3..]);
+        let refused = material_parts(&m, Component::Diffuse)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            refused.contains("ashikhmin_shirley's diffuse term"),
+            "{refused}"
+        );
     }
 }
