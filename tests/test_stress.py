@@ -301,6 +301,19 @@ def test_kajiya_kay_peak_along_the_fibre():
     want = exact(*args, kd=0.5, ks=1.0, p=1e6)
     assert want[0] == 1.0
     assert_within(kernel(*args, kd=0.5, ks=1.0, p=1e6), want, 1.0, "kajiya_kay")
+    assert_within(reference.eval(*args, kd=0.5, ks=1.0, p=1e6), want, 1.0, "reference")
+
+
+def test_reference_ward_denominator_does_not_underflow():
+    # Both directions 5e-324 above the horizon, opposite: h = n, the exponent is 0 and
+    # 4π·αx·αy·sqrt(mu_i)·sqrt(mu_o) underflows to 0 (ZeroDivisionError); the exact lobe
+    # is beyond the float range, and a zero ks channel leaves kd/π.
+    wi, wo = [0.8, 0.6, 5e-324], [-0.8, -0.6, 5e-324]
+    params = {"kd": 0.5, "ks": [1.0, 0.0, 1.0], "alpha_x": 1e-7, "alpha_y": 1e-3}
+    want = exact("ward", wi, wo, **params)
+    assert want == (math.inf, 0.5 / math.pi, math.inf)
+    assert reference.eval("ward", wi, wo, **params) == want
+    assert kernel("ward", wi, wo, **params) == want
 
 
 def test_b1_component_below_the_range_keeps_the_direction_above_the_surface():

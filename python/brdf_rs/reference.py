@@ -696,11 +696,13 @@ def ward(
         lobe = 0.0  # exp underflows (also where cos_th² does): never 0/0
     else:
         exponent = numerator / (cos_th * cos_th)
-        lobe = math.exp(-exponent) / (
-            4.0 * math.pi * alpha_x * alpha_y * math.sqrt(mu_i) * math.sqrt(mu_o)
-        )
+        # The denominator's product may underflow at grazing angles (and tiny α):
+        # _product_quotient keeps it exact, inf only beyond the float range.
+        denominator = (4.0 * math.pi, alpha_x, alpha_y, math.sqrt(mu_i), math.sqrt(mu_o))
+        lobe = _product_quotient((math.exp(-exponent),), denominator)
     return _three(
-        kd_c / math.pi + ks_c * lobe for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+        kd_c / math.pi + (0.0 if ks_c == 0.0 else ks_c * lobe)
+        for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
     )
 
 
@@ -868,9 +870,11 @@ def kajiya_kay(
     ``t`` is the fibre tangent, normalized but not projected onto the tangent plane.
     Sines are ``|l × t|`` (``sqrt(1 - (l·t)²)`` keeps no digit of a sine below 1e-8).
     With ``A = (-l·t, sin_l)`` and ``B = (v·t, sin_v)`` the lobe's cosine is ``A·B`` and
-    its complement ``|A - B|²/2 = (a² + b²)/2``, ``a = (l + v)·t``,
+    its complement ``|A - B|²/2 = (a² + b²)/2``, ``a = l·t + v·t``,
     ``b = sin_l - sin_v = a·((v - l)·t)/(sin_l + sin_v)``: accurate at the highlight's
-    peak, where ``p = 1e6`` needs every digit of ``1 - A·B``.
+    peak, where ``p = 1e6`` needs every digit of ``1 - A·B``. Where the two cosines cancel
+    at ±1, ``a`` is the difference of their complements ``1 ∓ w·t = |w ∓ t|²/2``
+    (accurate however close ``w`` is to ``±t``), elsewhere ``(l + v)·t``.
     """
     l, v, n = _frame(wi, wo, n)  # noqa: E741 - l is the source's name for the light
     t = _normalize(tangent)
@@ -880,7 +884,17 @@ def kajiya_kay(
     sin_l, sin_v = _length(_cross(l, t)), _length(_cross(v, t))
     # sin_l·sin_v - (l·t)(v·t) is the cosine of an angle difference: at most 1 exactly.
     x = min(1.0, max(0.0, sin_l * sin_v - l_dot_t * v_dot_t))
-    a = _dot((l[0] + v[0], l[1] + v[1], l[2] + v[2]), t)
+
+    def half_square(u: Vector, s: float) -> float:
+        d = (u[0] + s * t[0], u[1] + s * t[1], u[2] + s * t[2])
+        return _dot(d, d) / 2.0
+
+    if l_dot_t > 0.5 and v_dot_t < -0.5:
+        a = half_square(v, 1.0) - half_square(l, -1.0)  # (1 + v·t) - (1 - l·t)
+    elif l_dot_t < -0.5 and v_dot_t > 0.5:
+        a = half_square(l, 1.0) - half_square(v, -1.0)
+    else:
+        a = _dot((l[0] + v[0], l[1] + v[1], l[2] + v[2]), t)
     sines = sin_l + sin_v
     b = a * _dot((v[0] - l[0], v[1] - l[1], v[2] - l[2]), t) / sines if sines > 0.0 else 0.0
     lobe = _pow(x, p, min(1.0, (a * a + b * b) / 2.0)) if x > 0.0 else _pow(0.0, p)
