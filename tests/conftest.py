@@ -12,11 +12,20 @@ determine it.
 from __future__ import annotations
 
 import math
+import os
 
 import brdf_rs
 import numpy as np
 import pytest
 from brdf_rs import reference
+from hypothesis import settings
+
+# Property tests are derandomized by default so a run (CI's included) is reproducible:
+# the same examples every time. HYPOTHESIS_PROFILE=explore draws new random examples
+# (run it locally to hunt for failures; a failure it finds becomes a fixed test).
+settings.register_profile("default", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
 
 SPECS = brdf_rs.models()
 MODEL_NAMES = list(SPECS)

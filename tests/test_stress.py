@@ -523,7 +523,8 @@ def test_fuzz_eval_returns_a_correct_result_or_raises_clearly(
     directions = [wi, wo] + ([n] if use_n else []) + [extra.get("tangent")]
     single = all(getattr(a, "dtype", None) == np.float32 for a in directions if a is not None)
     dtype = np.float32 if single else np.float64
-    clean = [np.ascontiguousarray(np.asarray(a, dtype=dtype)) for a in (wi, wo, n)]
+    # n only when it was passed: an unused n may be anything (a string array included).
+    clean = [np.ascontiguousarray(np.asarray(a, dtype=dtype)) for a in (wi, wo, n if use_n else 0)]
     again = brdf_rs.eval(
         model, clean[0], clean[1], clean[2] if use_n else None, check=check, **params, **extra
     )
