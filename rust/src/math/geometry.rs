@@ -99,8 +99,7 @@ pub struct HalfVector<F: Real> {
 #[inline(always)]
 pub fn half_vector<F: Real>(wi: F::V3, wo: F::V3) -> HalfVector<F> {
     let s = wi + wo;
-    let (h, _) = F::normalize(s);
-    let len = F::length(s);
+    let (h, len) = F::normalize_length(s);
     let defined = len > F::ZERO;
     // When undefined, use n-free finite values (the caller zeroes the lane).
     let h = F::V3::new(

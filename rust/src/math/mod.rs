@@ -145,6 +145,9 @@ pub trait Real:
     /// the sign of every dot product with an axis-aligned normal stays exact, so a
     /// direction just above the surface is never taken for one on it.
     fn normalize(v: Self::V3) -> (Self::V3, bool);
+    /// Returns [`Real::normalize`]'s unit vector together with [`Real::length`]'s `|v|`,
+    /// sharing the scaling and the square root (bit for bit the values of the two).
+    fn normalize_length(v: Self::V3) -> (Self::V3, Self);
     /// Returns `|v|`, scaled by a power of two before squaring so that it neither
     /// overflows nor underflows (exact to a few ulps, subnormal lengths included).
     fn length(v: Self::V3) -> Self;
@@ -273,12 +276,21 @@ macro_rules! impl_real {
             }
             #[inline(always)]
             fn normalize(v: Self::V3) -> (Self::V3, bool) {
+                // Scaling by a power of two keeps a vector finite and nonzero exactly
+                // when it was: test the raw one. The unused length folds away.
+                let (u, _) = Self::normalize_length(v);
+                (u, finite_nonzero::<$f>(v))
+            }
+            #[inline(always)]
+            fn normalize_length(v: Self::V3) -> (Self::V3, Self) {
                 // Scale by an exact power of two so that squaring neither overflows nor
                 // underflows, then divide by the length. Both selects are exact.
                 let s = max_abs::<$f>(v);
                 let raw = v;
-                let v = if s < $small { v * $up } else { v };
-                let v = if s > $big { v * $down } else { v };
+                let small = s < $small;
+                let big = s > $big;
+                let v = if small { v * $up } else { v };
+                let v = if big { v * $down } else { v };
                 let len = v.length_squared().sqrt();
                 let u = v * (1.0 / len);
                 // Keep the sign of components that underflowed (see the trait method).
@@ -290,7 +302,8 @@ macro_rules! impl_real {
                     }
                 };
                 let u = <$v>::new(keep(u.x, raw.x), keep(u.y, raw.y), keep(u.z, raw.z));
-                (u, finite_nonzero::<$f>(v))
+                let len = if small { len * $down } else { len };
+                (u, if big { len * $up } else { len })
             }
             #[inline(always)]
             fn length(v: Self::V3) -> Self {
