@@ -1,25 +1,39 @@
-"""Regenerates rust/src/models/tables/*.rs: tables the kernels interpolate, computed by
-brdf-rs itself (its albedo integrator) and embedded in the binary.
+"""Regenerates the tables brdf-rs interpolates, computed by brdf-rs itself (its albedo
+integrator).
 
-- ggx_e.rs, beckmann_e.rs: Kulla & Conty's E(mu, alpha) (directional albedo with F = 1)
-  on 33 x 33 nodes (mu = j/32, the first node at 1e-4; alpha log-spaced in [1e-3, 1]),
-  and E_avg(alpha) = 2 ∫ E(mu) mu dmu by 32-point Gauss-Legendre.
+- ``energy``: rust/src/models/tables/ggx_e.rs, beckmann_e.rs, embedded in the binary:
+  Kulla & Conty's E(mu, alpha) (directional albedo with F = 1) on 33 x 33 nodes
+  (mu = j/32, the first node at 1e-4; alpha log-spaced in [1e-3, 1]), and
+  E_avg(alpha) = 2 ∫ E(mu) mu dmu by 32-point Gauss-Legendre. Each cell is integrated to
+  a standard error of 1e-6 (randomized QMC, seed 0). ~1 minute on 2 cores.
+- ``exact``: python/brdf_rs/exact_normalization.npz, shipped in the package (the factor
+  is applied to the parameters in Python, before the kernel: see _normalization.py).
+  Ward's albedo at normal incidence A(alpha_x, alpha_y) on 65 x 65 nodes log-spaced in
+  [1e-2, 1e2] (symmetric: 2145 cells), as r = −log(A·s(alpha_x)·s(alpha_y)),
+  s(a) = sqrt(1 + 3a²); each cell to a standard error of 5e-7 in A·s·s where the samplers
+  allow it (the stderr is stored). It also checks Torrance-Sparrow's sup over mu of the
+  F = 1 albedo (which is 1: no table needed) and prints what it found. ~10 minutes.
 
-    python scripts/gen_tables.py          # ~1 minute on 2 cores
-
-Each cell is integrated to a standard error of 1e-6 (randomized QMC, seed 0).
+    python scripts/gen_tables.py [energy] [exact]     # both by default
+    python scripts/gen_tables.py exact-check          # measures the Ward interpolation error
 """
 
 from __future__ import annotations
 
 import datetime
+import itertools
+import json
 import subprocess
+import sys
+import time
 from pathlib import Path
 
 import brdf_rs
 import numpy as np
 
-OUT = Path(__file__).resolve().parent.parent / "rust" / "src" / "models" / "tables"
+ROOT = Path(__file__).resolve().parent.parent
+OUT = ROOT / "rust" / "src" / "models" / "tables"
+EXACT = ROOT / "python" / "brdf_rs" / "exact_normalization.npz"
 N = 33
 MU = np.linspace(0.0, 1.0, N)
 MU[0] = 1e-4
@@ -52,7 +66,7 @@ pub const {name}_E_AVG: [f64; {N}] = {rust_array(ec.e_avg)};
 """
 
 
-def main() -> None:
+def energy_tables() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     for model in ("ggx", "beckmann"):
         path = OUT / f"{model}_e.rs"
@@ -60,6 +74,233 @@ def main() -> None:
         print(f"wrote {path}")
     # Keep `cargo fmt --check` (CI) happy.
     subprocess.run(["cargo", "fmt"], cwd=OUT.parents[3], check=True)
+
+
+# ----------------------------------------------------------------- exact normalization
+
+#: Ward's roughness nodes: 16 per decade in [1e-2, 1e2].
+WARD_ALPHA = np.geomspace(1e-2, 1e2, 65)
+WARD_TOL = 5e-7
+WARD_MAX_SAMPLES = 1 << 24
+
+
+def ward_scale(alpha_x: np.ndarray, alpha_y: np.ndarray) -> np.ndarray:
+    """s(αx)·s(αy), s(a) = sqrt(1 + 3a²): 1/A to within 3.1% for every αx, αy (A ≈ 1 −
+    1.5(αx² + αy²) for small α, 1/(3 αx αy) for large ones, ≈ 1/(1.71 αx) for large αx,
+    small αy). Integrating ks = s·s makes every cell's value ≈ 1, so an absolute
+    tolerance is a relative one."""
+    return np.sqrt((1 + 3 * alpha_x**2) * (1 + 3 * alpha_y**2))
+
+
+def ward_integrate(
+    alpha_x: np.ndarray, alpha_y: np.ndarray, seed: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Ward's albedo at normal incidence times ward_scale, its stderr and the sampler
+    used (0: importance, 1: uniform) per cell. Ward's own importance sampler (Walter's
+    Gaussian NDF sampling) is the good one for narrow lobes, uniform hemisphere sampling
+    for wide ones (where importance sampling sends almost every sample below the horizon
+    and its stderr, from a handful of hits, is not to be trusted); where neither clearly
+    wins both run and the smaller stderr is kept."""
+    scale = ward_scale(alpha_x, alpha_y)
+    narrow = np.maximum(alpha_x, alpha_y) <= 0.3
+    wide = np.minimum(alpha_x, alpha_y) >= 0.3
+    value = np.full(alpha_x.size, np.nan)
+    stderr = np.full(alpha_x.size, np.inf)
+    used = np.zeros(alpha_x.size, dtype=np.int8)
+    for code, sampler, cells in ((0, "importance", ~wide), (1, "uniform", ~narrow)):
+        k = np.flatnonzero(cells)
+        t0 = time.perf_counter()
+        r = brdf_rs.albedo(
+            "ward",
+            1.0,
+            kd=0.0,
+            ks=scale[k, None],
+            alpha_x=alpha_x[k],
+            alpha_y=alpha_y[k],
+            samples=1 << 16,
+            tol=WARD_TOL,
+            max_samples=WARD_MAX_SAMPLES,
+            sampler=sampler,
+            seed=seed + code,
+        )
+        v, e = r.value[:, 0], r.stderr[:, 0]
+        better = e < stderr[k]
+        value[k[better]] = v[better]
+        stderr[k[better]] = e[better]
+        used[k[better]] = code
+        print(
+            f"ward {sampler}: {k.size} cells in {time.perf_counter() - t0:.0f} s, "
+            f"largest stderr {e.max():.1e}",
+            flush=True,
+        )
+    return value, stderr, used
+
+
+def ward_table() -> dict[str, np.ndarray]:
+    """Ward's albedo at normal incidence over the symmetric (αx, αy) grid (seed 0)."""
+    n = WARD_ALPHA.size
+    i, j = np.triu_indices(n)
+    value, stderr, sampler_used = ward_integrate(WARD_ALPHA[i], WARD_ALPHA[j], seed=0)
+    full = np.empty((n, n))
+    full_se = np.empty((n, n))
+    used = np.empty((n, n), dtype=np.int8)
+    for a, b in ((i, j), (j, i)):
+        full[a, b] = -np.log(value)
+        full_se[a, b] = stderr / value
+        used[a, b] = sampler_used
+    print(
+        f"ward: r in [{full.min():.4e}, {full.max():.4e}]; stderr of r: largest "
+        f"{full_se.max():.1e}, median {np.median(full_se):.1e}",
+        flush=True,
+    )
+    return {
+        "ward_alpha": WARD_ALPHA,
+        "ward_r": full,
+        "ward_r_stderr": full_se,
+        "ward_sampler": used,
+    }
+
+
+#: Torrance-Sparrow check: p nodes and incidences.
+TS_P = np.concatenate([[0.0], np.geomspace(0.1, 1e5, 13)])
+TS_MU = np.concatenate([[1e-6, 1e-4, 1e-3, 1e-2], np.linspace(0.05, 1.0, 20)])
+
+
+def torrance_sparrow_check() -> None:
+    """Prints sup over mu of the F = 1 Torrance-Sparrow albedo (R0 = 1: eta = 1e20 rounds
+    R0 to exactly 1) per p: it is 1 (the V-cavity G conserves projected area), reached as
+    mu → 0, so the exact factor is 1. Fails if any cell exceeds 1 by more than 5 stderr."""
+    r = brdf_rs.albedo(
+        "torrance_sparrow",
+        TS_MU[:, None],
+        kd=0.0,
+        ks=1.0,
+        eta=1e20,
+        p=TS_P[None, :],
+        samples=1 << 16,
+        tol=1e-6,
+        max_samples=1 << 22,
+    )
+    v, e = r.value[..., 0], r.stderr[..., 0]
+    # Cells the estimator gets exactly (every replicate equal: stderr 0) count as z = 0.
+    z = np.divide(v - 1, e, out=np.zeros_like(v), where=e > 0)
+    for k, p in enumerate(TS_P):
+        m = int(np.argmax(v[:, k]))
+        print(
+            f"torrance_sparrow p={p:<9.4g} max over mu {v[m, k]:.7f} ± {e[m, k]:.1e} at mu="
+            f"{TS_MU[m]:g}; A(mu=1) = {v[-1, k]:.6f}; largest (A − 1)/stderr "
+            f"{np.max(z[:, k]):.1f}",
+            flush=True,
+        )
+    if np.any(v > 1 + 5 * e + 1e-12):
+        raise SystemExit("torrance_sparrow: an albedo exceeds 1 by more than 5 stderr")
+
+
+def exact_tables() -> None:
+    torrance_sparrow_check()
+    ward = ward_table()
+    meta = {
+        "generator": "scripts/gen_tables.py exact",
+        "date": str(datetime.date.today()),
+        "brdf_rs": brdf_rs.__version__,
+        "ward": "r = -log(A(mu=1)·s(ax)·s(ay)), s(a) = sqrt(1 + 3a^2); A the directional "
+        "albedo of ward with kd = 0, ks = 1 at normal incidence",
+        "ward_tol": WARD_TOL,
+        "ward_max_samples": WARD_MAX_SAMPLES,
+        "sequence": "sobol",
+    }
+    tmp = EXACT.with_name(EXACT.name + ".partial.npz")
+    np.savez_compressed(tmp, meta=np.array(json.dumps(meta)), **ward)
+    tmp.replace(EXACT)
+    print(f"wrote {EXACT}")
+
+
+def ward_albedo_quadrature(alpha_x: float, alpha_y: float) -> float:
+    """Ward's albedo at normal incidence by 1-D quadrature (scipy): with wi = n,
+    wo = 2(n·h)h − n, s = tan θh, the azimuth integral of the Gaussian is 2π e^(−a s²)
+    I0(b s²), leaving A = (2/(αx αy)) ∫_0^1 e^(−a s²) I0(b s²) sqrt((1−s²)/(1+s²))
+    s/(1+s²)² ds, a = (αx⁻² + αy⁻²)/2, b = |αx⁻² − αy⁻²|/2."""
+    from scipy import integrate, special
+
+    b = 0.5 * abs(alpha_x**-2 - alpha_y**-2)
+    a_minus_b = 1.0 / max(alpha_x, alpha_y) ** 2
+
+    def integrand(s: float) -> float:
+        s2 = s * s
+        return float(
+            special.i0e(b * s2)
+            * np.exp(-a_minus_b * s2)
+            * np.sqrt((1 - s2) / (1 + s2))
+            * s
+            / (1 + s2) ** 2
+        )
+
+    marks = [k * m for m in (alpha_x, alpha_y) for k in (0.5, 1, 2, 4, 8) if k * m < 1]
+    edges = np.unique([0.0, *marks, 1.0])
+    total = sum(
+        integrate.quad(integrand, lo, hi, epsabs=0, epsrel=1e-12, limit=200)[0]
+        for lo, hi in itertools.pairwise(edges)
+    )
+    return 2 * total / (alpha_x * alpha_y)
+
+
+def exact_check() -> None:
+    """Measures the interpolated Ward factor at the table's cell midpoints (in log α)
+    against 1-D quadrature (all midpoints) and fresh integrations (every third one, a
+    new seed), and beyond the table against quadrature."""
+    import warnings
+
+    from brdf_rs import _normalization
+
+    mid = np.sqrt(WARD_ALPHA[:-1] * WARD_ALPHA[1:])
+    k, m = np.triu_indices(mid.size)
+    ax, ay = mid[k], mid[m]
+    c = _normalization.factor("ward", {"alpha_x": ax, "alpha_y": ay})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        quad = np.array([ward_albedo_quadrature(x, y) for x, y in zip(ax, ay, strict=True)])
+    rel = np.abs(c * quad - 1)
+    worst = int(np.argmax(rel))
+    print(
+        f"ward midpoints vs quadrature ({rel.size}): largest |c·A − 1| {rel.max():.2e} at "
+        f"({ax[worst]:.4g}, {ay[worst]:.4g}); median {np.median(rel):.1e}; 99th percentile "
+        f"{np.quantile(rel, 0.99):.1e}"
+    )
+    pick = (k % 3 == 0) & (m % 3 == 0)
+    sub_x, sub_y = ax[pick], ay[pick]
+    fresh, fresh_se, _ = ward_integrate(sub_x, sub_y, seed=100)
+    scale = ward_scale(sub_x, sub_y)
+    fresh_value, fresh_se = fresh / scale, fresh_se / scale
+    dev = c[pick] * fresh_value - 1
+    z = dev / (c[pick] * fresh_se)
+    print(
+        f"ward midpoints vs fresh integrations ({dev.size}): largest |c·A − 1| "
+        f"{np.abs(dev).max():.2e}; median {np.median(np.abs(dev)):.1e}; largest stderr "
+        f"of c·A {np.max(c[pick] * fresh_se):.1e}; |z| > 4 in {(np.abs(z) > 4).sum()} cells"
+    )
+    beyond = [(1e-7, 1e-7), (1e-3, 0.5), (1e-7, 1e7), (5e2, 5e2), (1e7, 1e7), (0.3, 1e4)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for x, y in beyond:
+            cb = float(_normalization.factor("ward", {"alpha_x": x, "alpha_y": y}))
+            print(
+                f"ward beyond the table ({x:g}, {y:g}): c = {cb:.6g}, "
+                f"|c·A − 1| = {abs(cb * ward_albedo_quadrature(x, y) - 1):.1e}"
+            )
+    print(f"ward factor at the midpoints: c in [{c.min():.6g}, {c.max():.6g}]")
+
+
+def main() -> None:
+    which = sys.argv[1:] or ["energy", "exact"]
+    for name in which:
+        if name not in ("energy", "exact", "exact-check"):
+            raise SystemExit(f"unknown table {name!r}: expected energy, exact, exact-check")
+    if "energy" in which:
+        energy_tables()
+    if "exact" in which:
+        exact_tables()
+    if "exact-check" in which:
+        exact_check()
 
 
 if __name__ == "__main__":

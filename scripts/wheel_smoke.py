@@ -41,6 +41,12 @@ assert table.value.shape == (2, 2, 3)
 error = np.abs(table.value[1, :, 0] - 1.0)
 assert np.all(error <= 6 * table.stderr[1, :, 0] + 1e-12), (error, table.stderr[1])
 
+# The Ward exact-normalization table ships as package data: at normal incidence the
+# exactly normalized lobe's albedo is 1 (alpha 0.2: the integrator's error is ~1e-6).
+assert (package / "exact_normalization.npz").exists()
+ward = brdf_rs.albedo("ward", 1.0, kd=0, ks=1, alpha_x=0.2, alpha_y=0.2, normalization="exact")
+assert abs(ward.value[0] - 1) < 6 * ward.stderr[0] + 1e-4, ward
+
 # The console script, as a user runs it.
 script = Path(sys.executable).parent / "brdf-rs"
 models = json.loads(

@@ -173,8 +173,12 @@ def test_exact_normalization_makes_the_largest_albedo_one(p):
 
 
 def test_exact_normalization_elsewhere_is_refused():
-    with pytest.raises(ValueError, match="normalization='exact' exists for normalized_blinn_phong"):
-        brdf_rs.eval("torrance_sparrow", [0, 0, 1], [0, 0, 1], normalization="exact")
+    with pytest.raises(
+        ValueError,
+        match="normalization='exact' exists for normalized_blinn_phong, torrance_sparrow, "
+        "ward; beckmann has none",
+    ):
+        brdf_rs.eval("beckmann", [0, 0, 1], [0, 0, 1], normalization="exact")
     with pytest.raises(ValueError, match='normalization: expected "approximate" or "exact"'):
         brdf_rs.eval("normalized_blinn_phong", [0, 0, 1], [0, 0, 1], normalization="true")
 

@@ -42,8 +42,13 @@ def eval(
         check: raise ``ValueError`` naming the argument and first bad index for NaN,
             infinite or zero-length vectors; with ``check=False`` such rows give NaN.
         out: optional C-contiguous array of the result's shape and dtype to write into.
-        normalization: ``"exact"`` gives ``normalized_blinn_phong`` the lobe factor that
-            makes its largest albedo exactly 1 (instead of RTR's ``(p+8)/(8π)``).
+        normalization: ``"exact"`` scales the lobe so its directional albedo (kd = 0,
+            ks = 1, Fresnel factor 1) peaks at exactly 1: ``normalized_blinn_phong``
+            (a closed form instead of RTR's ``(p+8)/(8π)``), ``torrance_sparrow`` (its
+            supremum over incidences is already 1 for every p: the factor is 1) and
+            ``ward`` (whose albedo is unbounded at grazing incidence: exactly 1 at
+            normal incidence, from a table the library computed). Details and
+            accuracy: ``brdf_rs._normalization``.
         **params: the model's parameters (MODELS.md names). Scalars, RGB triples for
             colours, or arrays broadcasting against the batch (colours with a trailing
             axis of 3) for spatially varying parameters.
@@ -81,18 +86,27 @@ class Model:
     (3,)
     """
 
-    __slots__ = ("_params", "name")
+    __slots__ = ("_given", "_params", "name", "normalization")
 
-    def __init__(self, name: str, **params: Any) -> None:
-        p64 = _arrays.parameters(params, np.float64)
-        _core.check_params(name, p64)
+    def __init__(self, name: str, *, normalization: str = "approximate", **params: Any) -> None:
+        """``normalization`` as in :func:`brdf_rs.eval` (``"exact"`` rescales ``ks`` once,
+        here); ``params`` the model's parameters."""
+        given = _arrays.parameters(params, np.float64)
+        _core.check_params(name, given)
+        applied = _normalization.apply(name, given, normalization)
+        p64 = given if applied is given else _arrays.parameters(applied, np.float64)
+        if p64 is not given:
+            _core.check_params(name, p64)
         self.name = name
+        self.normalization = normalization
+        self._given = given
         self._params = {np.float64: p64}
 
     @property
     def params(self) -> dict[str, np.ndarray]:
-        """The parameters given (defaults are not listed)."""
-        return dict(self._params[np.float64])
+        """The parameters given (defaults are not listed; ``ks`` as given, before an exact
+        normalization's factor)."""
+        return dict(self._given)
 
     def _params_for(self, dtype: type[np.floating]) -> dict[str, np.ndarray]:
         if dtype not in self._params:
@@ -136,7 +150,9 @@ class Model:
     __call__ = eval
 
     def __repr__(self) -> str:
-        args = "".join(f", {k}={v.tolist()!r}" for k, v in self._params[np.float64].items())
+        args = "".join(f", {k}={v.tolist()!r}" for k, v in self._given.items())
+        if self.normalization != "approximate":
+            args += f", normalization={self.normalization!r}"
         return f"Model({self.name!r}{args})"
 
 
