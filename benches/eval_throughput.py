@@ -107,9 +107,15 @@ def main() -> None:
             row = {"model": model, "dtype": dtype}
             nz = np.array([0.0, 0.0, 1.0], dtype=wi.dtype)
             tn = {k: v.astype(wi.dtype) for k, v in t_arg.items()}
-            numpy_call = functools.partial(numpy_models.evaluate, model, wi, wo, nz, **tn, **extra)
-            best, _ = best_time(numpy_call, max(1, args.repeat // 2))
-            row["numpy"] = args.n / best / 1e6
+            # The NumPy baselines cover the sources' models (benches/numpy_models.py); the
+            # newer ones have none, and their rows leave the column empty.
+            row["numpy"] = None
+            if model in numpy_models.MODELS:
+                numpy_call = functools.partial(
+                    numpy_models.evaluate, model, wi, wo, nz, **tn, **extra
+                )
+                best, _ = best_time(numpy_call, max(1, args.repeat // 2))
+                row["numpy"] = args.n / best / 1e6
             for threads in args.threads:
                 brdf_rs.set_num_threads(threads)
                 for normalized in (False, True):
@@ -126,12 +132,13 @@ def main() -> None:
             best, median = best_time(call, args.repeat)
             row["out"] = args.n / best / 1e6
             row["out_median"] = args.n / median / 1e6
-            row["speedup"] = row[f"{top}t"] / row["numpy"]
+            row["speedup"] = row[f"{top}t"] / row["numpy"] if row["numpy"] else None
             rows.append(row)
-            line = f"{model:24s} {dtype:8s} {row['numpy']:8.1f}"
+            line = f"{model:24s} {dtype:8s} {_cell(row['numpy'], 8)}"
             for threads in args.threads:
                 line += f" {row[f'{threads}t']:8.1f} {row[f'{threads}t_normalized']:9.1f}"
-            print(line + f" {row['out']:8.1f} {row['speedup']:7.1f}x", flush=True)
+            ratio = f"{row['speedup']:7.1f}x" if row["speedup"] else f"{'—':>8s}"
+            print(line + f" {row['out']:8.1f} {ratio}", flush=True)
 
     meta = {
         "cpu": cpu_model(),
@@ -148,6 +155,11 @@ def main() -> None:
     write_markdown(args.out.with_suffix(".md"), meta, rows, args.threads)
     write_plot(args.out.with_suffix(".png"), meta, rows, args.threads)
     print(f"wrote {args.out.with_suffix('.md')}, .json, .png")
+
+
+def _cell(value: float | None, width: int = 0, digits: int = 1) -> str:
+    """A number for the table, or a dash where there is none."""
+    return f"{value:{width}.{digits}f}" if value is not None else f"{'—':>{width}s}"
 
 
 def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
@@ -168,8 +180,8 @@ def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
     for r in rows:
         cells = "".join(f" {r[f'{t}t']:.1f} | {r[f'{t}t_normalized']:.1f} |" for t in threads)
         lines.append(
-            f"| {r['model']} | {r['dtype']} | {r['numpy']:.1f} |{cells} {r['out']:.1f} |"
-            f" {r['speedup']:.0f}x |"
+            f"| {r['model']} | {r['dtype']} | {_cell(r['numpy'])} |{cells} {r['out']:.1f} |"
+            f" {_cell(r['speedup'], digits=0)}{'x' if r['speedup'] else ''} |"
         )
     path.write_text("\n".join(lines) + "\n")
 
@@ -191,7 +203,7 @@ def write_plot(path: Path, meta: dict, rows: list, threads: list) -> None:
         series = [("numpy", "NumPy")] + [(f"{t}t", f"brdf-rs, {t} thread(s)") for t in threads]
         h = 0.8 / len(series)
         for k, (key, label) in enumerate(series):
-            ax.barh(y + k * h, [sub[m][key] for m in models], height=h, label=label)
+            ax.barh(y + k * h, [sub[m][key] or 0.0 for m in models], height=h, label=label)
         ax.set_xscale("log")
         ax.set_yticks(y + 0.4 - h / 2, models)
         ax.set_xlabel("million evaluations / s (log)")
