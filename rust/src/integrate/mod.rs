@@ -433,8 +433,9 @@ impl<K: Kernel> CellIntegrand<K> {
 
 impl<K: Kernel> CellIntegrand<K> {
     /// The weights with the azimuth of `wi` drawn per point, `φ = (π/2)·u2` (the quarter
-    /// `[0, π/2)` carries the whole average: see the module docs). One loop for every
-    /// warp: `wi` and the frames change per point.
+    /// `[0, π/2)` carries the whole average: see the module docs). `wi` and the mirror
+    /// frame change per point; one loop per warp, as in [`Self::weights`].
+    #[inline(always)]
     fn weights_averaged(
         &self,
         lobe: &Lobe<K::Prepared<f64>>,
@@ -444,32 +445,51 @@ impl<K: Kernel> CellIntegrand<K> {
         w: &mut [f64],
     ) {
         let (sin, mu) = (self.sin_theta, self.wi.z);
-        for j in 0..w.len() {
-            let (sin_phi, cos_phi) = sin_cos_pi(0.5 * u2[j]);
-            let wi = DVec3::new(sin * cos_phi, sin * sin_phi, mu);
-            let s = lobe.warp.sample(wi, [u0[j], u1[j]]);
-            let (wo, pdf) = match lobe.warp {
-                Warp::UniformHemisphere | Warp::CosineHemisphere => (s.dir, s.pdf),
-                Warp::PhongLobe { .. } => {
-                    let frame = Frame::with_y(
-                        DVec3::new(-wi.x, -wi.y, mu),
-                        DVec3::new(-sin_phi, cos_phi, 0.0),
-                    );
-                    (frame.to_world(s.dir), s.pdf)
+        macro_rules! average_loop {
+            ($warp:expr, $place:ident) => {{
+                let warp = $warp;
+                for j in 0..w.len() {
+                    let (sin_phi, cos_phi) = sin_cos_pi(0.5 * u2[j]);
+                    let wi = DVec3::new(sin * cos_phi, sin * sin_phi, mu);
+                    let s = warp.sample(wi, [u0[j], u1[j]]);
+                    let (wo, pdf) = average_loop!(@$place, s, wi, sin_phi, cos_phi);
+                    let d = Directions::<f64> {
+                        wi,
+                        wo,
+                        n: DVec3::Z,
+                        t: DVec3::X,
+                    };
+                    let x = K::eval::<f64>(&lobe.prepared, &d)[0] * wo.z / pdf;
+                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
                 }
-                _ => {
-                    let wo = reflect(wi, s.dir);
-                    (wo, reflected_pdf(s.pdf, wo.dot(s.dir)))
-                }
+            }};
+            (@normal, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {
+                ($s.dir, $s.pdf)
             };
-            let d = Directions::<f64> {
-                wi,
-                wo,
-                n: DVec3::Z,
-                t: DVec3::X,
-            };
-            let x = K::eval::<f64>(&lobe.prepared, &d)[0] * wo.z / pdf;
-            w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
+            (@mirror, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {{
+                let frame = Frame::with_y(
+                    DVec3::new(-$wi.x, -$wi.y, mu),
+                    DVec3::new(-$sp, $cp, 0.0),
+                );
+                (frame.to_world($s.dir), $s.pdf)
+            }};
+            (@half, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {{
+                let wo = reflect($wi, $s.dir);
+                (wo, reflected_pdf($s.pdf, wo.dot($s.dir)))
+            }};
+        }
+        match lobe.warp {
+            Warp::UniformHemisphere => average_loop!(Warp::UniformHemisphere, normal),
+            Warp::CosineHemisphere => average_loop!(Warp::CosineHemisphere, normal),
+            Warp::PhongLobe { p } => average_loop!(Warp::PhongLobe { p }, mirror),
+            Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
+            Warp::GgxVisible { alpha } => average_loop!(Warp::GgxVisible { alpha }, half),
+            Warp::BeckmannHalf { alpha_x, alpha_y } => {
+                average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
+            }
+            Warp::AnisotropicPhongHalf { nu, nv } => {
+                average_loop!(Warp::AnisotropicPhongHalf { nu, nv }, half)
+            }
         }
     }
 }

@@ -56,6 +56,21 @@ const DIM2_REV: [u32; 32] = {
     out
 };
 
+/// `DIM2_REV[0] ^ … ^ DIM2_REV[t]`: going from index `i` to `i + 1` clears the trailing
+/// ones of `i` and sets the next bit, `t = trailing_zeros(i + 1)`, so the Sobol integer
+/// changes by this prefix XOR.
+const DIM2_REV_PREFIX: [u32; 32] = {
+    let mut out = [0u32; 32];
+    let mut acc = 0u32;
+    let mut j = 0;
+    while j < 32 {
+        acc ^= DIM2_REV[j];
+        out[j] = acc;
+        j += 1;
+    }
+    out
+};
+
 /// Returns the bit-reversed Sobol integer of dimension 2 for `index` (a branch-free XOR
 /// of the direction numbers of the set index bits).
 #[inline(always)]
@@ -108,8 +123,13 @@ pub fn fill3(
 ) {
     fill(first, keys, u0, u1);
     const SCALE: f64 = 1.0 / 4_294_967_296.0;
+    // The first integer in full, then one XOR per point (see DIM2_REV_PREFIX).
+    let mut d2 = sobol_dim2_rev(first);
     for (j, c) in u2.iter_mut().enumerate() {
-        let d2 = sobol_dim2_rev(first.wrapping_add(j as u32));
+        if j > 0 {
+            let index = first.wrapping_add(j as u32);
+            d2 ^= DIM2_REV_PREFIX[index.trailing_zeros() as usize & 31];
+        }
         *c = f64::from(owen_scramble_rev(d2, key2).reverse_bits()) * SCALE;
     }
 }
@@ -128,6 +148,11 @@ mod tests {
             assert_eq!(d0, sobol_rev(rev, 0), "dim 0, index {i}");
             assert_eq!(d1, sobol_rev(rev, 1), "dim 1, index {i}");
             assert_eq!(sobol_dim2_rev(i), sobol_rev(rev, 2), "dim 2, index {i}");
+            // The incremental update of fill3 gives the same integers.
+            if i > 0 {
+                let step = DIM2_REV_PREFIX[i.trailing_zeros() as usize];
+                assert_eq!(sobol_dim2_rev(i - 1) ^ step, sobol_dim2_rev(i), "index {i}");
+            }
         }
     }
 
