@@ -147,6 +147,12 @@ def test_fold_at_zero_and_pi_agrees_with_the_full_circle(model: str, params: dic
 
 @pytest.mark.parametrize(("model", "params"), CASES)
 def test_phi_zero_is_the_default_bit_for_bit(model: str, params: dict) -> None:
+    # Scalars stay scalars: a 0-d phi adds no cell dimension.
+    for phi in (0.0, np.float64(0.3), np.array(1.0)):
+        r = brdf_rs.albedo(model, 0.5, phi=phi, samples=64, **params)
+        assert r.value.shape == (3,) and r.samples.shape == ()
+    r = brdf_rs.albedo(model, 0.5, phi=np.array([0.0, 1.0])[::-1], samples=64, **params)
+    assert r.value.shape == (2, 3)
     mus = np.linspace(0.05, 1.0, 7)
     plain = brdf_rs.albedo(model, mus, samples=1024, **params)
     zero = brdf_rs.albedo(model, mus, phi=np.zeros(7), samples=1024, **params)

@@ -121,7 +121,7 @@ def _azimuth(phi: Any) -> tuple[np.ndarray | None, bool]:
     if not np.all(np.isfinite(a)):
         bad = np.flatnonzero(~np.isfinite(a.ravel()))[0]
         raise ValueError(f"phi: must be finite (radians); got {a.ravel()[bad]} at flat index {bad}")
-    return np.ascontiguousarray(a), False
+    return a, False  # any layout (the core reads strides); 0-d stays 0-d
 
 
 def albedo(
