@@ -153,7 +153,11 @@ def cmd_table(args: argparse.Namespace) -> int:
     tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
     out = _output_path(args.output or f"albedo_{model}.npz", TABLE_FORMATS)
     plot_path = _plot_path(args.plot)
-    cells = int(np.prod([len(v) for v in axes.values()]))
+    # Cells computed: a phi axis computes only its distinct folded azimuths.
+    lengths = {k: len(v) for k, v in axes.items()}
+    if "phi" in axes:
+        lengths["phi"] = int(np.unique(_albedo._azimuth_cells(model, axes["phi"])[1]).size)
+    cells = int(np.prod(list(lengths.values())))
     bar = _progress_bar(cells, args.quiet)
     last = [0, 0]
 
