@@ -278,7 +278,9 @@ scenes and the command line. `MODELS.md` defines every model in these terms.
 - Directional albedo: `R(μ) = ∫ f(wi, wo)·cos θo dωo` over the hemisphere, μ = cos θi
   (family A only). A table's `stderr` is an honest standard error of each cell.
 - Angles on the command line and in `brdf_rs.plot` are in degrees; everything else takes
-  cosines or vectors.
+  cosines or vectors, except the azimuth `phi` of `brdf_rs.albedo` and
+  `brdf_rs.albedo_table`: radians, measured from the tangent counterclockwise about `n`,
+  `wi = (sin θi cos φ, sin θi sin φ, μ)` (only the anisotropic models depend on it).
 
 ## Colours
 

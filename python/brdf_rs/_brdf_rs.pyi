@@ -76,6 +76,8 @@ def albedo(
     cell_ids: npt.NDArray[np.uint64] | None = None,
     progress: Callable[[int, int], object] | None = None,
     fold_azimuth: bool = True,
+    phi: _F64 | None = None,
+    average_azimuth: bool = False,
 ) -> tuple[_F64, _F64, npt.NDArray[np.uint64]]: ...
 def sample(
     model: str,

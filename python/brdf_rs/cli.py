@@ -116,6 +116,18 @@ def _axis(text: str) -> tuple[str, np.ndarray]:
     return name, values
 
 
+def _azimuth_option(text: str) -> float | str:
+    """Parses ``--phi``: degrees or ``average``."""
+    if text.strip() == "average":
+        return "average"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"phi: expected degrees or 'average'; got {text!r}"
+        ) from None
+
+
 DEFAULT_TABLE: dict[str, Any] = {
     "model": "torrance_sparrow",
     "axes": ["mu=mid:0:1:32", "p=log:1:10000:32"],
@@ -134,10 +146,18 @@ def cmd_table(args: argparse.Namespace) -> int:
     params = dict(args.param)
     if defaulted and not args.param:
         params = dict(_param(p) for p in DEFAULT_TABLE["params"])
+    if args.phi is not None:
+        params["phi"] = args.phi if args.phi == "average" else np.radians(args.phi)
+    if "phi" in axes:  # degrees on the command line, radians in the library
+        axes["phi"] = np.radians(axes["phi"])
     tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
     out = _output_path(args.output or f"albedo_{model}.npz", TABLE_FORMATS)
     plot_path = _plot_path(args.plot)
-    cells = int(np.prod([len(v) for v in axes.values()]))
+    # Cells computed: a phi axis computes only its distinct folded azimuths.
+    lengths = {k: len(v) for k, v in axes.items()}
+    if "phi" in axes:
+        lengths["phi"] = int(np.unique(_albedo._azimuth_cells(model, axes["phi"])[1]).size)
+    cells = int(np.prod(list(lengths.values())))
     bar = _progress_bar(cells, args.quiet)
     last = [0, 0]
 
@@ -791,7 +811,16 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         help="name=start:stop:count | name=mid:start:stop:count | name=log:start:stop:count"
-        " | name=v1,v2,... (repeat; mu and parameters)",
+        " | name=v1,v2,... (repeat; mu, phi and parameters)",
+    )
+    p.add_argument(
+        "--phi",
+        type=_azimuth_option,
+        default=None,
+        help="the azimuth of wi in degrees from the tangent, counterclockwise about n "
+        "(default 0), or 'average' for the azimuth average; only ward and "
+        "ashikhmin_shirley depend on it (an axis: --axis phi=..., also in degrees; "
+        "the saved table's phi axis is in radians, as brdf_rs.albedo_table takes it)",
     )
     p.add_argument(
         "--param", "-p", type=_param, action="append", default=[], help="fixed name=value"

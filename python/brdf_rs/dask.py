@@ -120,6 +120,9 @@ class _Block:
     grid_shape: tuple[int, ...]  # the full grid's shape
     fixed: dict[str, Any]
     options: dict[str, Any]
+    # A phi axis: the full-grid axis index whose cell id each of the block's azimuths
+    # uses (its coordinates are already the azimuths computed; see _albedo._azimuth_cells).
+    phi_index: np.ndarray | None = None
 
     @property
     def block_shape(self) -> tuple[int, ...]:
@@ -133,11 +136,10 @@ def _compute_block(block: _Block) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Integrates one block; returns its ``(value, stderr, samples)``."""
     shape = block.block_shape
     mu, grid, fixed = _albedo._grid_inputs(block.names, block.colour, block.coords, block.fixed)
-    index = np.meshgrid(
-        *(np.arange(s, s + n) for s, n in zip(block.start, shape, strict=True)),
-        indexing="ij",
-        sparse=True,
-    )
+    ranges = [np.arange(s, s + n) for s, n in zip(block.start, shape, strict=True)]
+    if block.phi_index is not None:
+        ranges[block.names.index("phi")] = block.phi_index
+    index = np.meshgrid(*ranges, indexing="ij", sparse=True)
     ids = np.ravel_multi_index(index, block.grid_shape).astype(np.uint64)
     ids = np.ascontiguousarray(np.broadcast_to(ids, shape))
     r = _albedo.albedo(block.model, mu, cell_ids=ids, **block.options, **grid, **fixed)
@@ -188,12 +190,20 @@ class _Plan:
         """Yields ``(block index, _Block)`` for every block, in C order."""
         offsets = [np.concatenate([[0], np.cumsum(c)]).astype(int) for c in self.chunks]
         shape = self.shape
+        computed = dict(self.coords)
+        first = None
+        if "phi" in computed:  # the local build's azimuth cells, for the same bits
+            computed["phi"], first = _albedo._azimuth_cells(self.model, computed["phi"])
         for index in itertools.product(*(range(len(c)) for c in self.chunks)):
             start = tuple(int(offsets[k][i]) for k, i in enumerate(index))
             stop = tuple(int(offsets[k][i + 1]) for k, i in enumerate(index))
             coords = tuple(
-                self.coords[n][a:b] for n, a, b in zip(self.names, start, stop, strict=True)
+                computed[n][a:b] for n, a, b in zip(self.names, start, stop, strict=True)
             )
+            phi_index = None
+            if first is not None:
+                k = self.names.index("phi")
+                phi_index = first[start[k] : stop[k]]
             yield (
                 index,
                 _Block(
@@ -205,6 +215,7 @@ class _Plan:
                     shape,
                     self.fixed,
                     self.options,
+                    phi_index,
                 ),
             )
 

@@ -1,5 +1,5 @@
-//! The cells of an albedo request: `mu` and parameters broadcast together (NumPy rules),
-//! checked against the model's spec exactly as `eval` checks them.
+//! The cells of an albedo request: `mu`, the azimuth `phi` and the parameters broadcast
+//! together (NumPy rules), checked against the model's spec exactly as `eval` checks them.
 
 use ndarray::ArrayViewD;
 
@@ -10,21 +10,24 @@ use crate::eval::params::{self, ParamRows};
 use crate::eval::rows::Rows;
 use crate::models::ModelKind;
 
-/// Broadcast cells: the parameters' rows and the rows of `mu`.
+/// Broadcast cells: the parameters' rows and the rows of `mu` and `phi`.
 pub struct CellGrid<'a> {
     pub batch: Vec<usize>,
     mu: Rows<'a, f64>,
+    phi: Option<Rows<'a, f64>>,
     params: ParamRows<'a, f64>,
     ids: Option<&'a [u64]>,
 }
 
 impl<'a> CellGrid<'a> {
-    /// Checks `mu` (in [0, 1]) and the parameters, and broadcasts them. `ids`, if given,
-    /// are the cells' global ids (C order over the batch), keying their sample streams;
-    /// otherwise a cell's id is its flat index.
+    /// Checks `mu` (in [0, 1]), the azimuths `phi` (finite, radians from the tangent;
+    /// absent: 0) and the parameters, and broadcasts them. `ids`, if given, are the cells'
+    /// global ids (C order over the batch), keying their sample streams; otherwise a
+    /// cell's id is its flat index.
     pub fn new(
         kind: ModelKind,
         mu: ArrayViewD<'a, f64>,
+        phi: Option<ArrayViewD<'a, f64>>,
         given: Vec<(&'a str, ArrayViewD<'a, f64>)>,
         ids: Option<&'a [u64]>,
     ) -> Result<CellGrid<'a>, BrdfError> {
@@ -37,7 +40,20 @@ impl<'a> CellGrid<'a> {
                 valid: "in [0, 1] (the cosine of the incidence angle)".into(),
             });
         }
-        let params = ParamRows::new(kind.spec(), given, &[("mu", mu.shape().to_vec())])?;
+        let mut others = vec![("mu", mu.shape().to_vec())];
+        if let Some(phi) = &phi {
+            if let Some(pos) = phi.iter().position(|p| !p.is_finite()) {
+                let index = params::unravel(pos, phi.shape());
+                return Err(BrdfError::OutOfRange {
+                    name: "phi".into(),
+                    value: phi[ndarray::IxDyn(&index)],
+                    index,
+                    valid: "finite (the azimuth of wi in radians, from the tangent)".into(),
+                });
+            }
+            others.push(("phi", phi.shape().to_vec()));
+        }
+        let params = ParamRows::new(kind.spec(), given, &others)?;
         let batch = params.batch.clone();
         let cells: usize = batch.iter().product();
         if let Some(ids) = ids {
@@ -50,9 +66,11 @@ impl<'a> CellGrid<'a> {
             }
         }
         let mu = Rows::new(mu, false, 1, &batch);
+        let phi = phi.map(|phi| Rows::new(phi, false, 1, &batch));
         Ok(CellGrid {
             batch,
             mu,
+            phi,
             params,
             ids,
         })
@@ -64,11 +82,19 @@ impl Cells for CellGrid<'_> {
         self.batch.iter().product()
     }
 
-    fn cell(&self, i: usize, slots: &mut Vec<f64>) -> (f64, u64) {
+    fn cell(&self, i: usize, slots: &mut Vec<f64>) -> (f64, f64, u64) {
         self.params.slots(i, slots);
         let mut row = [0.0; 3];
         read_row(&self.mu, 1, &self.batch, i, &mut row);
+        let mu = row[0];
+        let phi = match &self.phi {
+            Some(phi) => {
+                read_row(phi, 1, &self.batch, i, &mut row);
+                row[0]
+            }
+            None => 0.0,
+        };
         let id = self.ids.map_or(i as u64, |ids| ids[i]);
-        (row[0], id)
+        (mu, phi, id)
     }
 }

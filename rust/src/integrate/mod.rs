@@ -1,7 +1,7 @@
 //! Directional albedo by (quasi-)Monte Carlo, cell by cell, with honest error bars.
 //!
-//! A *cell* is one incidence `mu = cos θi` with one parameter set. Its albedo
-//! `R = ∫ f(wi, wo)·mu_o dωo` is computed as the model's decomposition
+//! A *cell* is one incidence `mu = cos θi` at azimuth `phi` with one parameter set. Its
+//! albedo `R = ∫ f(wi, wo)·mu_o dωo` is computed as the model's decomposition
 //! `Σ colour_k · I_k` ([`crate::models::albedo`]): exact terms are added, zero-colour
 //! terms skipped, and the remaining scalar integrals estimated together from the same
 //! points, each with its lobe's own importance sampler (or the uniform / cosine sampler
@@ -16,9 +16,26 @@
 //!
 //! With `tol`, a cell doubles its sample count until the largest channel's standard
 //! error is at most `tol` (or `max_samples` is reached): cells that converge early stop
-//! early. The integrands are even in azimuth about the plane of incidence, so
-//! the samplers draw azimuths on `[0, π)` only (twice the density on the half that
-//! carries the whole integral).
+//! early.
+//!
+//! Azimuth: `wi = (sin θ cos φ, sin θ sin φ, mu)` with `n = +z` and the tangent `+x` (φ is
+//! measured from the tangent, counterclockwise about `n`). Isotropic models (no tangent)
+//! do not depend on φ: they always integrate at φ = 0, so `phi` changes no bit. For the
+//! anisotropic ones (Ward, Ashikhmin–Shirley: a tangent, and a lobe anisotropic in the
+//! tangent frame) φ places `wi`; the half-vector warps live in the tangent frame (so they
+//! are right for any φ) and the mirror frame's `y` is the normal of the plane of incidence.
+//! With [`AlbedoOptions::average_azimuth`] an anisotropic cell estimates the azimuth
+//! average `(1/2π) ∫ R(mu, φ) dφ` instead, drawing φ per point from a third Sobol
+//! dimension (or a third random number) on `[0, π/2)`: the models are even under
+//! `y → −y` and `x → −x` of the tangent frame, so `R(φ) = R(−φ) = R(π − φ)` and the
+//! quarter carries the whole average. The φ quadrature is part of the (randomized)
+//! estimator, so the replicate spread covers its error too.
+//!
+//! Fold: where the integrand is even in azimuth about the plane of incidence (isotropic
+//! models, and the anisotropic ones when the plane of incidence is the tangent frame's
+//! xz plane, `sin φ = 0`), the samplers draw azimuths on `[0, π)` only (twice the
+//! density on the half that carries the whole integral). Elsewhere they draw the full
+//! circle.
 //!
 //! Everything about a cell depends on (seed, cell id) only: results are bitwise
 //! identical for any thread count, chunking or machine split.
@@ -30,8 +47,9 @@ use rayon::prelude::*;
 
 use crate::error::BrdfError;
 use crate::eval::engine::{self, Isa};
+use crate::math::series::sin_cos_pi;
 use crate::models::albedo::{Importance, Integral, Term};
-use crate::models::{Directions, Kernel, KernelVisitor, ModelKind};
+use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
@@ -87,8 +105,11 @@ pub struct AlbedoOptions {
     pub replicates: u32,
     /// Use the integrand's evenness in azimuth: draw azimuths on `[0, π)` only. Off, the
     /// points cover the full circle (the same estimator with half the point density
-    /// per unit of azimuth); kept switchable so benchmarks can show what it buys.
+    /// per unit of azimuth); kept switchable so benchmarks can show what it buys. Used
+    /// only where valid (see the module docs).
     pub fold_azimuth: bool,
+    /// Estimate the average over the azimuth of `wi` (the cells' `phi` is then unused).
+    pub average_azimuth: bool,
 }
 
 impl Default for AlbedoOptions {
@@ -102,6 +123,7 @@ impl Default for AlbedoOptions {
             max_samples: 1 << 24,
             replicates: 16,
             fold_azimuth: true,
+            average_azimuth: false,
         }
     }
 }
@@ -198,23 +220,63 @@ struct Lobe<P> {
     ggx: Option<ggx::VisibleLobe>,
 }
 
+/// Returns `(sin φ, cos φ)`, exact at the multiples of π/2 (as `φ` rounds them), so
+/// that `phi = np.pi` puts `wi` exactly in the xz plane.
+fn azimuth_sin_cos(phi: f64) -> (f64, f64) {
+    let half_turns = 2.0 * (phi / std::f64::consts::PI);
+    if half_turns == half_turns.round() && half_turns.abs() < 1e15 {
+        match (half_turns as i64).rem_euclid(4) {
+            0 => (0.0, 1.0),
+            1 => (1.0, 0.0),
+            2 => (0.0, -1.0),
+            _ => (-1.0, 0.0),
+        }
+    } else {
+        phi.sin_cos()
+    }
+}
+
 /// The per-sample weights `f·mu_o/pdf` of every lobe of a cell.
 struct CellIntegrand<K: Kernel> {
     lobes: Vec<Lobe<K::Prepared<f64>>>,
     wi: DVec3,
     mirror_frame: Frame,
     fold: bool,
+    /// Draw the azimuth of `wi` per point (`φ = (π/2)·u2`): the azimuth average.
+    average: bool,
+    sin_theta: f64,
 }
 
 impl<K: Kernel> CellIntegrand<K> {
-    fn new(mu: f64, terms: &[Term], options: &AlbedoOptions) -> (Self, [f64; 3]) {
-        let (sampler, fold) = (options.sampler, options.fold_azimuth);
+    /// `anisotropic`: the model's albedo depends on `phi` (else `phi` and the average
+    /// are ignored: the cell is integrated at φ = 0).
+    fn new(
+        mu: f64,
+        phi: f64,
+        anisotropic: bool,
+        terms: &[Term],
+        options: &AlbedoOptions,
+    ) -> (Self, [f64; 3]) {
+        let sampler = options.sampler;
+        let average = anisotropic && options.average_azimuth;
+        let (sin_phi, cos_phi) = if anisotropic && !average {
+            azimuth_sin_cos(phi)
+        } else {
+            (0.0, 1.0)
+        };
+        // The fold maps the tangent frame's y to −y: valid for the anisotropic models
+        // only when wi lies in the xz plane.
+        let fold = options.fold_azimuth && !average && sin_phi == 0.0;
         let sobol = options.sequence == Sequence::Sobol;
         let sin = ((1.0 - mu) * (1.0 + mu)).max(0.0).sqrt();
-        let wi = DVec3::new(sin, 0.0, mu);
+        let wi = DVec3::new(sin * cos_phi, sin * sin_phi, mu);
         // The mirror direction's frame keeps y normal to the plane of incidence, so the
-        // azimuth fold maps the integrand onto itself.
-        let mirror_frame = Frame::with_y(DVec3::new(-sin, 0.0, mu), DVec3::Y);
+        // azimuth fold maps the integrand onto itself. (`0.0 - x` keeps zeros positive:
+        // at φ = 0 the frame is bitwise the one of `wi` in the xz plane.)
+        let mirror_frame = Frame::with_y(
+            DVec3::new(0.0 - wi.x, 0.0 - wi.y, mu),
+            DVec3::new(0.0 - sin_phi, cos_phi, 0.0),
+        );
         let mut exact = [0.0; 3];
         let mut lobes = Vec::new();
         for term in terms {
@@ -228,16 +290,16 @@ impl<K: Kernel> CellIntegrand<K> {
                     }
                 }
                 Integral::GgxVisible { alpha, f0, basis } => {
-                    let ggx = match sampler {
-                        SamplerChoice::Auto | SamplerChoice::Importance => {
-                            Some(ggx::VisibleLobe::new(alpha, f0, wi))
-                        }
-                        SamplerChoice::Uniform | SamplerChoice::Cosine => None,
-                    };
-                    let warp = if sampler == SamplerChoice::Cosine {
-                        Warp::CosineHemisphere
-                    } else {
-                        Warp::UniformHemisphere
+                    let importance =
+                        matches!(sampler, SamplerChoice::Auto | SamplerChoice::Importance);
+                    // The closed-form weights hold one wi: a per-point wi (the azimuth
+                    // average) takes the generic visible-normal warp instead.
+                    let ggx =
+                        (importance && !average).then(|| ggx::VisibleLobe::new(alpha, f0, wi));
+                    let warp = match sampler {
+                        SamplerChoice::Cosine => Warp::CosineHemisphere,
+                        _ if importance && average => Warp::GgxVisible { alpha },
+                        _ => Warp::UniformHemisphere,
                     };
                     lobes.push(Lobe {
                         colour: term.colour,
@@ -286,18 +348,25 @@ impl<K: Kernel> CellIntegrand<K> {
                 wi,
                 mirror_frame,
                 fold,
+                average,
+                sin_theta: sin,
             },
             exact,
         )
     }
 
-    /// Writes the weight of lobe `k` for every point `(u0[j], u1[j])` into `w`.
+    /// Writes the weight of lobe `k` for every point `(u0[j], u1[j])` into `w` (and,
+    /// for the azimuth average, `u2[j]` places `wi`).
     ///
-    /// Points cover the half azimuth range `[0, π)` (density 2·pdf there) and the
+    /// Folded, points cover the half azimuth range `[0, π)` (density 2·pdf there) and the
     /// integral is twice the half's: the two factors cancel in `f·mu_o/pdf`.
     #[inline(always)]
-    fn weights(&self, k: usize, u0: &[f64], u1: &[f64], w: &mut [f64]) {
+    fn weights(&self, k: usize, u0: &[f64], u1: &[f64], u2: &[f64], w: &mut [f64]) {
         let lobe = &self.lobes[k];
+        if self.average {
+            self.weights_averaged(lobe, u0, u1, u2, w);
+            return;
+        }
         if let Some(ggx) = &lobe.ggx {
             ggx.weights(self.fold, u0, u1, w);
             return;
@@ -357,6 +426,69 @@ impl<K: Kernel> CellIntegrand<K> {
             }
             Warp::AnisotropicPhongHalf { nu, nv } => {
                 both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)
+            }
+        }
+    }
+}
+
+impl<K: Kernel> CellIntegrand<K> {
+    /// The weights with the azimuth of `wi` drawn per point, `φ = (π/2)·u2` (the quarter
+    /// `[0, π/2)` carries the whole average: see the module docs). `wi` and the mirror
+    /// frame change per point; one loop per warp, as in [`Self::weights`].
+    #[inline(always)]
+    fn weights_averaged(
+        &self,
+        lobe: &Lobe<K::Prepared<f64>>,
+        u0: &[f64],
+        u1: &[f64],
+        u2: &[f64],
+        w: &mut [f64],
+    ) {
+        let (sin, mu) = (self.sin_theta, self.wi.z);
+        macro_rules! average_loop {
+            ($warp:expr, $place:ident) => {{
+                let warp = $warp;
+                for j in 0..w.len() {
+                    let (sin_phi, cos_phi) = sin_cos_pi(0.5 * u2[j]);
+                    let wi = DVec3::new(sin * cos_phi, sin * sin_phi, mu);
+                    let s = warp.sample(wi, [u0[j], u1[j]]);
+                    let (wo, pdf) = average_loop!(@$place, s, wi, sin_phi, cos_phi);
+                    let d = Directions::<f64> {
+                        wi,
+                        wo,
+                        n: DVec3::Z,
+                        t: DVec3::X,
+                    };
+                    let x = K::eval::<f64>(&lobe.prepared, &d)[0] * wo.z / pdf;
+                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
+                }
+            }};
+            (@normal, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {
+                ($s.dir, $s.pdf)
+            };
+            (@mirror, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {{
+                let frame = Frame::with_y(
+                    DVec3::new(-$wi.x, -$wi.y, mu),
+                    DVec3::new(-$sp, $cp, 0.0),
+                );
+                (frame.to_world($s.dir), $s.pdf)
+            }};
+            (@half, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {{
+                let wo = reflect($wi, $s.dir);
+                (wo, reflected_pdf($s.pdf, wo.dot($s.dir)))
+            }};
+        }
+        match lobe.warp {
+            Warp::UniformHemisphere => average_loop!(Warp::UniformHemisphere, normal),
+            Warp::CosineHemisphere => average_loop!(Warp::CosineHemisphere, normal),
+            Warp::PhongLobe { p } => average_loop!(Warp::PhongLobe { p }, mirror),
+            Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
+            Warp::GgxVisible { alpha } => average_loop!(Warp::GgxVisible { alpha }, half),
+            Warp::BeckmannHalf { alpha_x, alpha_y } => {
+                average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
+            }
+            Warp::AnisotropicPhongHalf { nu, nv } => {
+                average_loop!(Warp::AnisotropicPhongHalf { nu, nv }, half)
             }
         }
     }
@@ -456,6 +588,8 @@ impl LobeSums {
 struct PointBlock {
     u0: [f64; POINTS],
     u1: [f64; POINTS],
+    /// The azimuth of `wi` (the azimuth average only).
+    u2: [f64; POINTS],
     w: [[f64; POINTS]; MAX_LOBES],
 }
 
@@ -464,6 +598,7 @@ impl PointBlock {
         PointBlock {
             u0: [0.0; POINTS],
             u1: [0.0; POINTS],
+            u2: [0.0; POINTS],
             w: [[0.0; POINTS]; MAX_LOBES],
         }
     }
@@ -482,12 +617,21 @@ fn accumulate<K: Kernel>(
     let mut left = count;
     while left > 0 {
         let len = left.min(POINTS as u64) as usize;
-        stream.fill(&mut block.u0[..len], &mut block.u1[..len]);
+        if integrand.average {
+            stream.fill3(
+                &mut block.u0[..len],
+                &mut block.u1[..len],
+                &mut block.u2[..len],
+            );
+        } else {
+            stream.fill(&mut block.u0[..len], &mut block.u1[..len]);
+        }
         for k in 0..integrand.lobes.len() {
             integrand.weights(
                 k,
                 &block.u0[..len],
                 &block.u1[..len],
+                &block.u2[..len],
                 &mut block.w[k][..len],
             );
         }
@@ -500,13 +644,17 @@ fn accumulate<K: Kernel>(
 #[inline(always)]
 fn integrate_cell<K: Kernel>(
     mu: f64,
+    phi: f64,
     slots: &[f64],
     cell: u64,
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
     let terms = K::albedo_terms(slots, mu).unwrap_or_default();
-    let (integrand, exact) = CellIntegrand::<K>::new(mu, &terms, options);
+    // A model with a tangent reads it through anisotropic lobes (family A: Ward and
+    // Ashikhmin–Shirley); the rest are isotropic and ignore phi.
+    let anisotropic = K::spec().tangent != TangentUse::None;
+    let (integrand, exact) = CellIntegrand::<K>::new(mu, phi, anisotropic, &terms, options);
     if integrand.lobes.is_empty() {
         return CellResult {
             value: exact,
@@ -603,46 +751,50 @@ fn mean_and_stderr(values: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
     (mean, se)
 }
 
-type CellFn = fn(f64, &[f64], u64, &AlbedoOptions, &Progress) -> CellResult;
+type CellFn = fn(f64, f64, &[f64], u64, &AlbedoOptions, &Progress) -> CellResult;
 
 fn cell_baseline<K: Kernel>(
     mu: f64,
+    phi: f64,
     slots: &[f64],
     cell: u64,
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    integrate_cell::<K>(mu, slots, cell, options, progress)
+    integrate_cell::<K>(mu, phi, slots, cell, options, progress)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 fn cell_avx2<K: Kernel>(
     mu: f64,
+    phi: f64,
     slots: &[f64],
     cell: u64,
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    integrate_cell::<K>(mu, slots, cell, options, progress)
+    integrate_cell::<K>(mu, phi, slots, cell, options, progress)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 fn cell_avx512<K: Kernel>(
     mu: f64,
+    phi: f64,
     slots: &[f64],
     cell: u64,
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    integrate_cell::<K>(mu, slots, cell, options, progress)
+    integrate_cell::<K>(mu, phi, slots, cell, options, progress)
 }
 
 /// Integrates one cell with the loop compiled for `isa` (which the CPU must support).
 fn integrate_cell_isa<K: Kernel>(
     isa: Isa,
     mu: f64,
+    phi: f64,
     slots: &[f64],
     cell: u64,
     options: &AlbedoOptions,
@@ -652,21 +804,25 @@ fn integrate_cell_isa<K: Kernel>(
     {
         // SAFETY: `isa` comes from `engine::isa()`, which checked the CPU's features.
         match isa {
-            Isa::Avx512 => return unsafe { cell_avx512::<K>(mu, slots, cell, options, progress) },
-            Isa::Avx2 => return unsafe { cell_avx2::<K>(mu, slots, cell, options, progress) },
+            Isa::Avx512 => {
+                return unsafe { cell_avx512::<K>(mu, phi, slots, cell, options, progress) };
+            }
+            Isa::Avx2 => {
+                return unsafe { cell_avx2::<K>(mu, phi, slots, cell, options, progress) };
+            }
             Isa::Baseline => {}
         }
     }
     let f: CellFn = cell_baseline::<K>;
-    f(mu, slots, cell, options, progress)
+    f(mu, phi, slots, cell, options, progress)
 }
 
-/// The cells of a request: `mu` and the parameter slots of each cell, and its id.
+/// The cells of a request: `mu`, `phi` and the parameter slots of each cell, and its id.
 pub trait Cells: Sync {
     /// Number of cells.
     fn count(&self) -> usize;
-    /// Returns `(mu, slots, cell id)` of cell `i`, writing the slots into `slots`.
-    fn cell(&self, i: usize, slots: &mut Vec<f64>) -> (f64, u64);
+    /// Returns `(mu, phi, cell id)` of cell `i`, writing the slots into `slots`.
+    fn cell(&self, i: usize, slots: &mut Vec<f64>) -> (f64, f64, u64);
 }
 
 struct RunAlbedo<'a, C: Cells> {
@@ -692,8 +848,8 @@ impl<C: Cells> KernelVisitor for RunAlbedo<'_, C> {
                 return;
             }
             let mut slots = Vec::new();
-            let (mu, id) = cells.cell(i, &mut slots);
-            *result = integrate_cell_isa::<K>(isa, mu, &slots, id, options, progress);
+            let (mu, phi, id) = cells.cell(i, &mut slots);
+            *result = integrate_cell_isa::<K>(isa, mu, phi, &slots, id, options, progress);
             progress.cells_done.fetch_add(1, Ordering::Relaxed);
         };
         parallel::install(|| {
@@ -745,14 +901,25 @@ mod tests {
         params: &[(&str, f64)],
         options: AlbedoOptions,
     ) -> CellResult {
+        albedo_at(model, mu, 0.0, params, options)
+    }
+
+    fn albedo_at(
+        model: &str,
+        mu: f64,
+        phi: f64,
+        params: &[(&str, f64)],
+        options: AlbedoOptions,
+    ) -> CellResult {
         let kind = ModelKind::from_name(model).unwrap();
         let mu = ArrayD::from_elem(IxDyn(&[]), mu);
+        let phi = ArrayD::from_elem(IxDyn(&[]), phi);
         let arrays: Vec<(&str, ArrayD<f64>)> = params
             .iter()
             .map(|(k, v)| (*k, ArrayD::from_elem(IxDyn(&[]), *v)))
             .collect();
         let views = arrays.iter().map(|(k, a)| (*k, a.view())).collect();
-        let grid = CellGrid::new(kind, mu.view(), views, None).unwrap();
+        let grid = CellGrid::new(kind, mu.view(), Some(phi.view()), views, None).unwrap();
         let mut out = [CellResult::default()];
         albedo(kind, &grid, &options, &Progress::default(), &mut out).unwrap();
         out[0]
@@ -844,5 +1011,105 @@ mod tests {
             assert!(r.stderr.iter().all(|&s| s <= 1e-4), "{r:?}");
             assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
         }
+    }
+
+    #[test]
+    fn quarter_turns_are_exact() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        assert_eq!(azimuth_sin_cos(0.0), (0.0, 1.0));
+        assert_eq!(azimuth_sin_cos(FRAC_PI_2), (1.0, 0.0));
+        assert_eq!(azimuth_sin_cos(PI), (0.0, -1.0));
+        assert_eq!(azimuth_sin_cos(-FRAC_PI_2), (-1.0, 0.0));
+        assert_eq!(azimuth_sin_cos(4.0 * PI), (0.0, 1.0));
+        let (s, c) = azimuth_sin_cos(0.3);
+        assert_eq!((s, c), 0.3f64.sin_cos());
+    }
+
+    /// Ward with equal roughnesses is isotropic: the albedo at any azimuth (no fold:
+    /// frames at a general φ) and the azimuth average equal the value at φ = 0.
+    #[test]
+    fn isotropic_ward_does_not_depend_on_the_azimuth() {
+        let params = [("kd", 0.0), ("ks", 1.0), ("alpha_x", 0.3), ("alpha_y", 0.3)];
+        let opts = AlbedoOptions {
+            samples: 1 << 16,
+            ..Default::default()
+        };
+        for mu in [0.2, 0.7] {
+            let base = albedo_at("ward", mu, 0.0, &params, opts);
+            for phi in [0.4, 2.0, -1.0] {
+                let r = albedo_at("ward", mu, phi, &params, AlbedoOptions { seed: 1, ..opts });
+                let se = (base.stderr[0].powi(2) + r.stderr[0].powi(2)).sqrt();
+                assert_within(r, base.value[0], 5.0 * se / r.stderr[0], "ward phi");
+            }
+            let avg = AlbedoOptions {
+                average_azimuth: true,
+                seed: 2,
+                ..opts
+            };
+            let r = albedo_at("ward", mu, 0.0, &params, avg);
+            let se = (base.stderr[0].powi(2) + r.stderr[0].powi(2)).sqrt();
+            assert_within(r, base.value[0], 5.0 * se / r.stderr[0], "ward average");
+        }
+    }
+
+    /// The azimuth average of anisotropic Ward equals the average of fixed-φ estimates
+    /// over a Gauss-Legendre rule in φ on [0, π/2] (the fixed-φ path, a different code).
+    #[test]
+    fn azimuth_average_is_the_mean_over_phi() {
+        // 8-point Gauss-Legendre nodes and weights on [-1, 1].
+        const X: [f64; 4] = [
+            0.183_434_642_495_65,
+            0.525_532_409_916_329,
+            0.796_666_477_413_627,
+            0.960_289_856_497_536,
+        ];
+        const W: [f64; 4] = [
+            0.362_683_783_378_362,
+            0.313_706_645_877_887,
+            0.222_381_034_453_374,
+            0.101_228_536_290_376,
+        ];
+        let params = [
+            ("kd", 0.0),
+            ("ks", 1.0),
+            ("alpha_x", 0.15),
+            ("alpha_y", 0.5),
+        ];
+        let opts = AlbedoOptions {
+            samples: 1 << 15,
+            ..Default::default()
+        };
+        let mu = 0.4;
+        let (mut mean, mut var) = (0.0, 0.0);
+        let quarter = std::f64::consts::FRAC_PI_4;
+        for (x, w) in X.iter().zip(W) {
+            for sign in [-1.0, 1.0] {
+                let phi = quarter * (1.0 + sign * x);
+                let r = albedo_at("ward", mu, phi, &params, opts);
+                mean += 0.5 * w * r.value[0];
+                var += (0.5 * w * r.stderr[0]).powi(2);
+            }
+        }
+        let avg = albedo_at(
+            "ward",
+            mu,
+            0.0,
+            &params,
+            AlbedoOptions {
+                average_azimuth: true,
+                ..opts
+            },
+        );
+        let at_0 = albedo_at("ward", mu, 0.0, &params, opts);
+        let se = (var + avg.stderr[0].powi(2)).sqrt();
+        assert!(
+            (avg.value[0] - mean).abs() <= 5.0 * se + 1e-4,
+            "{avg:?} vs {mean} ± {se}"
+        );
+        // The average differs from the value at φ = 0 (the test can tell them apart).
+        assert!(
+            (at_0.value[0] - mean).abs() > 20.0 * se,
+            "{at_0:?} vs {mean}"
+        );
     }
 }

@@ -251,7 +251,7 @@ fn run_interruptible<'py, T: Send>(
 /// Directional albedo of every cell of `mu` broadcast with `params` (see
 /// `brdf_rs.albedo`). Returns `(value, stderr, samples)`.
 #[pyfunction]
-#[pyo3(signature = (model, mu, params, samples, sampler, sequence, seed, tol, max_samples, replicates, cell_ids=None, progress=None, fold_azimuth=true))]
+#[pyo3(signature = (model, mu, params, samples, sampler, sequence, seed, tol, max_samples, replicates, cell_ids=None, progress=None, fold_azimuth=true, phi=None, average_azimuth=false))]
 #[allow(clippy::too_many_arguments)]
 fn albedo<'py>(
     py: Python<'py>,
@@ -268,6 +268,8 @@ fn albedo<'py>(
     cell_ids: Option<PyReadonlyArrayDyn<'py, u64>>,
     progress: Option<Bound<'py, PyAny>>,
     fold_azimuth: bool,
+    phi: Option<Arr<'py, f64>>,
+    average_azimuth: bool,
 ) -> PyResult<AlbedoArrays<'py>> {
     let kind = ModelKind::from_name(model)?;
     let sampler = sampler_choice(sampler)?;
@@ -285,6 +287,7 @@ fn albedo<'py>(
         max_samples: max_samples.unwrap_or_else(|| samples.max(1 << 24)),
         replicates,
         fold_azimuth,
+        average_azimuth,
     };
     let params = param_arrays::<f64>(params)?;
     let views = params
@@ -298,7 +301,13 @@ fn albedo<'py>(
             })?),
             None => None,
         };
-    let grid = CellGrid::new(kind, mu.as_array(), views, ids)?;
+    let grid = CellGrid::new(
+        kind,
+        mu.as_array(),
+        phi.as_ref().map(|p| p.as_array()),
+        views,
+        ids,
+    )?;
     let cells = grid.count();
     options.validate(cells)?;
     let counters = Progress::default();

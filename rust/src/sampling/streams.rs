@@ -56,7 +56,11 @@ pub fn mix(seed: u64, cell: u64, replicate: u64) -> u64 {
 
 /// The points of one replicate of one cell.
 pub enum Stream {
-    Sobol { keys: [u32; 2], next: u64 },
+    Sobol {
+        keys: [u32; 2],
+        key2: u32,
+        next: u64,
+    },
     Random(Box<Pcg64Mcg>),
 }
 
@@ -67,6 +71,7 @@ impl Stream {
         match sequence {
             Sequence::Sobol => Stream::Sobol {
                 keys: sobol::scramble_keys((key ^ (key >> 32)) as u32),
+                key2: sobol::scramble_key_dim2((key ^ (key >> 32)) as u32),
                 next: 0,
             },
             Sequence::Random => Stream::Random(Box::new(Pcg64Mcg::seed_from_u64(key))),
@@ -88,7 +93,7 @@ impl Stream {
     #[inline(always)]
     pub fn fill(&mut self, u0: &mut [f64], u1: &mut [f64]) {
         match self {
-            Stream::Sobol { keys, next } => {
+            Stream::Sobol { keys, next, .. } => {
                 assert!(
                     *next + u0.len() as u64 <= SOBOL_MAX_POINTS,
                     "Sobol replicate exhausted"
@@ -100,6 +105,36 @@ impl Stream {
                 for (a, b) in u0.iter_mut().zip(u1.iter_mut()) {
                     *a = unit(rng.next_u64());
                     *b = unit(rng.next_u64());
+                }
+            }
+        }
+    }
+}
+
+impl Stream {
+    /// Fills `u0`, `u1`, `u2` with the next three-dimensional points (as many as `u0`
+    /// holds): for Sobol, `u0` and `u1` are exactly what [`Stream::fill`] gives and `u2`
+    /// is Sobol dimension 2 under its own scramble; random streams draw three numbers per
+    /// point.
+    ///
+    /// # Panics
+    /// When a Sobol replicate would pass 2^32 points (the integrator never asks).
+    #[inline(always)]
+    pub fn fill3(&mut self, u0: &mut [f64], u1: &mut [f64], u2: &mut [f64]) {
+        match self {
+            Stream::Sobol { keys, key2, next } => {
+                assert!(
+                    *next + u0.len() as u64 <= SOBOL_MAX_POINTS,
+                    "Sobol replicate exhausted"
+                );
+                sobol::fill3(*next as u32, *keys, *key2, u0, u1, u2);
+                *next += u0.len() as u64;
+            }
+            Stream::Random(rng) => {
+                for ((a, b), c) in u0.iter_mut().zip(u1.iter_mut()).zip(u2.iter_mut()) {
+                    *a = unit(rng.next_u64());
+                    *b = unit(rng.next_u64());
+                    *c = unit(rng.next_u64());
                 }
             }
         }
