@@ -106,6 +106,8 @@ def main() -> None:
         for dtype, (wi, wo) in inputs.items():
             row = {"model": model, "dtype": dtype}
             nz = np.array([0.0, 0.0, 1.0], dtype=wi.dtype)
+            # The tangent in the batch's dtype: a float64 tangent would make a float32 batch
+            # run (and be timed) in float64.
             tn = {k: v.astype(wi.dtype) for k, v in t_arg.items()}
             # The NumPy baselines cover the sources' models (benches/numpy_models.py); the
             # newer ones have none, and their rows leave the column empty.
@@ -120,7 +122,7 @@ def main() -> None:
                 brdf_rs.set_num_threads(threads)
                 for normalized in (False, True):
                     call = functools.partial(
-                        brdf_rs.eval, model, wi, wo, normalized=normalized, **t_arg, **extra
+                        brdf_rs.eval, model, wi, wo, normalized=normalized, **tn, **extra
                     )
                     best, median = best_time(call, args.repeat)
                     key = f"{threads}t" + ("_normalized" if normalized else "")
@@ -128,7 +130,7 @@ def main() -> None:
                     row[key + "_median"] = args.n / median / 1e6
             top = max(args.threads)
             brdf_rs.set_num_threads(top)
-            call = functools.partial(brdf_rs.eval, model, wi, wo, out=outs[dtype], **t_arg, **extra)
+            call = functools.partial(brdf_rs.eval, model, wi, wo, out=outs[dtype], **tn, **extra)
             best, median = best_time(call, args.repeat)
             row["out"] = args.n / best / 1e6
             row["out_median"] = args.n / median / 1e6
