@@ -78,6 +78,7 @@ __all__ = [
     "directional_albedo",
     "directional_albedo_info",
     "supported_models",
+    "ward_albedo_at_normal_incidence",
 ]
 
 HALF_PI = 0.5 * math.pi
@@ -484,3 +485,39 @@ def albedo_grid(
     for i, mu in enumerate(mus):
         out[i] = _albedo(model, mu, tol, params, stacklevel=3).value
     return out
+
+
+def ward_albedo_at_normal_incidence(alpha_x: float, alpha_y: float) -> float:
+    """A(mu = 1) of ward (kd = 0, ks = 1) by 1-D quadrature (scipy).
+
+    With wi = n, wo = 2(n·h)h − n and s = tan θh, the azimuth integral of the Gaussian is
+    2π e^(−a s²) I0(b s²), leaving A = (2/(αx αy)) ∫_0^1 e^(−a s²) I0(b s²)
+    sqrt((1−s²)/(1+s²)) s/(1+s²)² ds, a = (αx⁻² + αy⁻²)/2, b = |αx⁻² − αy⁻²|/2.
+    Used by tests/test_normalization.py and by ``scripts/gen_tables.py exact-check``.
+    """
+    import itertools
+
+    from scipy import integrate, special
+
+    b = 0.5 * abs(alpha_x**-2 - alpha_y**-2)
+    a_minus_b = 1.0 / max(alpha_x, alpha_y) ** 2
+
+    def integrand(s: float) -> float:
+        s2 = s * s
+        return float(
+            special.i0e(b * s2)
+            * np.exp(-a_minus_b * s2)
+            * np.sqrt((1 - s2) / (1 + s2))
+            * s
+            / (1 + s2) ** 2
+        )
+
+    marks = [k * m for m in (alpha_x, alpha_y) for k in (0.5, 1, 2, 4, 8) if k * m < 1]
+    edges = np.unique([0.0, *marks, 1.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        total = sum(
+            integrate.quad(integrand, lo, hi, epsabs=0, epsrel=1e-12, limit=200)[0]
+            for lo, hi in itertools.pairwise(edges)
+        )
+    return 2 * total / (alpha_x * alpha_y)

@@ -8,46 +8,16 @@ albedo at normal incidence (scipy).
 
 from __future__ import annotations
 
-import itertools
-import warnings
-
 import brdf_rs
 import numpy as np
 import pytest
 import quadrature
 from brdf_rs import _normalization
-from scipy import integrate, special
+from quadrature import ward_albedo_at_normal_incidence
 
 #: Interpolation error of the Ward factor (relative), as measured by
 #: ``scripts/gen_tables.py exact-check`` at the cell midpoints, with a margin.
 WARD_INTERPOLATION = 3e-5
-
-
-def ward_albedo_at_normal_incidence(alpha_x: float, alpha_y: float) -> float:
-    """A(mu = 1) of ward (kd = 0, ks = 1): with wi = n, wo = 2(n·h)h − n and s = tan θh the
-    azimuth integral of the Gaussian is 2π e^(−a s²) I0(b s²), leaving a 1-D integral."""
-    b = 0.5 * abs(alpha_x**-2 - alpha_y**-2)
-    a_minus_b = 1.0 / max(alpha_x, alpha_y) ** 2
-
-    def integrand(s: float) -> float:
-        s2 = s * s
-        return float(
-            special.i0e(b * s2)
-            * np.exp(-a_minus_b * s2)
-            * np.sqrt((1 - s2) / (1 + s2))
-            * s
-            / (1 + s2) ** 2
-        )
-
-    marks = [k * m for m in (alpha_x, alpha_y) for k in (0.5, 1, 2, 4, 8) if k * m < 1]
-    edges = np.unique([0.0, *marks, 1.0])
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        total = sum(
-            integrate.quad(integrand, lo, hi, epsabs=0, epsrel=1e-12, limit=200)[0]
-            for lo, hi in itertools.pairwise(edges)
-        )
-    return 2 * total / (alpha_x * alpha_y)
 
 
 @pytest.mark.parametrize("alpha", [0.013, 0.2, 0.77, 3.1])
