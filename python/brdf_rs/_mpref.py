@@ -30,6 +30,7 @@ take the ``MODELS.md`` names and the package defaults; ranges are not checked (s
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -758,16 +759,21 @@ def eval_mp(
         return _evaluate(model, wi, wo, n, tangent, _raw_parameters(model, params))
 
 
-def _nearest_float(x: mpf) -> float:
-    """``x`` rounded to the nearest binary64 (ties to even, subnormals, overflow to inf)."""
+def _nearest_float(
+    x: mpf, bits: int = 53, min_exp: int = -1074, max_value: float = sys.float_info.max
+) -> float:
+    """``x`` rounded to the nearest float of a binary format (ties to even, subnormals,
+    overflow to inf), returned as a Python float: binary64 by default; ``bits``
+    significand bits, ``min_exp`` the exponent of the smallest subnormal and
+    ``max_value`` the largest finite value of another format (float32: 24, -149)."""
     if not mpmath.isfinite(x):
         return float(x)
-    sign, man, exp, bits = x._mpf_
-    if man == 0 or exp + bits < -1075:
+    sign, man, exp, count = x._mpf_
+    if man == 0 or exp + count < min_exp - 1:
         return -0.0 if sign and man else 0.0  # below half the smallest subnormal
-    if exp + bits > 1030:
+    if exp + count > 1030:
         return -math.inf if sign else math.inf
-    dropped = max(exp + bits - 53, -1074) - exp  # low bits below the binary64 quantum
+    dropped = max(exp + count - bits, min_exp) - exp  # low bits below the format's quantum
     if dropped > 0:
         man, rest = divmod(man, 1 << dropped)
         half = 1 << (dropped - 1)
@@ -777,6 +783,8 @@ def _nearest_float(x: mpf) -> float:
     try:
         value = math.ldexp(man, exp)
     except OverflowError:
+        value = math.inf
+    if value > max_value:
         value = math.inf
     return -value if sign else value
 

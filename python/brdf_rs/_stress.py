@@ -121,29 +121,7 @@ class _Format:
 
     def nearest(self, x: Any) -> float:
         """An exact mpmath value rounded to nearest (ties to even) in this format."""
-        import mpmath
-
-        if not mpmath.isfinite(x):
-            return float(x)
-        sign, man, exp, count = x._mpf_
-        if man == 0 or exp + count < self.min_exp - 1:
-            return -0.0 if sign and man else 0.0  # below half the smallest subnormal
-        if exp + count > 1030:
-            return -math.inf if sign else math.inf
-        dropped = max(exp + count - self.bits, self.min_exp) - exp
-        if dropped > 0:
-            man, rest = divmod(man, 1 << dropped)
-            half = 1 << (dropped - 1)
-            if rest > half or (rest == half and man & 1):
-                man += 1
-            exp += dropped
-        try:
-            value = math.ldexp(man, exp)
-        except OverflowError:
-            value = math.inf
-        if value > self.max:
-            value = math.inf
-        return -value if sign else value
+        return float(_require_mpmath()._nearest_float(x, self.bits, self.min_exp, self.max))
 
     def ordinal(self, x: float) -> int:
         """The float's position on the line of representable values (±0 both 0)."""
