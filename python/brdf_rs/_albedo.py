@@ -272,18 +272,24 @@ def _flat_meta(meta: Mapping[str, Any]) -> dict[str, str]:
     return {k: v if isinstance(v, str) else json.dumps(v) for k, v in meta.items()}
 
 
+def save_npz_atomically(path: Path, **arrays: Any) -> None:
+    """Writes a compressed ``.npz`` next to ``path`` and renames it into place, so a
+    half-written file never stands under the real name (an interrupted build, a full disk)."""
+    tmp = path.with_name(path.name + ".partial.npz")
+    np.savez_compressed(tmp, **arrays)
+    tmp.replace(path)
+
+
 def _save_npz(table: Table, path: Path) -> None:
     arrays: dict[str, Any] = {f"axis_{k}": np.asarray(v) for k, v in table.axes.items()}
-    tmp = path.with_name(path.name + ".partial.npz")
-    np.savez_compressed(
-        tmp,
+    save_npz_atomically(
+        path,
         value=table.value,
         stderr=table.stderr,
         samples=table.samples,
         meta=np.array(json.dumps(table.meta)),
         **arrays,
     )
-    tmp.replace(path)  # never leave a half-written table under the real name
 
 
 def _save_exr(table: Table, path: Path) -> None:

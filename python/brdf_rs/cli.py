@@ -480,7 +480,7 @@ def cmd_dfg(args: argparse.Namespace) -> int:
 
 def save_energy(result: Any, path: Path) -> Path:
     """Writes an :class:`~brdf_rs.EnergyCompensation` as ``.npz`` (arrays and metadata)."""
-    from . import __version__
+    from . import __version__, _albedo
 
     meta = {
         "model": result.model,
@@ -488,9 +488,8 @@ def save_energy(result: Any, path: Path) -> Path:
         " e_avg[alpha] = 2 * integral of E(mu) mu dmu",
         "brdf_rs": __version__,
     }
-    tmp = path.with_name(path.name + ".partial.npz")
-    np.savez_compressed(
-        tmp,
+    _albedo.save_npz_atomically(
+        path,
         mu=result.mu,
         alpha=result.alpha,
         e=result.e,
@@ -499,7 +498,6 @@ def save_energy(result: Any, path: Path) -> Path:
         e_avg_stderr=result.e_avg_stderr,
         meta=np.array(json.dumps(meta)),
     )
-    tmp.replace(path)
     return path
 
 
