@@ -9,6 +9,7 @@
 //! All helpers here are `#[inline(always)]` and branch-free (selects, not jumps) so the
 //! loops that call them auto-vectorize.
 
+pub mod erf;
 pub mod fastmath;
 pub mod geometry;
 pub mod series;
@@ -134,8 +135,9 @@ pub trait Real:
     fn exp(self) -> Self;
     /// Returns the natural logarithm.
     fn ln(self) -> Self;
-    /// Returns the error function (the `libm` crate's, a port of musl: scalar).
-    fn erf(self) -> Self;
+    /// Returns the complementary error function `erfc` (branch-free, vectorizable:
+    /// [`erf`]).
+    fn erfc(self) -> Self;
     /// Returns `v / |v|` computed without overflow or underflow for any finite nonzero
     /// `v` (tiny 1e-300 and huge 1e300 vectors included), and whether `v` was usable
     /// (finite and nonzero). Unusable inputs give a non-finite vector.
@@ -203,7 +205,7 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 }
 
 macro_rules! impl_real {
-    ($f:ident, $v:ty, $pow:ident, $pow_over:ident, $exp:ident, $log:ident, $erf:path, flush = $flush:expr,
+    ($f:ident, $v:ty, $pow:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
      small = $small:expr, big = $big:expr, up = $up:expr, down = $down:expr) => {
         impl Real for $f {
             type V3 = $v;
@@ -262,8 +264,8 @@ macro_rules! impl_real {
                 fastmath::$log(self)
             }
             #[inline(always)]
-            fn erf(self) -> Self {
-                $erf(self)
+            fn erfc(self) -> Self {
+                $erfc(self)
             }
             #[inline(always)]
             fn flush_subnormal(x: Self) -> Self {
@@ -328,7 +330,7 @@ impl_real!(
     pow_unit_over_f64,
     exp_f64,
     log_f64,
-    libm::erf,
+    erf::erfc_f64,
     flush = false,
     small = 3.054936363499605e-151, // 2^-500
     big = 3.273390607896142e150,    // 2^500
@@ -343,7 +345,7 @@ impl_real!(
     pow_unit_over_f32,
     exp_f32,
     log_f32,
-    libm::erff,
+    erf::erfc_f32,
     flush = true,
     small = 9.094947e-13, // 2^-40
     big = 1.0995116e12,   // 2^40

@@ -54,7 +54,8 @@ pub fn mu_lambda<F: Real>(mu: F, sin2: F, alpha: F) -> F {
     let c = mu / (alpha * s);
     let e = (-(c * c)).exp();
     let inv_2sqrt_pi = F::from_f64(0.5 / std::f64::consts::PI.sqrt());
-    let value = mu * (c.erf() - F::ONE) * F::HALF + alpha * s * e * inv_2sqrt_pi;
+    // (erf(c) − 1)/2 = −erfc(c)/2: no cancellation as c grows.
+    let value = alpha * s * e * inv_2sqrt_pi - mu * c.erfc() * F::HALF;
     // At normal incidence (s = 0) c is infinite and every term vanishes.
     if s > F::ZERO { value } else { F::ZERO }
 }
