@@ -82,6 +82,12 @@ def main() -> None:
     parser.add_argument("--models", nargs="*", default=list(brdf_rs.models()))
     parser.add_argument("--threads", nargs="*", type=int, default=[1, 2])
     parser.add_argument("--out", type=Path, default=RESULTS / "eval_throughput")
+    parser.add_argument(
+        "--update",
+        action="store_true",
+        help="re-time only --models and keep every other row of the existing results "
+        "(each rerun row records its own date, and the table says which rows were rerun)",
+    )
     args = parser.parse_args()
 
     rng = np.random.default_rng(1)
@@ -104,7 +110,7 @@ def main() -> None:
         extra = extra_args(model)
         t_arg = {"tangent": tangent} if brdf_rs.models()[model]["tangent"] else {}
         for dtype, (wi, wo) in inputs.items():
-            row = {"model": model, "dtype": dtype}
+            row = {"model": model, "dtype": dtype, "date": time.strftime("%Y-%m-%d %H:%M:%S")}
             nz = np.array([0.0, 0.0, 1.0], dtype=wi.dtype)
             # The tangent in the batch's dtype: a float64 tangent would make a float32 batch
             # run (and be timed) in float64.
@@ -152,6 +158,8 @@ def main() -> None:
         "repeat": args.repeat,
         "date": time.strftime("%Y-%m-%d %H:%M:%S"),
     }
+    if args.update:
+        meta, rows = merged(args.out.with_suffix(".json"), meta, rows)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1))
     write_markdown(args.out.with_suffix(".md"), meta, rows, args.threads)
@@ -162,6 +170,17 @@ def main() -> None:
 def _cell(value: float | None, width: int = 0, digits: int = 1) -> str:
     """A number for the table, or a dash where there is none."""
     return f"{value:{width}.{digits}f}" if value is not None else f"{'—':>{width}s}"
+
+
+def merged(path: Path, meta: dict, rows: list) -> tuple[dict, list]:
+    """The results in `path` with `rows` in place of the rows they rerun (same model and
+    dtype; new ones appended), under the old run's meta plus a note of the rerun."""
+    old = json.loads(path.read_text())
+    fresh = {(r["model"], r["dtype"]): r for r in rows}
+    kept = [fresh.pop((r["model"], r["dtype"]), r) for r in old["rows"]]
+    rerun = {"date": meta["date"], "models": sorted({r["model"] for r in rows})}
+    reruns = [*old["meta"].get("reruns", []), rerun]
+    return {**old["meta"], "reruns": reruns}, kept + list(fresh.values())
 
 
 def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
@@ -184,6 +203,12 @@ def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
         lines.append(
             f"| {r['model']} | {r['dtype']} | {_cell(r['numpy'])} |{cells} {r['out']:.1f} |"
             f" {_cell(r['speedup'], digits=0)}{'x' if r['speedup'] else ''} |"
+        )
+    for rerun in meta.get("reruns", []):
+        lines.append("")
+        lines.append(
+            f"Rerun alone on {rerun['date']} (`--update`; the other rows are from the "
+            f"run above): {', '.join(rerun['models'])}."
         )
     path.write_text("\n".join(lines) + "\n")
 
