@@ -115,58 +115,87 @@ fn one_plus<const N: usize>(t: f64, c: &[f64; N]) -> f64 {
     1.0 + t * horner(t, c)
 }
 
-/// Returns `erfc(x)` for every `f64` (see the module doc); branch-free.
+/// Returns `(value, r, tail)` with `erfc(x) = value` where `tail` is false (`|x| < 1.25`,
+/// or NaN), and `erfc(x) = value + exp(−x² − 0.5625 + r)/x` where it is true (`value` is
+/// then 0 for `x > 0` and 2 for `x < 0`; `r` is fdlibm's `R/S`, computed at `|x|`
+/// clamped to 28 beyond which the exponential is 0). Callers that already hold
+/// `exp(−x²)` need only `exp(r − 0.5625)` more ([`crate::models::beckmann::mu_lambda`]);
+/// [`erfc_f64`] splits the exponential for full accuracy. Branch-free, one division
+/// for the region's rational (selected before dividing) and one for `1/x²`.
 #[inline(always)]
-pub fn erfc_f64(x: f64) -> f64 {
+pub fn erfc_parts_f64(x: f64) -> (f64, f64, bool) {
     let a = x.abs();
     let negative = x < 0.0;
+    // NaN fails both comparisons and ends in the first region (NaN through `a + a·q`).
+    let tail = a >= 1.25;
+    let mid = a >= 0.84375;
 
-    // a < 0.84375.
+    // Each region's rational, numerator and denominator, selected before the division.
     let z = a * a;
-    let y = horner(z, &PP) / one_plus(z, &QQ);
-    let small = if a < 0.25 {
-        1.0 - (a + a * y)
-    } else {
-        0.5 - (a - 0.5 + a * y)
-    };
-    let small_neg = 1.0 + (a + a * y);
-
-    // 0.84375 <= a < 1.25.
     let s = a - 1.0;
-    let pq = horner(s, &PA) / one_plus(s, &QA);
-    let mid = 1.0 - ERX - pq;
-    let mid_neg = 1.0 + ERX + pq;
-
-    // 1.25 <= a < 28, evaluated at a clamped into that range (no 1/0, no inf/inf).
-    let b = if a > 1.25 { a } else { 1.25 };
-    let b = if b < 28.0 { b } else { 28.0 };
+    let b = clamped(a);
     let t = 1.0 / (b * b);
     let near = b < 1.0 / 0.35;
-    let ratio = if near {
-        horner(t, &RA) / one_plus(t, &SA)
+    let (num, den) = if tail {
+        if near {
+            (horner(t, &RA), one_plus(t, &SA))
+        } else {
+            (horner(t, &RB), one_plus(t, &SB))
+        }
+    } else if mid {
+        (horner(s, &PA), one_plus(s, &QA))
     } else {
-        horner(t, &RB) / one_plus(t, &SB)
+        (horner(z, &PP), one_plus(z, &QQ))
     };
-    let zb = f64::from_bits(b.to_bits() & 0xFFFF_FFFF_0000_0000);
-    let tail = exp_f64(-zb * zb - 0.5625) * exp_f64((zb - b) * (zb + b) + ratio) / b;
-    let tail = if a >= 28.0 { 0.0 } else { tail };
+    let q = num / den;
 
-    // NaN fails every comparison and ends in `small` (NaN through `a + a·y`).
-    let pos = if a >= 1.25 {
-        tail
-    } else if a >= 0.84375 {
-        mid
+    // a < 0.84375: erf = a + a·q.
+    let small = if a < 0.25 {
+        1.0 - (a + a * q)
+    } else {
+        0.5 - (a - 0.5 + a * q)
+    };
+    let small_neg = 1.0 + (a + a * q);
+    // 0.84375 <= a < 1.25: erf = erx + q.
+    let middle = 1.0 - ERX - q;
+    let middle_neg = 1.0 + ERX + q;
+
+    let value = if tail {
+        if negative { 2.0 } else { 0.0 }
+    } else if mid {
+        if negative { middle_neg } else { middle }
+    } else if negative {
+        small_neg
     } else {
         small
     };
-    let neg = if a >= 1.25 {
-        2.0 - tail
-    } else if a >= 0.84375 {
-        mid_neg
+    (value, q, tail)
+}
+
+/// `|x|` clamped to the tail's range `[1.25, 28]` (no `1/0`, no `inf/inf`).
+#[inline(always)]
+fn clamped(a: f64) -> f64 {
+    let b = if a > 1.25 { a } else { 1.25 };
+    if b < 28.0 { b } else { 28.0 }
+}
+
+/// Returns `erfc(x)` for every `f64` (see the module doc); branch-free.
+#[inline(always)]
+pub fn erfc_f64(x: f64) -> f64 {
+    let (value, r, tail) = erfc_parts_f64(x);
+    let a = x.abs();
+    let b = clamped(a);
+    // fdlibm's split: z has 21 significant bits, so z² is exact.
+    let zb = f64::from_bits(b.to_bits() & 0xFFFF_FFFF_0000_0000);
+    let e = exp_f64(-zb * zb - 0.5625) * exp_f64((zb - b) * (zb + b) + r) / b;
+    let e = if a >= 28.0 { 0.0 } else { e };
+    if !tail {
+        value
+    } else if x < 0.0 {
+        2.0 - e
     } else {
-        small_neg
-    };
-    if negative { neg } else { pos }
+        e
+    }
 }
 
 /// `erfc` for `f32`: [`erfc_f64`] of the widened argument, rounded once (vectorizes
@@ -174,6 +203,13 @@ pub fn erfc_f64(x: f64) -> f64 {
 #[inline(always)]
 pub fn erfc_f32(x: f32) -> f32 {
     erfc_f64(f64::from(x)) as f32
+}
+
+/// [`erfc_parts_f64`] for `f32`, from the widened argument.
+#[inline(always)]
+pub fn erfc_parts_f32(x: f32) -> (f32, f32, bool) {
+    let (value, r, tail) = erfc_parts_f64(f64::from(x));
+    (value as f32, r as f32, tail)
 }
 
 #[cfg(test)]
@@ -246,6 +282,28 @@ mod tests {
             }
         }
         assert!(worst.0 <= 5.0, "{} ulps at x = {:e}", worst.0, worst.1);
+    }
+
+    /// The parts recombine to erfc: `value` alone below 1.25, `value + exp(−x² − 0.5625 +
+    /// r)/x` beyond (the form `mu_lambda` uses, with one rounding of x² more).
+    #[test]
+    fn parts_recombine_to_erfc() {
+        for i in 0..20_001 {
+            let x = -27.0 + 54.0 * i as f64 / 20_000.0;
+            let (value, r, tail) = erfc_parts_f64(x);
+            assert_eq!(tail, x.abs() >= 1.25);
+            let got = if tail {
+                value + (-x * x - 0.5625 + r).exp() / x
+            } else {
+                value
+            };
+            let want = erfc_f64(x);
+            let scale = if x < 0.0 { 2.0 } else { want };
+            // The rounding of x² moves exp(−x²) by up to x²·2^-53 relatively.
+            // Subnormal results (x > 26.5) keep fewer digits: an absolute floor.
+            let tol = 1e-15 * (1.0 + x * x) * scale + 1e-310;
+            assert!((got - want).abs() <= tol, "{x}: {got} {want}");
+        }
     }
 
     #[test]

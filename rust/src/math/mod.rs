@@ -135,9 +135,9 @@ pub trait Real:
     fn exp(self) -> Self;
     /// Returns the natural logarithm.
     fn ln(self) -> Self;
-    /// Returns the complementary error function `erfc` (branch-free, vectorizable:
-    /// [`erf`]).
-    fn erfc(self) -> Self;
+    /// Returns the complementary error function in parts, `(value, r, tail)`: see
+    /// [`erf::erfc_parts_f64`] (branch-free, vectorizable).
+    fn erfc_parts(self) -> (Self, Self, bool);
     /// Returns `v / |v|` computed without overflow or underflow for any finite nonzero
     /// `v` (tiny 1e-300 and huge 1e300 vectors included), and whether `v` was usable
     /// (finite and nonzero). Unusable inputs give a non-finite vector.
@@ -264,7 +264,7 @@ macro_rules! impl_real {
                 fastmath::$log(self)
             }
             #[inline(always)]
-            fn erfc(self) -> Self {
+            fn erfc_parts(self) -> (Self, Self, bool) {
                 $erfc(self)
             }
             #[inline(always)]
@@ -330,7 +330,7 @@ impl_real!(
     pow_unit_over_f64,
     exp_f64,
     log_f64,
-    erf::erfc_f64,
+    erf::erfc_parts_f64,
     flush = false,
     small = 3.054936363499605e-151, // 2^-500
     big = 3.273390607896142e150,    // 2^500
@@ -345,7 +345,7 @@ impl_real!(
     pow_unit_over_f32,
     exp_f32,
     log_f32,
-    erf::erfc_f32,
+    erf::erfc_parts_f32,
     flush = true,
     small = 9.094947e-13, // 2^-40
     big = 1.0995116e12,   // 2^40

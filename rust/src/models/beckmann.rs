@@ -48,14 +48,22 @@ pub struct Prepared<F> {
 }
 
 /// `μ·Λ(μ)` of the Beckmann Smith function, from `μ` and `sin²θ`.
+///
+/// `μ·Λ = α·s·e/(2√π) − μ·erfc(c)/2` (`s = sinθ`, `c = μ/(α s)`, `e = exp(−c²)`; MODELS.md's
+/// `(erf(c) − 1)/2` as `−erfc(c)/2`, which does not cancel as `c` grows). For `|c| ≥ 1.25`
+/// erfc comes in parts, `erfc(c) = v + exp(−c² − 0.5625 + r)/c`, and `μ/c = α s` turns
+/// its exponential term into `α s·e·exp(r − 0.5625)`: with the `e` already at hand, one
+/// exponential more instead of erfc's two, and no division by `c`.
 #[inline(always)]
 pub fn mu_lambda<F: Real>(mu: F, sin2: F, alpha: F) -> F {
     let s = sin2.sqrt();
     let c = mu / (alpha * s);
     let e = (-(c * c)).exp();
-    let inv_2sqrt_pi = F::from_f64(0.5 / std::f64::consts::PI.sqrt());
-    // (erf(c) − 1)/2 = −erfc(c)/2: no cancellation as c grows.
-    let value = alpha * s * e * inv_2sqrt_pi - mu * c.erfc() * F::HALF;
+    let (v, r, tail) = c.erfc_parts();
+    let frac_1_sqrt_pi = F::from_f64(0.564_189_583_547_756_3);
+    let tail_term = (r - F::from_f64(0.5625)).exp();
+    let tail_term = if tail { tail_term } else { F::ZERO };
+    let value = alpha * s * e * (frac_1_sqrt_pi - tail_term) * F::HALF - mu * v * F::HALF;
     // At normal incidence (s = 0) c is infinite and every term vanishes.
     if s > F::ZERO { value } else { F::ZERO }
 }
