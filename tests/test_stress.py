@@ -282,12 +282,25 @@ def test_s5_kajiya_kay_sine_of_a_fibre_next_to_the_light():
 
 def test_s6_kajiya_kay_highlight_with_a_huge_exponent():
     # l·t + v·t cancels (l ≈ −v): forming the sum of the cosines lost 125 ulps here; the
-    # sum of the vectors first leaves 39, which come from the rounding of the normalized
-    # v (|l + v| = 1e-3: see docs/numerics.md, "nearly opposite directions").
+    # sum of the vectors first left 39, which came from the length error of the
+    # normalized v (|l + v| = 1e-3); the sum of the exact unit vectors (S8) leaves 0.
     args = ("kajiya_kay", [1.0, 0.0, 1e-300], [-1.0, 1e-3, 1e-300], (0.0, 0.0, 1.0))
     want = exact(*args, [0.3, 0.4, 0.5], p=1e6)
     assert mpref.condition(*args, [0.3, 0.4, 0.5], p=1e6) < 2
-    assert ulps(kernel(*args, [0.3, 0.4, 0.5], p=1e6), want) <= 64
+    assert ulps(kernel(*args, [0.3, 0.4, 0.5], p=1e6), want) <= 2
+
+
+def test_s8_half_vector_of_nearly_opposite_directions_from_the_exact_unit_vectors():
+    # |wi + wo| = 1e-3: the rounded vectors' length errors (1e-16) moved h's azimuth by
+    # 1e-13, and with nu = 0, nv = 100 the exponent with it: 1.4e-11 at κ = 4.6e3
+    # (27 κu) before.
+    wi = [-0.21062677148830986, 0.9775665517663804, 1e-08]
+    wo = [0.2116042325637714, -0.9773554362467615, 1e-08]
+    params = {"Rd": 0.5, "Rs": 0.05, "nu": 0.0, "nv": 100.0}
+    want = exact("ashikhmin_shirley", wi, wo, **params)
+    kappa = mpref.condition("ashikhmin_shirley", wi, wo, **params)
+    assert 1e3 < kappa < 1e4
+    assert_within(kernel("ashikhmin_shirley", wi, wo, **params), want, kappa, "ashikhmin")
 
 
 def test_kajiya_kay_peak_along_the_fibre():
