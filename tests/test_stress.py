@@ -282,12 +282,77 @@ def test_s5_kajiya_kay_sine_of_a_fibre_next_to_the_light():
 
 def test_s6_kajiya_kay_highlight_with_a_huge_exponent():
     # l·t + v·t cancels (l ≈ −v): forming the sum of the cosines lost 125 ulps here; the
-    # sum of the vectors first leaves 39, which come from the rounding of the normalized
-    # v (|l + v| = 1e-3: see docs/numerics.md, "nearly opposite directions").
+    # sum of the vectors first left 39, which came from the length error of the
+    # normalized v (|l + v| = 1e-3); the sum of the exact unit vectors (S8) leaves 0.
     args = ("kajiya_kay", [1.0, 0.0, 1e-300], [-1.0, 1e-3, 1e-300], (0.0, 0.0, 1.0))
     want = exact(*args, [0.3, 0.4, 0.5], p=1e6)
     assert mpref.condition(*args, [0.3, 0.4, 0.5], p=1e6) < 2
-    assert ulps(kernel(*args, [0.3, 0.4, 0.5], p=1e6), want) <= 64
+    assert ulps(kernel(*args, [0.3, 0.4, 0.5], p=1e6), want) <= 2
+
+
+# The six well-conditioned GGX cases of the full float64 run (seed 0) that were more than
+# 4 ulps off: (wi, wo, n, params, ulps before).
+GGX_WORST = [
+    (
+        [0.0006775564078204309, 0.005836798805325073, -0.0014285151191743895],
+        [-0.0005108945720881246, 0.0017936676860787469, 0.001056279123024777],
+        [831.2020200463087, 325.2618650178422, 86.46702473249829],
+        {"kd": 0.5, "ks": 1.0, "alpha": 1.0},
+        8,
+    ),
+    (
+        [-0.02549388934856882, 0.014693028164418512, 0.02562214408193953],
+        [0.024841761678907143, -0.1892738185692544, -0.012339316598803019],
+        [-0.4534085483315857, -0.8743455116521712, 0.17303356481777493],
+        {"kd": [0.3, 0.0, 1.0], "ks": 1.0, "alpha": 0.5},
+        6,
+    ),
+    (
+        [-10.003722269181266, 2.3832656484969763, -4.54215633239996],
+        [-0.004379391275226699, -0.01975232291756379, 0.013552158649998572],
+        [-434.67886641714574, -310.95534676518304, -238.45520296365999],
+        {"kd": 0.5, "ks": [1.0, 0.0, 0.5], "alpha": 0.5},
+        6,
+    ),
+    (
+        [-0.8826413268504664, 0.47004711267664245, 1e-08],
+        [0.8831109325641752, -0.4691642364733622, 1e-08],
+        [0.0, 0.0, 1.0],
+        {"kd": 0.5, "ks": 1.0, "alpha": 0.5},
+        6,
+    ),
+    (
+        [-9.717797086825678e-151, -1.2965678505511479e-151, 1.97061705772572e-151],
+        [3.0048305268105825e-151, 8.135634702983069e-151, 4.978196609693598e-151],
+        [-3.719540086653819e-151, 8.867306881099034e-151, 7.745157594781955e-151],
+        {"kd": 0.5, "ks": 1.0, "alpha": 0.5},
+        5,
+    ),
+]
+
+
+@pytest.mark.parametrize("wi, wo, n, params, before", GGX_WORST)
+def test_s7_ggx_well_conditioned_within_4_ulps(wi, wo, n, params, before):
+    # The rounded unit vectors' lengths are off by an ulp or so, and the lobe moves with
+    # |n| as its 6th power (|h|: 4th): most of these ulps (5 of the 8 in the first case)
+    # were there before the first rounding of the kernel itself. The kernel now takes the
+    # length errors into account (Real::length_error) and has four divisions, not seven.
+    assert mpref.condition("ggx", wi, wo, n, **params) <= 4
+    got = ulps(kernel("ggx", wi, wo, n, **params), exact("ggx", wi, wo, n, **params))
+    assert got <= 4, f"{got} ulps (before: {before})"
+
+
+def test_s8_half_vector_of_nearly_opposite_directions_from_the_exact_unit_vectors():
+    # |wi + wo| = 1e-3: the rounded vectors' length errors (1e-16) moved h's azimuth by
+    # 1e-13, and with nu = 0, nv = 100 the exponent with it: 1.4e-11 at κ = 4.6e3
+    # (27 κu) before.
+    wi = [-0.21062677148830986, 0.9775665517663804, 1e-08]
+    wo = [0.2116042325637714, -0.9773554362467615, 1e-08]
+    params = {"Rd": 0.5, "Rs": 0.05, "nu": 0.0, "nv": 100.0}
+    want = exact("ashikhmin_shirley", wi, wo, **params)
+    kappa = mpref.condition("ashikhmin_shirley", wi, wo, **params)
+    assert 1e3 < kappa < 1e4
+    assert_within(kernel("ashikhmin_shirley", wi, wo, **params), want, kappa, "ashikhmin")
 
 
 def test_kajiya_kay_peak_along_the_fibre():

@@ -96,9 +96,40 @@ pub struct HalfVector<F: Real> {
 /// `1 − cos_b² = |wi − wo|²/4`, accurate at both ends (`wi ≈ wo`: the difference is
 /// exact; `wi ≈ −wo`: nothing cancels), where `|wi − h|²/2` lost the digits of `h`'s
 /// rounding as `h` turned perpendicular to `wi`.
+///
+/// The sum is exact, but of the rounded unit vectors: their lengths are off by an ulp or
+/// so, which moves `wi + wo` by about 1e-16 and, where the sum is small, `h`'s direction
+/// by `1e-16/|wi + wo|`. [`half_vector_exact`] removes that.
 #[inline(always)]
 pub fn half_vector<F: Real>(wi: F::V3, wo: F::V3) -> HalfVector<F> {
-    let s = wi + wo;
+    half_vector_of_sum(wi + wo, wi, wo)
+}
+
+/// Returns [`half_vector`] of the exact unit vectors `wi·(1 − e_i/2)`, `wo·(1 − e_o/2)`
+/// (to first order) given the rounded ones and their length errors `e = |w|² − 1`
+/// ([`Real::length_error`]): the sum becomes `wi + wo − (wi·e_i + wo·e_o)/2`, whose
+/// correction is formed before it is subtracted, so a sum of 1e-3 keeps its direction to
+/// the last digits (the rounded vectors' sum is off by 1e-16 there, 1e-13 relative), and
+/// `1 − cos_b` from `|wi − wo|²` is scaled by `1 − (e_i + e_o)/2`. `h` itself is rounded
+/// again: its own length error is the caller's to take into account. With `e = 0` (as
+/// `f32` gives) this is [`half_vector`].
+#[inline(always)]
+pub fn half_vector_exact<F: Real>(wi: F::V3, wo: F::V3, e_i: F, e_o: F) -> HalfVector<F> {
+    if !F::EXACT_LENGTHS {
+        return half_vector(wi, wo);
+    }
+    // wi = −wo exactly gives e_i = e_o and a correction of exactly 0: still undefined.
+    let correction = (wi * e_i + wo * e_o) * F::HALF;
+    let mut hv = half_vector_of_sum((wi + wo) - correction, wi, wo);
+    // |wi − wo|² is first-order homogeneous in |wi| and |wo|.
+    let one_minus = hv.cos_b.one_minus;
+    hv.cos_b.one_minus = min(one_minus - one_minus * (F::HALF * (e_i + e_o)), F::ONE);
+    hv
+}
+
+/// [`half_vector`] from the sum `s` of `wi` and `wo` (corrected or not).
+#[inline(always)]
+fn half_vector_of_sum<F: Real>(s: F::V3, wi: F::V3, wo: F::V3) -> HalfVector<F> {
     let (h, len) = F::normalize_length(s);
     let defined = len > F::ZERO;
     // When undefined, use n-free finite values (the caller zeroes the lane).
@@ -109,13 +140,13 @@ pub fn half_vector<F: Real>(wi: F::V3, wo: F::V3) -> HalfVector<F> {
     );
     let cos = min(len * F::HALF, F::ONE);
     let d = wi - wo;
-    let one_minus = min(
-        d.length_squared() * F::from_f64(0.25) / (F::ONE + cos),
-        F::ONE,
-    );
+    let one_minus = d.length_squared() * F::from_f64(0.25) / (F::ONE + cos);
     HalfVector {
         h,
-        cos_b: Cosine { cos, one_minus },
+        cos_b: Cosine {
+            cos,
+            one_minus: min(one_minus, F::ONE),
+        },
         defined,
     }
 }

@@ -113,6 +113,10 @@ pub trait Real:
     const INFINITY: Self;
     /// Name of the width as NumPy spells it.
     const DTYPE: &'static str;
+    /// Whether [`Real::length_error`] computes the length errors of unit vectors (`f64`)
+    /// or returns 0 (`f32`, whose goals do not need them): kernels that correct for them
+    /// test this constant, so the `f32` loops carry none of the work.
+    const EXACT_LENGTHS: bool;
 
     /// Converts from `f64` (rounding for `f32`).
     fn from_f64(x: f64) -> Self;
@@ -159,6 +163,20 @@ pub trait Real:
     fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
     /// Returns whether `v` is finite and nonzero, without normalizing it.
     fn usable(v: Self::V3) -> bool;
+    /// Returns `|v|² − 1` for a vector of about unit length (components of magnitude at
+    /// most 1, as [`Real::normalize`] returns), to within 2^-73 (1e-22; the value itself
+    /// is of order 2^-53); 0 in `f32` (see [`Real::EXACT_LENGTHS`]).
+    ///
+    /// A rounded unit vector is up to a few ulps longer or shorter than 1, and formulas
+    /// that take `|w| = 1` for granted turn that into errors of several ulps (GGX: a
+    /// `|n|` off by `ε` moves the lobe by `6ε`), or, through `wi + wo` where the two nearly
+    /// cancel, into a wrong direction of `h`. `fl(|v|²) − 1` is all rounding error at
+    /// that size, so the squares are split instead (no FMA, which the baseline loops do
+    /// not have): `x = xh + xl` with `xh = (x + C) − C` a multiple of 2^-25, so that
+    /// `xh²` and the sum `xh² + yh² + zh² − 1` are exact, and
+    /// `x² − xh² = xl·(x + xh)` is below 2^-25, its rounding below 2^-77. The true unit vector is
+    /// then `v·(1 − e/2)` to first order, which is how the kernels use it.
+    fn length_error(v: Self::V3) -> Self;
     /// Returns `x`, or 0 for an `f32` below 2^-100 ≈ 7.9e-31; identity for `f64`.
     ///
     /// `f32` lobes `cos^p` underflow for ordinary exponents, and every later product of
@@ -206,7 +224,8 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 
 macro_rules! impl_real {
     ($f:ident, $v:ty, $pow:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
-     small = $small:expr, big = $big:expr, up = $up:expr, down = $down:expr) => {
+     exact_lengths = $exact_lengths:expr, small = $small:expr, big = $big:expr, up = $up:expr,
+     down = $down:expr) => {
         impl Real for $f {
             type V3 = $v;
             const ZERO: Self = 0.0;
@@ -218,6 +237,7 @@ macro_rules! impl_real {
             const NAN: Self = $f::NAN;
             const INFINITY: Self = $f::INFINITY;
             const DTYPE: &'static str = stringify!($f);
+            const EXACT_LENGTHS: bool = $exact_lengths;
 
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
@@ -277,6 +297,20 @@ macro_rules! impl_real {
                 finite_nonzero::<$f>(v)
             }
             #[inline(always)]
+            fn length_error(v: Self::V3) -> Self {
+                if !$exact_lengths {
+                    return 0.0;
+                }
+                // 1.5·2^27: (x + C) − C rounds |x| <= 1 to a multiple of 2^-25.
+                const C: $f = 201326592.0;
+                let hi = |x: $f| (x + C) - C;
+                let (xh, yh, zh) = (hi(v.x), hi(v.y), hi(v.z));
+                let exact = ((xh * xh + yh * yh) - 1.0) + zh * zh;
+                let rest =
+                    (v.x - xh) * (v.x + xh) + (v.y - yh) * (v.y + yh) + (v.z - zh) * (v.z + zh);
+                exact + rest
+            }
+            #[inline(always)]
             fn normalize(v: Self::V3) -> (Self::V3, bool) {
                 // Scaling by a power of two keeps a vector finite and nonzero exactly
                 // when it was: test the raw one. The unused length folds away.
@@ -332,6 +366,7 @@ impl_real!(
     log_f64,
     erf::erfc_parts_f64,
     flush = false,
+    exact_lengths = true,
     small = 3.054936363499605e-151, // 2^-500
     big = 3.273390607896142e150,    // 2^500
     up = 4.149515568880993e180,     // 2^600
@@ -347,6 +382,7 @@ impl_real!(
     log_f32,
     erf::erfc_parts_f32,
     flush = true,
+    exact_lengths = false,
     small = 9.094947e-13, // 2^-40
     big = 1.0995116e12,   // 2^40
     up = 1.2676506e30,    // 2^100
@@ -367,6 +403,42 @@ mod tests {
         assert_eq!(1.0995116e12_f32, 2f32.powi(40));
         assert_eq!(1.2676506e30_f32, 2f32.powi(100));
         assert_eq!(7.888609e-31_f32, 2f32.powi(-100));
+    }
+
+    #[test]
+    fn length_error_is_exact_to_its_last_bits() {
+        // Components that are multiples of 2^-60 (magnitudes in [2^-8, 1]) square to
+        // multiples of 2^-120: |v|² − 1 exactly in 128-bit integers.
+        let mut state = 0x9e3779b97f4a7c15_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut nonzero = 0;
+        for _ in 0..2000 {
+            let raw = DVec3::new(next() + 0.1, -(next() + 0.1), next() + 0.1);
+            let (v, ok) = f64::normalize(raw);
+            assert!(ok);
+            let scaled = |x: f64| {
+                let m = x * 2f64.powi(60);
+                assert_eq!(m, m.trunc(), "{x}");
+                m as i128
+            };
+            let (x, y, z) = (scaled(v.x), scaled(v.y), scaled(v.z));
+            let exact = (x * x + y * y + z * z - (1i128 << 120)) as f64 / 2f64.powi(120);
+            let got = f64::length_error(v);
+            // The products x_l·(x + x_h) (below 2^-25) round by 2^-77 each.
+            let tol = 2f64.powi(-73) + f64::EPSILON * exact.abs();
+            assert!((got - exact).abs() <= tol, "{v}: {got:e} vs {exact:e}");
+            nonzero += usize::from(exact != 0.0);
+        }
+        assert!(
+            nonzero > 1000,
+            "rounded unit vectors are rarely exactly unit"
+        );
+        assert_eq!(f32::length_error(Vec3::new(0.6, 0.0, 0.8)), 0.0);
     }
 
     #[test]

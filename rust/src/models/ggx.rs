@@ -6,18 +6,16 @@
 //! `F = F0 + (1−F0)(1−cos_b)^5`, `F0 = ks` (RGB). `ks = 1` gives F = 1.
 //!
 //! Evaluated without cancellation or overflow: the NDF's denominator is
-//! `sin²θh + α²cos²θh` (with `sin²θh` from the accurate complement of `cos_th`), and
+//! `sin²θh + α²cos²θh` (with `sin²θh = (1 − cos)(1 + cos)` from `|n ∓ h|²`), and
 //! `G2/(4 mu_i mu_o) = 1/(4(mu_i mu_o + mu_o·L_i + mu_i·L_o))` with `L = μ·Λ(μ)` in the
-//! bounded form of [`ggx_mu_lambda`] (finite at grazing angles, where `Λ` overflows).
+//! bounded form of [`ggx_mu_lambda`](crate::math::geometry::ggx_mu_lambda) (finite at
+//! grazing angles, where `Λ` overflows), as one quotient: see [`lobe`].
 
 use super::albedo::{Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{
-    above_both, clamped_cosine, ggx_mu_lambda, half_vector, schlick_rgb, schlick_weight,
-    smith_quotient, weighted,
-};
-use crate::math::{Real, Vector3};
+use crate::math::geometry::{above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted};
+use crate::math::{Real, Vector3, max, min};
 
 /// The GGX kernel.
 pub struct Ggx;
@@ -54,21 +52,61 @@ pub struct Prepared<F> {
     d_scale: F,
 }
 
-/// Returns the scalar GGX lobe `D·G2/(4 mu_i mu_o)` (F = 1) and whether it is defined.
+/// Returns the scalar GGX lobe `D·G2/(4 mu_i mu_o)` (F = 1), Schlick's weight
+/// `(1 − cos_b)^5` and whether the lobe is defined.
+///
+/// In terms of `L = μ·Λ(μ) = a/P`, `a = α²|n × w|²` (`α² sin²θ`),
+/// `P = 2(sqrt(μ² + a) + μ)`: `G2/(4 mu_i mu_o) = P_i P_o/(4 q m)` with the larger cosine
+/// `m` factored out, `q = min(mu_i, mu_o)·P_i P_o + (mu_o/m)·a_i P_o + (mu_i/m)·a_o P_i`
+/// (one of the two ratios is exactly 1), so the lobe is `D·P_i P_o/(4q)/m`: four
+/// divisions where the separate `L_i`, `L_o` and the quotient took seven, with no term
+/// smaller than the result needs (both cosines at 1e-38 in `f32`: see
+/// [`smith_quotient`](crate::math::geometry::smith_quotient)).
+///
+/// `f64`: every factor is written first-order homogeneous in the lengths of `n`, `wi`,
+/// `wo` and `h` (`1 ∓ n·h` as `|n ∓ h|²/2`), of degrees −6, −1, −1 and −4, so the
+/// rounded unit vectors' length errors `e = |w|² − 1` ([`Real::length_error`]), which
+/// moved the value by up to 5 ulps, come out as the factor `1 + 3e_n + (e_i + e_o)/2 +
+/// 2e_h`; `h` is the corrected half vector ([`half_vector_exact`]).
 #[inline(always)]
 pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, F, bool) {
+    let e_n = F::length_error(d.n);
+    let e_i = F::length_error(d.wi);
+    let e_o = F::length_error(d.wo);
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
-    let hv = half_vector::<F>(d.wi, d.wo);
-    let cos_th = clamped_cosine::<F>(d.n, hv.h);
-    let sin2_th = cos_th.one_minus * (F::ONE + cos_th.cos);
-    let denom = sin2_th + alpha2 * cos_th.cos * cos_th.cos;
+    let hv = half_vector_exact::<F>(d.wi, d.wo, e_i, e_o);
+    let cos_th = d.n.dot(hv.h);
+    // sin²θh = (1 − cos)(1 + cos); with both cosines positive n·h > 0.
+    let sin2_th =
+        (d.n - hv.h).length_squared() * ((d.n + hv.h).length_squared() * F::from_f64(0.25));
+    let denom = sin2_th + alpha2 * cos_th * cos_th;
     let ndf = d_scale / (denom * denom);
-    let sin2_i = d.n.cross(d.wi).length_squared();
-    let sin2_o = d.n.cross(d.wo).length_squared();
-    let l_i = ggx_mu_lambda(mu_i, sin2_i, alpha2);
-    let l_o = ggx_mu_lambda(mu_o, sin2_o, alpha2);
-    let spec = smith_quotient(ndf, mu_i, mu_o, l_i, l_o);
+    let a_i = alpha2 * d.n.cross(d.wi).length_squared();
+    let a_o = alpha2 * d.n.cross(d.wo).length_squared();
+    let p_i = F::TWO * ((mu_i * mu_i + a_i).sqrt() + mu_i);
+    let p_o = F::TWO * ((mu_o * mu_o + a_o).sqrt() + mu_o);
+    let m = max(mu_i, mu_o);
+    let least = min(mu_i, mu_o);
+    let ratio = least / m;
+    let i_smaller = mu_i < mu_o;
+    let r_i = if i_smaller { ratio } else { F::ONE };
+    let r_o = if i_smaller { F::ONE } else { ratio };
+    let pp = p_i * p_o;
+    let q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i;
+    let spec = ndf * pp / (F::from_f64(4.0) * q) / m;
+    let spec = if F::EXACT_LENGTHS {
+        let e_h = F::length_error(hv.h);
+        let k = F::from_f64(3.0) * e_n + F::HALF * (e_i + e_o) + F::TWO * e_h;
+        // An infinite lobe (both cosines 1e-300) stays infinite: inf·k would be NaN.
+        if spec < F::INFINITY {
+            spec + spec * k
+        } else {
+            spec
+        }
+    } else {
+        spec
+    };
     (spec, schlick_weight(hv.cos_b), hv.defined)
 }
 
