@@ -52,7 +52,7 @@ use crate::models::albedo::{Importance, Integral, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
-use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
+use crate::sampling::{BeckmannVisibleNormals, Frame, Warp, reflect, reflected_pdf};
 
 pub mod cells;
 mod ggx;
@@ -110,6 +110,11 @@ pub struct AlbedoOptions {
     pub fold_azimuth: bool,
     /// Estimate the average over the azimuth of `wi` (the cells' `phi` is then unused).
     pub average_azimuth: bool,
+    /// Draw the `beckmann` lobe from its NDF (`Warp::BeckmannHalf`, Walter 2005) instead
+    /// of its visible normals: kept for benches/albedo_convergence.py, which compares
+    /// the two in one run. [`albedo`] also turns it on when the environment variable
+    /// `BRDF_RS_BECKMANN_NDF` is set (to anything but `0` or empty).
+    pub beckmann_ndf: bool,
 }
 
 impl Default for AlbedoOptions {
@@ -124,6 +129,7 @@ impl Default for AlbedoOptions {
             replicates: 16,
             fold_azimuth: true,
             average_azimuth: false,
+            beckmann_ndf: false,
         }
     }
 }
@@ -328,6 +334,15 @@ impl<K: Kernel> CellIntegrand<K> {
                         (_, Importance::BeckmannHalf { alpha_x, alpha_y }) => {
                             Warp::BeckmannHalf { alpha_x, alpha_y }
                         }
+                        (_, Importance::BeckmannVisible { alpha }) if options.beckmann_ndf => {
+                            Warp::BeckmannHalf {
+                                alpha_x: alpha,
+                                alpha_y: alpha,
+                            }
+                        }
+                        (_, Importance::BeckmannVisible { alpha }) => {
+                            Warp::BeckmannVisible { alpha }
+                        }
                         (_, Importance::AnisotropicPhongHalf { nu, nv }) => {
                             Warp::AnisotropicPhongHalf { nu, nv }
                         }
@@ -423,6 +438,18 @@ impl<K: Kernel> CellIntegrand<K> {
             Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
+            }
+            Warp::BeckmannVisible { alpha } => {
+                // The sampler's constants depend on wi only: built once per block.
+                let normals = BeckmannVisibleNormals::new(alpha, wi);
+                let full = !self.fold;
+                for j in 0..w.len() {
+                    let s = normals.sample(u0[j], u1[j], full);
+                    let wo = reflect(wi, s.dir);
+                    let pdf = reflected_pdf(s.pdf, wo.dot(s.dir));
+                    let x = eval(wo) * wo.z / pdf;
+                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
+                }
             }
             Warp::AnisotropicPhongHalf { nu, nv } => {
                 both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)
@@ -880,9 +907,12 @@ pub fn albedo<C: Cells>(
         )));
     }
     options.validate(cells.count())?;
+    let mut options = *options;
+    options.beckmann_ndf |=
+        std::env::var_os("BRDF_RS_BECKMANN_NDF").is_some_and(|v| !v.is_empty() && v != "0");
     kind.visit(RunAlbedo {
         cells,
-        options,
+        options: &options,
         progress,
         out,
     });

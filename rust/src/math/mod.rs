@@ -9,6 +9,7 @@
 //! All helpers here are `#[inline(always)]` and branch-free (selects, not jumps) so the
 //! loops that call them auto-vectorize.
 
+pub mod erfinv;
 pub mod fastmath;
 pub mod geometry;
 pub mod series;

@@ -24,6 +24,9 @@ pub enum Importance {
     BlinnHalf { p: f64 },
     /// Half vectors from the GGX distribution of visible normals (Heitz 2018).
     GgxVisible { alpha: f64 },
+    /// Half vectors from the isotropic Beckmann distribution of visible normals
+    /// (Heitz & d'Eon 2014).
+    BeckmannVisible { alpha: f64 },
     /// Half vectors from the (anisotropic) Beckmann / Ward NDF times `cos θh`
     /// (Walter 2005): `tan²θh = −ln u / (cos²φ/αx² + sin²φ/αy²)`.
     BeckmannHalf { alpha_x: f64, alpha_y: f64 },

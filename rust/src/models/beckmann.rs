@@ -99,14 +99,12 @@ impl Kernel for Beckmann {
         above_both(mu_i, mu_o, rgb)
     }
 
-    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from `D·cos θh`.
+    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals
+    /// (Heitz & d'Eon 2014): weights `F·G2/G1(wi)`, bounded by 1.
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = colour(slots, 3);
         let a = slots[6];
-        let importance = Importance::BeckmannHalf {
-            alpha_x: a,
-            alpha_y: a,
-        };
+        let importance = Importance::BeckmannVisible { alpha: a };
         Some(vec![
             Term {
                 colour: colour(slots, 0),

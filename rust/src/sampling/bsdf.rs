@@ -22,6 +22,7 @@ pub fn warp_of(importance: Importance) -> Warp {
         Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
         Importance::GgxVisible { alpha } => Warp::GgxVisible { alpha },
         Importance::BeckmannHalf { alpha_x, alpha_y } => Warp::BeckmannHalf { alpha_x, alpha_y },
+        Importance::BeckmannVisible { alpha } => Warp::BeckmannVisible { alpha },
         Importance::AnisotropicPhongHalf { nu, nv } => Warp::AnisotropicPhongHalf { nu, nv },
     }
 }
