@@ -10,8 +10,6 @@
 //! `erfc` allow (the tests check `erf(erfinv(x)) = x` to a few ulp). A crate with an
 //! `erf_inv` (statrs) would bring a dependency tree for one function.
 
-use crate::math::fastmath::log_f64;
-
 /// `2/sqrt(π)`: the derivative of `erf` at 0.
 const TWO_OVER_SQRT_PI: f64 = std::f64::consts::FRAC_2_SQRT_PI;
 
@@ -62,7 +60,7 @@ fn halley(x: f64, residual: f64, derivative: f64) -> f64 {
 #[inline(always)]
 fn erfcinv_upper(q: f64) -> f64 {
     let q = q.max(Q_MIN);
-    let w = -log_f64(q * (2.0 - q));
+    let w = -f64::ln(q * (2.0 - q));
     let mut x = erfinv_guess(1.0 - q, w);
     // Giles' fit covers single precision, w <= −ln(2^-23) ≈ 16; past it (q < 1e-7) start
     // from the asymptote erfc(x) ≈ exp(−x²)/(x·sqrt(π)) (relative error < 1e-3) and
@@ -70,8 +68,8 @@ fn erfcinv_upper(q: f64) -> f64 {
     let tail = w > TAIL_W;
     if tail {
         let q_sqrt_pi = q * std::f64::consts::PI.sqrt();
-        let t = (-log_f64(q_sqrt_pi)).sqrt();
-        x = (-log_f64(q_sqrt_pi * t)).sqrt();
+        let t = (-f64::ln(q_sqrt_pi)).sqrt();
+        x = (-f64::ln(q_sqrt_pi * t)).sqrt();
     }
     let steps = if tail { 3 } else { 1 };
     for _ in 0..steps {
@@ -112,7 +110,7 @@ pub fn erfinv(x: f64) -> f64 {
     // 1 − a is exact for a in [1/2, 1]; below, erf's branch of erfcinv_upper is used and
     // reads 1 − q = a back (to an ulp of 1).
     let y = if a < 0.5 {
-        let w = -log_f64((1.0 - a) * (1.0 + a));
+        let w = -f64::ln((1.0 - a) * (1.0 + a));
         let x0 = erfinv_guess(a, w);
         halley(x0, libm::erf(x0) - a, TWO_OVER_SQRT_PI * (-x0 * x0).exp())
     } else {
