@@ -514,6 +514,7 @@ impl<K: Kernel> CellIntegrand<K> {
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
             }
+            Warp::BeckmannVisible { alpha } => average_loop!(Warp::BeckmannVisible { alpha }, half),
             Warp::AnisotropicPhongHalf { nu, nv } => {
                 average_loop!(Warp::AnisotropicPhongHalf { nu, nv }, half)
             }
