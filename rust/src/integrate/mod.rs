@@ -6,7 +6,8 @@
 //! terms skipped, and the remaining scalar integrals estimated together from the same
 //! points, each with its lobe's own importance sampler (or the uniform / cosine sampler
 //! the caller asks for). GGX's lobes, drawn from their visible normals, are weighted in
-//! closed form on a smoothed disk radius (`integrate/ggx.rs`).
+//! closed form on a smoothed disk radius (`integrate/ggx.rs`); Beckmann's likewise, on a
+//! smoothed slope CDF (`integrate/beckmann.rs`).
 //!
 //! Estimators:
 //! - `sobol`: randomized QMC. `replicates` independent Owen scrambles, each a prefix of
@@ -52,8 +53,9 @@ use crate::models::albedo::{Importance, Integral, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
-use crate::sampling::{BeckmannVisibleNormals, Frame, Warp, reflect, reflected_pdf};
+use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
+mod beckmann;
 pub mod cells;
 mod ggx;
 
@@ -111,8 +113,8 @@ pub struct AlbedoOptions {
     /// Estimate the average over the azimuth of `wi` (the cells' `phi` is then unused).
     pub average_azimuth: bool,
     /// Draw the `beckmann` lobe from its NDF (`Warp::BeckmannHalf`, Walter 2005) instead
-    /// of its visible normals: kept for benches/albedo_convergence.py, which compares
-    /// the two in one run. [`albedo`] also turns it on when the environment variable
+    /// of its visible normals (`integrate/beckmann.rs`): kept for
+    /// benches/albedo_convergence.py, which compares the two in one run. [`albedo`] also turns it on when the environment variable
     /// `BRDF_RS_BECKMANN_NDF` is set (to anything but `0` or empty).
     pub beckmann_ndf: bool,
 }
@@ -224,6 +226,8 @@ struct Lobe<P> {
     /// GGX's lobe from its visible normals, weighted in closed form (then `prepared` and
     /// `warp` are unused).
     ggx: Option<ggx::VisibleLobe>,
+    /// Beckmann's lobe from its visible normals, likewise.
+    beckmann: Option<beckmann::VisibleLobe>,
 }
 
 /// Returns `(sin φ, cos φ)`, exact at the multiples of π/2 (as `φ` rounds them), so
@@ -312,6 +316,30 @@ impl<K: Kernel> CellIntegrand<K> {
                         prepared: K::prepare::<f64, [f64]>(&basis[..]),
                         warp,
                         ggx,
+                        beckmann: None,
+                    });
+                }
+                Integral::BeckmannVisible { alpha, f0, basis } => {
+                    let importance =
+                        matches!(sampler, SamplerChoice::Auto | SamplerChoice::Importance);
+                    // Isotropic: never averaged over azimuth (kept for completeness).
+                    let closed_form = importance && !average && !options.beckmann_ndf;
+                    let beckmann = closed_form.then(|| beckmann::VisibleLobe::new(alpha, f0, wi));
+                    let warp = match sampler {
+                        SamplerChoice::Cosine => Warp::CosineHemisphere,
+                        SamplerChoice::Uniform => Warp::UniformHemisphere,
+                        _ if options.beckmann_ndf => Warp::BeckmannHalf {
+                            alpha_x: alpha,
+                            alpha_y: alpha,
+                        },
+                        _ => Warp::BeckmannVisible { alpha },
+                    };
+                    lobes.push(Lobe {
+                        colour: term.colour,
+                        prepared: K::prepare::<f64, [f64]>(&basis[..]),
+                        warp,
+                        ggx: None,
+                        beckmann,
                     });
                 }
                 Integral::Lobe { basis, importance } => {
@@ -334,12 +362,6 @@ impl<K: Kernel> CellIntegrand<K> {
                         (_, Importance::BeckmannHalf { alpha_x, alpha_y }) => {
                             Warp::BeckmannHalf { alpha_x, alpha_y }
                         }
-                        (_, Importance::BeckmannVisible { alpha }) if options.beckmann_ndf => {
-                            Warp::BeckmannHalf {
-                                alpha_x: alpha,
-                                alpha_y: alpha,
-                            }
-                        }
                         (_, Importance::BeckmannVisible { alpha }) => {
                             Warp::BeckmannVisible { alpha }
                         }
@@ -352,6 +374,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         prepared,
                         warp,
                         ggx: None,
+                        beckmann: None,
                     });
                 }
             }
@@ -384,6 +407,10 @@ impl<K: Kernel> CellIntegrand<K> {
         }
         if let Some(ggx) = &lobe.ggx {
             ggx.weights(self.fold, u0, u1, w);
+            return;
+        }
+        if let Some(beckmann) = &lobe.beckmann {
+            beckmann.weights(self.fold, u0, u1, w);
             return;
         }
         let wi = self.wi;
@@ -440,16 +467,7 @@ impl<K: Kernel> CellIntegrand<K> {
                 both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
             }
             Warp::BeckmannVisible { alpha } => {
-                // The sampler's constants depend on wi only: built once per block.
-                let normals = BeckmannVisibleNormals::new(alpha, wi);
-                let full = !self.fold;
-                for j in 0..w.len() {
-                    let s = normals.sample(u0[j], u1[j], full);
-                    let wo = reflect(wi, s.dir);
-                    let pdf = reflected_pdf(s.pdf, wo.dot(s.dir));
-                    let x = eval(wo) * wo.z / pdf;
-                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
-                }
+                both_folds!(Warp::BeckmannVisible { alpha }, half)
             }
             Warp::AnisotropicPhongHalf { nu, nv } => {
                 both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)

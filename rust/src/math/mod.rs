@@ -12,6 +12,7 @@
 pub mod erfinv;
 pub mod fastmath;
 pub mod geometry;
+pub mod ndtri;
 pub mod series;
 
 use glam::{DVec3, Vec3};

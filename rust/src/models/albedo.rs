@@ -51,6 +51,11 @@ pub enum Integral {
     /// GgxVisible`), its weight `f·mu_o/pdf = F·G2/G1(wi)` is known in closed form, and
     /// the integrator computes it so; `basis` serves the uniform and cosine samplers.
     GgxVisible { alpha: f64, f0: f64, basis: Slots },
+    /// Beckmann's specular lobe, likewise (`integrate/beckmann.rs`): the lobe of the
+    /// `beckmann` model at `basis`, drawn from its visible normals (`Importance::
+    /// BeckmannVisible`) with the closed-form weight `F·G2/G1(wi)`; `basis` serves the
+    /// uniform and cosine samplers and the NDF comparison (`AlbedoOptions::beckmann_ndf`).
+    BeckmannVisible { alpha: f64, f0: f64, basis: Slots },
 }
 
 /// `colour · integral`, per channel.

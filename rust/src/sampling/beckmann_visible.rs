@@ -15,19 +15,27 @@
 //! `BeckmannSample11` and Mitsuba 3 iterate in the `erf` domain, which loses the left
 //! tail to `1 + erf(x)` cancelling), safeguarded by bisection on a bracket, from
 //! PBRT-v3's fitted initial guess `erf(x₀) = c − (1 + c)(1 − u)^fit(θ)` (`c = erf(x_max)`),
-//! to `|G(x) − u·G(x_max)| <= 1e-14·G(x_max)` or a step below `1e-7(1 + |x|)` (whose
-//! cubic convergence leaves ~1e-21): 2 to 3 evaluations of `erfc`, never more than 64.
+//! to a step below `1e-7(1 + |x|)` (whose cubic convergence leaves ~1e-21) or a zero
+//! residual: 2 to 3 evaluations of `erfc`, never more than 64.
 //! Slopes are confined to `|x|, |y| <= 9` (the mass outside is below 1e-35): `u = 0` and
-//! `u → 1` give finite directions. At normal incidence (`sinθi = 0`, `x_max = ∞`) the
+//! `u → 1` give finite directions.
+//!
+//! The map from the unit square: `u = 1 − (1 − v)²` for the first coordinate `v` (the
+//! density vanishes linearly at `x_max`, so `x_max − x ∝ sqrt(1 − u)`, but `∝ 1 − v`: the
+//! horizon region is smooth and a few percent wide in `v`; see `integrate/beckmann.rs`),
+//! and `y = Φ⁻¹(a)/sqrt(2)` by Wichura's AS 241 (`math/ndtri.rs`) for the second. The
+//! integrator starts the iteration from a per-cell table of the same map ([`SlopeTable`])
+//! and usually stops after one step. At normal incidence (`sinθi = 0`, `x_max = ∞`) the
 //! same iteration samples the Gaussian itself; at grazing incidence (`mu_i = 0`) the
 //! density `∝ −x·e^{−x²}` on `x < 0` stays proper. No special cases, no discontinuity
 //! in `wi` (PBRT-v3's switch to the normal-incidence formula at `mu_i > 0.9999` has one).
 
 use glam::DVec3;
-use std::f64::consts::FRAC_1_PI;
+use std::f64::consts::{FRAC_1_PI, FRAC_1_SQRT_2};
 
 use super::Sampled;
-use crate::math::erfinv::{erfcinv, erfinv, erfinv_guess};
+use crate::math::erfinv::erfinv_guess;
+use crate::math::ndtri::{ndtri, ndtri_pair};
 
 use crate::models::beckmann::mu_lambda;
 
@@ -64,6 +72,19 @@ fn g1_over_mu(alpha: f64, wi: DVec3) -> f64 {
 #[inline(always)]
 pub fn beckmann_visible_pdf(alpha: f64, wi: DVec3, h: DVec3, one_minus_cos: f64) -> f64 {
     density(alpha, g1_over_mu(alpha, wi), wi, h, one_minus_cos)
+}
+
+/// Intervals of the per-cell inverse-CDF table ([`SlopeTable`]).
+pub const TABLE_INTERVALS: usize = 64;
+
+/// The map `v → x` of [`BeckmannVisibleNormals::slope_along_v`] at the nodes
+/// `v_k = k/TABLE_INTERVALS`, with its derivatives: built once per cell by the integrator.
+#[derive(Clone, Debug)]
+pub struct SlopeTable {
+    x: [f64; TABLE_INTERVALS + 1],
+    d: [f64; TABLE_INTERVALS + 1],
+    /// Interval `k` lies strictly inside the slope bounds with finite derivatives.
+    usable: [bool; TABLE_INTERVALS],
 }
 
 /// The sampler for one roughness and incident direction, with the constants that depend
@@ -125,26 +146,100 @@ impl BeckmannVisibleNormals {
     /// (in `[0, 1]`).
     #[inline(always)]
     pub fn slope_along(&self, u: f64) -> f64 {
-        let (mu, s) = (self.mu, self.s);
-        let target = u * self.total;
+        self.slope_along_pair(u, 1.0 - u)
+    }
+
+    /// [`Self::slope_along`] given `u` and its complement `1 − u` (kept exactly by the
+    /// caller: the initial guess reads the upper tail from it).
+    #[inline(always)]
+    pub fn slope_along_pair(&self, u: f64, one_minus_u: f64) -> f64 {
         // The initial guess, erf(x0) = b = c − (1 + c)(1 − u)^fit, with 1 ± b kept
         // accurate for Giles' approximation of erfinv.
         let c = self.erf_hi;
-        let t = f64::exp(self.fit * f64::ln(1.0 - u));
+        let t = f64::exp(self.fit * f64::ln(one_minus_u));
         let b = c - (1.0 + c) * t;
         let w = -f64::ln(((1.0 + c) * (1.0 - t)) * ((1.0 - c) + (1.0 + c) * t));
-        let (mut lo, mut hi) = (-SLOPE_BOUND, self.x_hi);
-        let guess = erfinv_guess(b, w);
-        let mut x = if guess > lo && guess < hi {
-            guess
+        self.solve(u * self.total, erfinv_guess(b, w), -SLOPE_BOUND, self.x_hi)
+    }
+
+    /// Returns the slope of CDF `u(v) = 1 − (1 − v)²` (`v` in `[0, 1)`), the map the
+    /// integrator and [`Self::sample`] use: near the top of the CDF, where the density
+    /// vanishes linearly at `x_max` and `x_max − x ∝ sqrt(1 − u)`, the slope is smooth in
+    /// `v` (`x_max − x ∝ 1 − v`). See `integrate/beckmann.rs`.
+    #[inline(always)]
+    pub fn slope_along_v(&self, v: f64) -> f64 {
+        let s = 1.0 - v;
+        self.slope_along_pair(v * (1.0 + s), s * s)
+    }
+
+    /// [`Self::slope_along_v`] from a per-cell table of the same map: a cubic Hermite
+    /// guess between the table's exact nodes, polished by the same safeguarded Halley
+    /// iteration (bracketed by the two nodes), which usually stops after one step. The
+    /// first and last intervals (the Gaussian tail and the top of the CDF) take the
+    /// untabulated solve.
+    #[inline(always)]
+    pub fn slope_along_v_tabulated(&self, table: &SlopeTable, v: f64) -> f64 {
+        let s = 1.0 - v;
+        let (u, one_minus_u) = (v * (1.0 + s), s * s);
+        let t = v * TABLE_INTERVALS as f64;
+        let k = t as usize;
+        if k == 0 || k >= TABLE_INTERVALS - 1 || !table.usable[k] {
+            return self.slope_along_pair(u, one_minus_u);
+        }
+        let f = t - k as f64;
+        let (x0, x1) = (table.x[k], table.x[k + 1]);
+        let (d0, d1) = (table.d[k], table.d[k + 1]);
+        // Hermite basis on [0, 1] with derivatives scaled by the node spacing h.
+        let h = 1.0 / TABLE_INTERVALS as f64;
+        let f2 = f * f;
+        let f3 = f2 * f;
+        let guess = (2.0 * f3 - 3.0 * f2 + 1.0) * x0
+            + (f3 - 2.0 * f2 + f) * h * d0
+            + (-2.0 * f3 + 3.0 * f2) * x1
+            + (f3 - f2) * h * d1;
+        self.solve(u * self.total, guess, x0, x1)
+    }
+
+    /// Builds the table of [`Self::slope_along_v_tabulated`] (`TABLE_INTERVALS + 1`
+    /// untabulated solves).
+    pub fn table(&self) -> SlopeTable {
+        let n = TABLE_INTERVALS;
+        let mut x = [0.0; TABLE_INTERVALS + 1];
+        let mut d = [0.0; TABLE_INTERVALS + 1];
+        for k in 0..=n {
+            let v = k as f64 / n as f64;
+            x[k] = self.slope_along_v(v);
+            // dx/dv = (du/dv)·G(x_max)/G'(x), du/dv = 2(1 − v).
+            let g1 = 2.0 * FRAC_1_SQRT_PI * (-x[k] * x[k]).exp() * (self.mu - x[k] * self.s);
+            d[k] = 2.0 * (1.0 - v) * self.total / g1;
+        }
+        let usable = std::array::from_fn(|k| {
+            x[k] > -SLOPE_BOUND
+                && x[k + 1] < self.x_hi
+                && x[k] < x[k + 1]
+                && d[k].is_finite()
+                && d[k + 1].is_finite()
+        });
+        SlopeTable { x, d, usable }
+    }
+
+    /// Returns `x` with `G(x) = target` by Halley's method from `x0`, safeguarded by
+    /// bisection on the bracket `[lo, hi]` that holds the root.
+    #[inline(always)]
+    fn solve(&self, target: f64, x0: f64, mut lo: f64, mut hi: f64) -> f64 {
+        let (mu, s) = (self.mu, self.s);
+        let mut x = if x0 > lo && x0 < hi {
+            x0
         } else {
             0.5 * (lo + hi)
         };
-        let tol = 1e-14 * self.total;
         for _ in 0..MAX_STEPS {
             let e = f64::exp(-x * x);
             let residual = mu * libm::erfc(-x) + s * e * FRAC_1_SQRT_PI - target;
-            if residual.abs() <= tol {
+            // No residual test: a guess whose residual is already tiny (the table's) still
+            // takes its Halley step, which costs no evaluation, so the tabulated and the
+            // untabulated maps agree to rounding even where G' is small.
+            if residual == 0.0 {
                 break;
             }
             if residual > 0.0 {
@@ -176,35 +271,44 @@ impl BeckmannVisibleNormals {
         x
     }
 
-    /// Returns the slope across `wi`'s azimuth: a Gaussian `e^{−y²}/sqrt(π)` from `a` in
-    /// `[0, 1)`, or (`full = false`) its half `y <= 0`, which puts `h` on the side
-    /// `h·(−sin φi, cos φi, 0) >= 0`: for `wi` in the xz plane, `h.y >= 0` (the fold).
+    /// Returns the slope across `wi`'s azimuth: a Gaussian `e^{−y²}/sqrt(π)` (variance
+    /// 1/2), `y = Φ⁻¹(a)/sqrt(2)` for `a` in `[0, 1)` (Wichura's AS 241, no iteration),
+    /// or (`full = false`) its half `y <= 0`, `y = Φ⁻¹(a/2)/sqrt(2)`, which puts `h` on
+    /// the side `h·(−sin φi, cos φi, 0) >= 0`: for `wi` in the xz plane, `h.y >= 0` (the
+    /// fold).
     #[inline(always)]
     pub fn slope_across(a: f64, full: bool) -> f64 {
         let y = if full {
-            if a < 0.5 {
-                -erfcinv(2.0 * a)
-            } else {
-                erfcinv(2.0 * (1.0 - a))
-            }
+            ndtri(a)
         } else {
-            -erfinv(a)
+            // a/2 is exact and 1 − a/2 is at least 1/2: both keep their digits.
+            ndtri_pair(0.5 * a, 1.0 - 0.5 * a)
         };
-        y.clamp(-SLOPE_BOUND, SLOPE_BOUND)
+        (y * FRAC_1_SQRT_2).clamp(-SLOPE_BOUND, SLOPE_BOUND)
     }
 
-    /// Returns the half vector for `u` (the CDF along `wi`'s azimuth) and `a` (across
-    /// it; `full = false`: the folded half), with its density.
+    /// Returns the unnormalized half vector `(−α·x', −α·y', 1)` of the slopes `(x, y)`
+    /// (along and across `wi`'s azimuth), `(x', y')` rotated into the local frame.
     #[inline(always)]
-    pub fn sample(&self, u: f64, a: f64, full: bool) -> Sampled {
-        let x = self.slope_along(u);
-        let y = Self::slope_across(a, full);
+    pub fn scaled_half_vector(&self, x: f64, y: f64) -> DVec3 {
         let (c, s) = (self.cos_phi, self.sin_phi);
-        let px = -self.alpha * (c * x - s * y);
-        let py = -self.alpha * (s * x + c * y);
-        let p2 = px * px + py * py;
+        DVec3::new(
+            -self.alpha * (c * x - s * y),
+            -self.alpha * (s * x + c * y),
+            1.0,
+        )
+    }
+
+    /// Returns the half vector for `v` (the CDF along `wi`'s azimuth is `1 − (1 − v)²`)
+    /// and `a` (across it; `full = false`: the folded half), with its density.
+    #[inline(always)]
+    pub fn sample(&self, v: f64, a: f64, full: bool) -> Sampled {
+        let x = self.slope_along_v(v);
+        let y = Self::slope_across(a, full);
+        let p = self.scaled_half_vector(x, y);
+        let p2 = p.x * p.x + p.y * p.y;
         let n = (1.0 + p2).sqrt();
-        let h = DVec3::new(px / n, py / n, 1.0 / n);
+        let h = DVec3::new(p.x / n, p.y / n, 1.0 / n);
         // 1 − 1/n = p²/(n(n + 1)), without cancellation.
         let one_minus_cos = p2 / (n * (n + 1.0));
         Sampled {

@@ -61,6 +61,9 @@ impl Mixture {
                 Integral::Exact(v) => (Warp::CosineHemisphere, strength * v),
                 Integral::Lobe { importance, .. } => (warp_of(importance), strength),
                 Integral::GgxVisible { alpha, .. } => (Warp::GgxVisible { alpha }, strength),
+                Integral::BeckmannVisible { alpha, .. } => {
+                    (Warp::BeckmannVisible { alpha }, strength)
+                }
             };
             if !(weight > 0.0) {
                 continue;
