@@ -20,12 +20,13 @@
 //! Slopes are confined to `|x|, |y| <= 9` (the mass outside is below 1e-35): `u = 0` and
 //! `u → 1` give finite directions.
 //!
-//! The map from the unit square: `u = 1 − (1 − v)²` for the first coordinate `v` (the
-//! density vanishes linearly at `x_max`, so `x_max − x ∝ sqrt(1 − u)`, but `∝ 1 − v`: the
-//! horizon region is smooth and a few percent wide in `v`; see `integrate/beckmann.rs`),
-//! and `y = Φ⁻¹(a)/sqrt(2)` by Wichura's AS 241 (`math/ndtri.rs`) for the second. The
-//! integrator starts the iteration from a per-cell table of the same map ([`SlopeTable`])
-//! and usually stops after one step. At normal incidence (`sinθi = 0`, `x_max = ∞`) the
+//! The map from the unit square: `u` itself for the CDF along `wi`'s azimuth and
+//! `y = Φ⁻¹(a)/sqrt(2)` by Wichura's AS 241 (`math/ndtri.rs`) across it. The integrator
+//! (`integrate/beckmann.rs`) draws `u = 1 − (1 − v)²` instead, with the Jacobian
+//! `2(1 − v)` in its weights (the density vanishes linearly at `x_max`, so
+//! `x_max − x ∝ sqrt(1 − u)` but `∝ 1 − v`: the horizon region is smooth and a few
+//! percent wide in `v`), and starts the iteration from a per-cell table of that map
+//! ([`SlopeTable`]), usually stopping after one step. At normal incidence (`sinθi = 0`, `x_max = ∞`) the
 //! same iteration samples the Gaussian itself; at grazing incidence (`mu_i = 0`) the
 //! density `∝ −x·e^{−x²}` on `x < 0` stays proper. No special cases, no discontinuity
 //! in `wi` (PBRT-v3's switch to the normal-incidence formula at `mu_i > 0.9999` has one).
@@ -299,11 +300,13 @@ impl BeckmannVisibleNormals {
         )
     }
 
-    /// Returns the half vector for `v` (the CDF along `wi`'s azimuth is `1 − (1 − v)²`)
-    /// and `a` (across it; `full = false`: the folded half), with its density.
+    /// Returns the half vector for `u` (the CDF along `wi`'s azimuth, uniform: this is a
+    /// sampler of the visible normals; the integrator's `u = 1 − (1 − v)²` carries its
+    /// Jacobian in its weights) and `a` (across it; `full = false`: the folded half), with
+    /// its density.
     #[inline(always)]
-    pub fn sample(&self, v: f64, a: f64, full: bool) -> Sampled {
-        let x = self.slope_along_v(v);
+    pub fn sample(&self, u: f64, a: f64, full: bool) -> Sampled {
+        let x = self.slope_along(u);
         let y = Self::slope_across(a, full);
         let p = self.scaled_half_vector(x, y);
         let p2 = p.x * p.x + p.y * p.y;
