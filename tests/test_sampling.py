@@ -6,9 +6,9 @@ axis (the mirror direction for the lobe samplers, the normal for cosine / unifor
 expected counts by adaptive Gauss-Legendre integration of ``pdf`` clipped at the
 horizon, and draws lost below the surface as one more cell; Pearson's χ², an exact
 binomial test of the valid mass and a test of draws in empty cells are combined by
-Bonferroni into one p-value per case. The family of K = ``len(CHI2_CASES)`` tests (54 as
+Bonferroni into one p-value per case. The family of K = ``len(CHI2_CASES)`` tests (58 as
 written) is held at a family-wise level of 1% by Šidák's correction: each test at
-``α₁ = 1 − 0.99^(1/K)`` (≈ 1.9e-4 for K = 54). The seeds are fixed (crc32 of the case id).
+``α₁ = 1 − 0.99^(1/K)`` (≈ 1.7e-4 for K = 58). The seeds are fixed (crc32 of the case id).
 
 Which cases, and why this subset (the full product of 10 models × 3 incidences × 5
 exponents × {single lobe, mixture} would be ~300 tests of ~0.6 s each; the file must run
@@ -187,7 +187,16 @@ def _chi2_cases() -> list[Case]:
     # Microfacet models: grazing to normal incidence, smooth to sharp, single and mixed.
     microfacet_points = {
         "ggx": [(0.05, 0.02, False), (0.5, 0.3, True), (0.95, 1.0, False)],
-        "beckmann": [(0.05, 0.3, False), (0.5, 0.02, False), (0.95, 0.7, True)],
+        # Visible normals (Heitz & d'Eon 2014): grazing to normal incidence, 0.005 to 1.5.
+        "beckmann": [
+            (0.05, 0.3, False),
+            (0.5, 0.02, False),
+            (0.95, 0.7, True),
+            (0.01, 0.5, False),
+            (0.2, 0.005, False),
+            (1.0, 0.3, False),
+            (0.999, 1.5, False),
+        ],
         "ward": [(0.05, 0.05, False), (0.5, 0.2, True), (0.95, 0.02, False)],
         "ashikhmin_shirley": [(0.05, 0.1, False), (0.5, 0.01, True), (0.95, 1.0, False)],
     }
@@ -298,6 +307,11 @@ LOSSY = [
     Case.of("normalized_blinn_phong", 0.5, kd=0.2, ks=1.0, p=1.0),
     Case.of("blinn_phong_fresnel", 0.95, kd=0.0, ks=0.5, p=10.0),
     Case.of("torrance_sparrow", 0.05, normal=TILTED, kd=0.0, ks=1.0, p=1e3, eta=1.5),
+    # Beckmann's visible normals: every h faces wi, but wo = reflect(wi, h) can still
+    # fall below the horizon.
+    Case.of("beckmann", 0.05, kd=0.0, ks=1.0, alpha=0.5),
+    Case.of("beckmann", 0.5, kd=0.0, ks=1.0, alpha=1.0),
+    Case.of("beckmann", 0.95, kd=0.2, ks=1.0, alpha=0.3),
 ]
 
 

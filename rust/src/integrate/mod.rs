@@ -6,7 +6,8 @@
 //! terms skipped, and the remaining scalar integrals estimated together from the same
 //! points, each with its lobe's own importance sampler (or the uniform / cosine sampler
 //! the caller asks for). GGX's lobes, drawn from their visible normals, are weighted in
-//! closed form on a smoothed disk radius (`integrate/ggx.rs`).
+//! closed form on a smoothed disk radius (`integrate/ggx.rs`); Beckmann's likewise, on a
+//! smoothed slope CDF (`integrate/beckmann.rs`).
 //!
 //! Estimators:
 //! - `sobol`: randomized QMC. `replicates` independent Owen scrambles, each a prefix of
@@ -54,6 +55,7 @@ use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
+mod beckmann;
 pub mod cells;
 mod ggx;
 
@@ -110,6 +112,11 @@ pub struct AlbedoOptions {
     pub fold_azimuth: bool,
     /// Estimate the average over the azimuth of `wi` (the cells' `phi` is then unused).
     pub average_azimuth: bool,
+    /// Draw the `beckmann` lobe from its NDF (`Warp::BeckmannHalf`, Walter 2005) instead
+    /// of its visible normals (`integrate/beckmann.rs`): kept for
+    /// benches/albedo_convergence.py, which compares the two in one run. [`albedo`] also turns it on when the environment variable
+    /// `BRDF_RS_BECKMANN_NDF` is set (to anything but `0` or empty).
+    pub beckmann_ndf: bool,
 }
 
 impl Default for AlbedoOptions {
@@ -124,6 +131,7 @@ impl Default for AlbedoOptions {
             replicates: 16,
             fold_azimuth: true,
             average_azimuth: false,
+            beckmann_ndf: false,
         }
     }
 }
@@ -218,6 +226,8 @@ struct Lobe<P> {
     /// GGX's lobe from its visible normals, weighted in closed form (then `prepared` and
     /// `warp` are unused).
     ggx: Option<ggx::VisibleLobe>,
+    /// Beckmann's lobe from its visible normals, likewise.
+    beckmann: Option<beckmann::VisibleLobe>,
 }
 
 /// Returns `(sin φ, cos φ)`, exact at the multiples of π/2 (as `φ` rounds them), so
@@ -306,6 +316,30 @@ impl<K: Kernel> CellIntegrand<K> {
                         prepared: K::prepare::<f64, [f64]>(&basis[..]),
                         warp,
                         ggx,
+                        beckmann: None,
+                    });
+                }
+                Integral::BeckmannVisible { alpha, f0, basis } => {
+                    let importance =
+                        matches!(sampler, SamplerChoice::Auto | SamplerChoice::Importance);
+                    // Isotropic: never averaged over azimuth (kept for completeness).
+                    let closed_form = importance && !average && !options.beckmann_ndf;
+                    let beckmann = closed_form.then(|| beckmann::VisibleLobe::new(alpha, f0, wi));
+                    let warp = match sampler {
+                        SamplerChoice::Cosine => Warp::CosineHemisphere,
+                        SamplerChoice::Uniform => Warp::UniformHemisphere,
+                        _ if options.beckmann_ndf => Warp::BeckmannHalf {
+                            alpha_x: alpha,
+                            alpha_y: alpha,
+                        },
+                        _ => Warp::BeckmannVisible { alpha },
+                    };
+                    lobes.push(Lobe {
+                        colour: term.colour,
+                        prepared: K::prepare::<f64, [f64]>(&basis[..]),
+                        warp,
+                        ggx: None,
+                        beckmann,
                     });
                 }
                 Integral::Lobe { basis, importance } => {
@@ -328,6 +362,9 @@ impl<K: Kernel> CellIntegrand<K> {
                         (_, Importance::BeckmannHalf { alpha_x, alpha_y }) => {
                             Warp::BeckmannHalf { alpha_x, alpha_y }
                         }
+                        (_, Importance::BeckmannVisible { alpha }) => {
+                            Warp::BeckmannVisible { alpha }
+                        }
                         (_, Importance::AnisotropicPhongHalf { nu, nv }) => {
                             Warp::AnisotropicPhongHalf { nu, nv }
                         }
@@ -337,6 +374,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         prepared,
                         warp,
                         ggx: None,
+                        beckmann: None,
                     });
                 }
             }
@@ -369,6 +407,10 @@ impl<K: Kernel> CellIntegrand<K> {
         }
         if let Some(ggx) = &lobe.ggx {
             ggx.weights(self.fold, u0, u1, w);
+            return;
+        }
+        if let Some(beckmann) = &lobe.beckmann {
+            beckmann.weights(self.fold, u0, u1, w);
             return;
         }
         let wi = self.wi;
@@ -423,6 +465,9 @@ impl<K: Kernel> CellIntegrand<K> {
             Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
+            }
+            Warp::BeckmannVisible { alpha } => {
+                both_folds!(Warp::BeckmannVisible { alpha }, half)
             }
             Warp::AnisotropicPhongHalf { nu, nv } => {
                 both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)
@@ -487,6 +532,7 @@ impl<K: Kernel> CellIntegrand<K> {
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
             }
+            Warp::BeckmannVisible { alpha } => average_loop!(Warp::BeckmannVisible { alpha }, half),
             Warp::AnisotropicPhongHalf { nu, nv } => {
                 average_loop!(Warp::AnisotropicPhongHalf { nu, nv }, half)
             }
@@ -880,9 +926,12 @@ pub fn albedo<C: Cells>(
         )));
     }
     options.validate(cells.count())?;
+    let mut options = *options;
+    options.beckmann_ndf |=
+        std::env::var_os("BRDF_RS_BECKMANN_NDF").is_some_and(|v| !v.is_empty() && v != "0");
     kind.visit(RunAlbedo {
         cells,
-        options,
+        options: &options,
         progress,
         out,
     });

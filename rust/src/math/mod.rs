@@ -10,8 +10,10 @@
 //! loops that call them auto-vectorize.
 
 pub mod erf;
+pub mod erfinv;
 pub mod fastmath;
 pub mod geometry;
+pub mod ndtri;
 pub mod series;
 
 use glam::{DVec3, Vec3};

@@ -24,6 +24,9 @@ pub enum Importance {
     BlinnHalf { p: f64 },
     /// Half vectors from the GGX distribution of visible normals (Heitz 2018).
     GgxVisible { alpha: f64 },
+    /// Half vectors from the isotropic Beckmann distribution of visible normals
+    /// (Heitz & d'Eon 2014).
+    BeckmannVisible { alpha: f64 },
     /// Half vectors from the (anisotropic) Beckmann / Ward NDF times `cos θh`
     /// (Walter 2005): `tan²θh = −ln u / (cos²φ/αx² + sin²φ/αy²)`.
     BeckmannHalf { alpha_x: f64, alpha_y: f64 },
@@ -48,6 +51,11 @@ pub enum Integral {
     /// GgxVisible`), its weight `f·mu_o/pdf = F·G2/G1(wi)` is known in closed form, and
     /// the integrator computes it so; `basis` serves the uniform and cosine samplers.
     GgxVisible { alpha: f64, f0: f64, basis: Slots },
+    /// Beckmann's specular lobe, likewise (`integrate/beckmann.rs`): the lobe of the
+    /// `beckmann` model at `basis`, drawn from its visible normals (`Importance::
+    /// BeckmannVisible`) with the closed-form weight `F·G2/G1(wi)`; `basis` serves the
+    /// uniform and cosine samplers and the NDF comparison (`AlbedoOptions::beckmann_ndf`).
+    BeckmannVisible { alpha: f64, f0: f64, basis: Slots },
 }
 
 /// `colour · integral`, per channel.

@@ -10,7 +10,7 @@
 //! α·sinθ·exp(−c²)/(2 sqrt(π))`, bounded at grazing angles. `erf` is the `libm` crate's
 //! (scalar: this model's loop does not vectorize).
 
-use super::albedo::{Importance, Integral, Term, basis, colour};
+use super::albedo::{Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
@@ -108,13 +108,16 @@ impl Kernel for Beckmann {
         above_both(mu_i, mu_o, rgb)
     }
 
-    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from `D·cos θh`.
+    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals
+    /// (Heitz & d'Eon 2014) with their closed-form weights `F·G2/G1(wi)`, bounded by 1
+    /// ([`Integral::BeckmannVisible`]).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = colour(slots, 3);
-        let a = slots[6];
-        let importance = Importance::BeckmannHalf {
-            alpha_x: a,
-            alpha_y: a,
+        let alpha = slots[6];
+        let lobe = |f0: f64| Integral::BeckmannVisible {
+            alpha,
+            f0,
+            basis: basis(slots, &[(0, 0.0), (3, f0)]),
         };
         Some(vec![
             Term {
@@ -123,17 +126,11 @@ impl Kernel for Beckmann {
             },
             Term {
                 colour: f0,
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
-                    importance,
-                },
+                integral: lobe(1.0),
             },
             Term {
                 colour: f0.map(|c| 1.0 - c),
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 0.0)]),
-                    importance,
-                },
+                integral: lobe(0.0),
             },
         ])
     }

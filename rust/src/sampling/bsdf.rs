@@ -22,6 +22,7 @@ pub fn warp_of(importance: Importance) -> Warp {
         Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
         Importance::GgxVisible { alpha } => Warp::GgxVisible { alpha },
         Importance::BeckmannHalf { alpha_x, alpha_y } => Warp::BeckmannHalf { alpha_x, alpha_y },
+        Importance::BeckmannVisible { alpha } => Warp::BeckmannVisible { alpha },
         Importance::AnisotropicPhongHalf { nu, nv } => Warp::AnisotropicPhongHalf { nu, nv },
     }
 }
@@ -60,6 +61,9 @@ impl Mixture {
                 Integral::Exact(v) => (Warp::CosineHemisphere, strength * v),
                 Integral::Lobe { importance, .. } => (warp_of(importance), strength),
                 Integral::GgxVisible { alpha, .. } => (Warp::GgxVisible { alpha }, strength),
+                Integral::BeckmannVisible { alpha, .. } => {
+                    (Warp::BeckmannVisible { alpha }, strength)
+                }
             };
             if !(weight > 0.0) {
                 continue;

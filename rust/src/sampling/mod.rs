@@ -7,6 +7,7 @@
 //! Densities are in 1/sr on the sphere; a warp never returns a direction its pdf
 //! calls impossible.
 
+pub mod beckmann_visible;
 pub mod bsdf;
 pub mod sobol;
 pub mod streams;
@@ -16,6 +17,7 @@ use std::f64::consts::FRAC_1_PI;
 
 use crate::math::fastmath::{log_f64, pow_unit_f64};
 use crate::math::series::{expm1_f64, sin_cos_pi};
+pub use beckmann_visible::{BeckmannVisibleNormals, beckmann_visible_pdf};
 
 /// An orthonormal frame: `z` is the axis, `x`, `y` complete it (right-handed).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,6 +200,10 @@ pub enum Warp {
     /// A half vector from the anisotropic Beckmann NDF times `cos θh` (Walter 2005):
     /// pdf_h `= exp(−tan²θh (cos²φ/αx² + sin²φ/αy²)) / (π αx αy cos³θh)`.
     BeckmannHalf { alpha_x: f64, alpha_y: f64 },
+    /// A half vector from the isotropic Beckmann distribution of visible normals for `wi`
+    /// (Heitz & d'Eon 2014; [`beckmann_visible`]): pdf_h `= G1(wi)·(wi·h)·D(h)/mu_i`
+    /// with the exact Beckmann `G1`.
+    BeckmannVisible { alpha: f64 },
     /// A half vector from Ashikhmin & Shirley's distribution (2000, §3):
     /// pdf_h `= sqrt((nu+1)(nv+1))/(2π) · cos θh^(nu cos²φ + nv sin²φ)`.
     AnisotropicPhongHalf { nu: f64, nv: f64 },
@@ -212,6 +218,7 @@ impl Warp {
             Warp::BlinnHalf { .. }
                 | Warp::GgxVisible { .. }
                 | Warp::BeckmannHalf { .. }
+                | Warp::BeckmannVisible { .. }
                 | Warp::AnisotropicPhongHalf { .. }
         )
     }
@@ -277,6 +284,9 @@ impl Warp {
                 let pdf = ((nu + 1.0) * (nv + 1.0)).sqrt() * 0.5 * FRAC_1_PI * (v / cos);
                 spherical(cos, omc, (s, c), pdf)
             }
+            Warp::BeckmannVisible { alpha } => {
+                BeckmannVisibleNormals::new(alpha, wi).sample(u0, a, full)
+            }
             Warp::GgxVisible { alpha } => {
                 let h = GgxVisibleNormals::new(alpha, wi).half_vector(u0.sqrt(), a, full);
                 let omc = 0.5 * (h - DVec3::Z).length_squared();
@@ -330,6 +340,7 @@ impl Warp {
                     * FRAC_1_PI
                     * pow_unit_f64(c, one_minus_cos, e)
             }
+            Warp::BeckmannVisible { alpha } => beckmann_visible_pdf(alpha, wi, d, one_minus_cos),
             Warp::GgxVisible { alpha } => {
                 let alpha2 = alpha * alpha;
                 ggx_g1_over_mu(alpha2, wi) * wi.dot(d).max(0.0) * ggx_ndf(alpha2, c, one_minus_cos)
@@ -396,6 +407,7 @@ mod tests {
             Warp::BlinnHalf { p: 1.0 },
             Warp::BlinnHalf { p: 300.0 },
             Warp::GgxVisible { alpha: 0.5 },
+            Warp::BeckmannVisible { alpha: 0.5 },
             Warp::BeckmannHalf {
                 alpha_x: 0.3,
                 alpha_y: 0.6,
@@ -479,6 +491,8 @@ mod tests {
             Warp::BlinnHalf { p: 0.0 },
             Warp::BlinnHalf { p: 700.0 },
             Warp::GgxVisible { alpha: 0.3 },
+            Warp::BeckmannVisible { alpha: 0.3 },
+            Warp::BeckmannVisible { alpha: 1e-3 },
             Warp::BeckmannHalf {
                 alpha_x: 0.2,
                 alpha_y: 0.5,
