@@ -215,14 +215,7 @@ pub fn erfc_parts_f32(x: f32) -> (f32, f32, bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn ulps(got: f64, want: f64) -> f64 {
-        if got == want {
-            return 0.0;
-        }
-        let ulp = f64::from_bits(want.abs().to_bits() + 1) - want.abs();
-        (got - want).abs() / ulp
-    }
+    use crate::math::fastmath::tests::ulps;
 
     /// Within 5 ulps of libm's scalar erfc (the same approximations, another `exp`; each
     /// within ~2.3 ulps of the exact value) at every region, its edges and both signs;

@@ -599,13 +599,14 @@ pub fn log_f32(x: f32) -> f32 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     //! Spot checks against libm. The exhaustive accuracy runs (mpmath vectors at 72
     //! digits, every f32) were made in the scratch crate this file comes from; these
     //! keep the properties from regressing.
     use super::*;
 
-    fn ulps(got: f64, want: f64) -> f64 {
+    /// Distance of `got` from `want` in ulps of `want` (shared with `math::erf`'s tests).
+    pub(crate) fn ulps(got: f64, want: f64) -> f64 {
         if got == want {
             return 0.0;
         }
