@@ -48,16 +48,17 @@ use rayon::prelude::*;
 
 use crate::error::BrdfError;
 use crate::eval::engine::{self, Isa};
-use crate::math::series::sin_cos_pi;
 use crate::models::albedo::{Importance, Integral, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
-use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
+use crate::sampling::{Frame, Warp};
+use loops::{DirectionBlock, Loops};
 
 mod beckmann;
 pub mod cells;
 mod ggx;
+mod loops;
 
 /// The largest sample count one cell may use (2^40 ≈ 1.1e12).
 pub const MAX_SAMPLES_PER_CELL: u64 = 1 << 40;
@@ -394,148 +395,62 @@ impl<K: Kernel> CellIntegrand<K> {
     }
 
     /// Writes the weight of lobe `k` for every point `(u0[j], u1[j])` into `w` (and,
-    /// for the azimuth average, `u2[j]` places `wi`).
+    /// for the azimuth average, `u2[j]` places `wi`): the model-independent loops of `I`
+    /// draw the directions into `dirs`, then one loop evaluates the model.
     ///
     /// Folded, points cover the half azimuth range `[0, π)` (density 2·pdf there) and the
     /// integral is twice the half's: the two factors cancel in `f·mu_o/pdf`.
+    ///
+    /// # Safety
+    /// The CPU supports `I`'s instruction set.
     #[inline(always)]
-    fn weights(&self, k: usize, u0: &[f64], u1: &[f64], u2: &[f64], w: &mut [f64]) {
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn weights<I: Loops>(
+        &self,
+        k: usize,
+        u0: &[f64],
+        u1: &[f64],
+        u2: &[f64],
+        w: &mut [f64],
+        dirs: &mut DirectionBlock,
+    ) {
         let lobe = &self.lobes[k];
-        if self.average {
-            self.weights_averaged(lobe, u0, u1, u2, w);
-            return;
-        }
-        if let Some(ggx) = &lobe.ggx {
-            ggx.weights(self.fold, u0, u1, w);
-            return;
-        }
-        if let Some(beckmann) = &lobe.beckmann {
-            beckmann.weights(self.fold, u0, u1, w);
-            return;
-        }
-        let wi = self.wi;
-        let eval = |wo: DVec3| {
+        let n = w.len();
+        let weight = |wi: DVec3, wo: DVec3, pdf: f64| {
             let d = Directions::<f64> {
                 wi,
                 wo,
                 n: DVec3::Z,
                 t: DVec3::X,
             };
-            K::eval::<f64>(&lobe.prepared, &d)[0]
+            let x = K::eval::<f64>(&lobe.prepared, &d)[0] * wo.z / pdf;
+            if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 }
         };
-        // One loop per warp and fold, so each loop body is straight-line code. Local
-        // frames: the normal's is the world frame (n = +z, tangent = +x); the Phong lobe's
-        // is the mirror direction's; half vectors are reflected about.
-        macro_rules! lobe_loop {
-            ($warp:expr, $fold:literal, $place:ident) => {{
-                let warp = $warp;
-                for j in 0..w.len() {
-                    let u = [u0[j], u1[j]];
-                    let s = if $fold { warp.sample_folded(wi, u) } else { warp.sample(wi, u) };
-                    let (wo, pdf) = lobe_loop!(@$place, s);
-                    let x = eval(wo) * wo.z / pdf;
-                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
-                }
-            }};
-            (@normal, $s:ident) => {
-                ($s.dir, $s.pdf)
-            };
-            (@mirror, $s:ident) => {
-                (self.mirror_frame.to_world($s.dir), $s.pdf)
-            };
-            (@half, $s:ident) => {{
-                let wo = reflect(wi, $s.dir);
-                (wo, reflected_pdf($s.pdf, wo.dot($s.dir)))
-            }};
+        if self.average {
+            let (sin, mu) = (self.sin_theta, self.wi.z);
+            // SAFETY: the caller's contract.
+            unsafe { I::directions_averaged(lobe.warp, sin, mu, u0, u1, u2, dirs) };
+            let points = dirs.wi[..n].iter().zip(&dirs.wo[..n]).zip(&dirs.pdf[..n]);
+            for (w, ((&wi, &wo), &pdf)) in w.iter_mut().zip(points) {
+                *w = weight(wi, wo, pdf);
+            }
+            return;
         }
-        macro_rules! both_folds {
-            ($warp:expr, $place:ident) => {
-                if self.fold {
-                    lobe_loop!($warp, true, $place)
-                } else {
-                    lobe_loop!($warp, false, $place)
-                }
-            };
+        if let Some(ggx) = &lobe.ggx {
+            // SAFETY: the caller's contract.
+            unsafe { I::ggx(ggx, self.fold, u0, u1, w) };
+            return;
         }
-        match lobe.warp {
-            Warp::UniformHemisphere => both_folds!(Warp::UniformHemisphere, normal),
-            Warp::CosineHemisphere => both_folds!(Warp::CosineHemisphere, normal),
-            Warp::PhongLobe { p } => both_folds!(Warp::PhongLobe { p }, mirror),
-            Warp::BlinnHalf { p } => both_folds!(Warp::BlinnHalf { p }, half),
-            Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
-            Warp::BeckmannHalf { alpha_x, alpha_y } => {
-                both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
-            }
-            Warp::BeckmannVisible { alpha } => {
-                both_folds!(Warp::BeckmannVisible { alpha }, half)
-            }
-            Warp::AnisotropicPhongHalf { nu, nv } => {
-                both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)
-            }
+        if let Some(beckmann) = &lobe.beckmann {
+            // SAFETY: the caller's contract.
+            unsafe { I::beckmann(beckmann, self.fold, u0, u1, w) };
+            return;
         }
-    }
-}
-
-impl<K: Kernel> CellIntegrand<K> {
-    /// The weights with the azimuth of `wi` drawn per point, `φ = (π/2)·u2` (the quarter
-    /// `[0, π/2)` carries the whole average: see the module docs). `wi` and the mirror
-    /// frame change per point; one loop per warp, as in [`Self::weights`].
-    #[inline(always)]
-    fn weights_averaged(
-        &self,
-        lobe: &Lobe<K::Prepared<f64>>,
-        u0: &[f64],
-        u1: &[f64],
-        u2: &[f64],
-        w: &mut [f64],
-    ) {
-        let (sin, mu) = (self.sin_theta, self.wi.z);
-        macro_rules! average_loop {
-            ($warp:expr, $place:ident) => {{
-                let warp = $warp;
-                for j in 0..w.len() {
-                    let (sin_phi, cos_phi) = sin_cos_pi(0.5 * u2[j]);
-                    let wi = DVec3::new(sin * cos_phi, sin * sin_phi, mu);
-                    let s = warp.sample(wi, [u0[j], u1[j]]);
-                    let (wo, pdf) = average_loop!(@$place, s, wi, sin_phi, cos_phi);
-                    let d = Directions::<f64> {
-                        wi,
-                        wo,
-                        n: DVec3::Z,
-                        t: DVec3::X,
-                    };
-                    let x = K::eval::<f64>(&lobe.prepared, &d)[0] * wo.z / pdf;
-                    w[j] = if wo.z > 0.0 && pdf > 0.0 { x } else { 0.0 };
-                }
-            }};
-            (@normal, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {
-                ($s.dir, $s.pdf)
-            };
-            (@mirror, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {{
-                let frame = Frame::with_y(
-                    DVec3::new(-$wi.x, -$wi.y, mu),
-                    DVec3::new(-$sp, $cp, 0.0),
-                );
-                (frame.to_world($s.dir), $s.pdf)
-            }};
-            (@half, $s:ident, $wi:ident, $sp:ident, $cp:ident) => {{
-                let wo = reflect($wi, $s.dir);
-                (wo, reflected_pdf($s.pdf, wo.dot($s.dir)))
-            }};
-        }
-        match lobe.warp {
-            Warp::UniformHemisphere => average_loop!(Warp::UniformHemisphere, normal),
-            Warp::CosineHemisphere => average_loop!(Warp::CosineHemisphere, normal),
-            Warp::PhongLobe { p } => average_loop!(Warp::PhongLobe { p }, mirror),
-            Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
-            Warp::GgxVisible { alpha } => average_loop!(Warp::GgxVisible { alpha }, half),
-            Warp::BeckmannHalf { alpha_x, alpha_y } => {
-                average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
-            }
-            Warp::BeckmannVisible { alpha } => average_loop!(Warp::BeckmannVisible { alpha }, half),
-            Warp::AnisotropicPhongHalf { nu, nv } => {
-                average_loop!(Warp::AnisotropicPhongHalf { nu, nv }, half)
-            }
+        let wi = self.wi;
+        // SAFETY: the caller's contract.
+        unsafe { I::directions(lobe.warp, self.fold, wi, &self.mirror_frame, u0, u1, dirs) };
+        for (w, (&wo, &pdf)) in w.iter_mut().zip(dirs.wo[..n].iter().zip(&dirs.pdf[..n])) {
+            *w = weight(wi, wo, pdf);
         }
     }
 }
@@ -637,6 +552,7 @@ struct PointBlock {
     /// The azimuth of `wi` (the azimuth average only).
     u2: [f64; POINTS],
     w: [[f64; POINTS]; MAX_LOBES],
+    dirs: DirectionBlock,
 }
 
 impl PointBlock {
@@ -646,13 +562,17 @@ impl PointBlock {
             u1: [0.0; POINTS],
             u2: [0.0; POINTS],
             w: [[0.0; POINTS]; MAX_LOBES],
+            dirs: DirectionBlock::new(),
         }
     }
 }
 
-/// Accumulates points `first .. first + count` of a stream into `sums`.
+/// Accumulates the next `count` points of a stream into `sums`.
+///
+/// # Safety
+/// The CPU supports `I`'s instruction set.
 #[inline(always)]
-fn accumulate<K: Kernel>(
+unsafe fn accumulate<K: Kernel, I: Loops>(
     integrand: &CellIntegrand<K>,
     stream: &mut Stream,
     count: u64,
@@ -673,13 +593,17 @@ fn accumulate<K: Kernel>(
             stream.fill(&mut block.u0[..len], &mut block.u1[..len]);
         }
         for k in 0..integrand.lobes.len() {
-            integrand.weights(
-                k,
-                &block.u0[..len],
-                &block.u1[..len],
-                &block.u2[..len],
-                &mut block.w[k][..len],
-            );
+            // SAFETY: the caller's contract.
+            unsafe {
+                integrand.weights::<I>(
+                    k,
+                    &block.u0[..len],
+                    &block.u1[..len],
+                    &block.u2[..len],
+                    &mut block.w[k][..len],
+                    &mut block.dirs,
+                )
+            };
         }
         sums.add_block(&block.w, integrand.lobes.len(), len, cross);
         left -= len as u64;
@@ -687,8 +611,16 @@ fn accumulate<K: Kernel>(
 }
 
 /// Estimates one cell. `cell` keys the sample streams.
+///
+/// `random` is one stream whose per-point variance gives the error bar; `sobol` is
+/// `replicates` streams (independent scrambles) whose means' spread gives it. Each round
+/// adds points to every stream, so one loop serves both (and the model's code is
+/// compiled once per cell function, not once per estimator).
+///
+/// # Safety
+/// The CPU supports `I`'s instruction set.
 #[inline(always)]
-fn integrate_cell<K: Kernel>(
+unsafe fn integrate_cell<K: Kernel, I: Loops>(
     mu: f64,
     phi: f64,
     slots: &[f64],
@@ -709,74 +641,67 @@ fn integrate_cell<K: Kernel>(
         };
     }
     let mut block = PointBlock::new();
-    let (mean, stderr, samples) = match options.sequence {
-        Sequence::Random => {
-            let mut stream = Stream::new(Sequence::Random, options.seed, cell, 0);
-            let mut sums = LobeSums::new();
-            let cap = if options.tol.is_some() {
-                options.max_samples
-            } else {
-                u64::MAX
-            };
-            let mut goal = options.samples.min(cap).max(2);
-            loop {
-                accumulate(
-                    &integrand,
-                    &mut stream,
-                    goal - sums.n,
-                    &mut block,
-                    &mut sums,
-                    true,
-                );
-                progress.samples_done.fetch_add(goal, Ordering::Relaxed);
-                let (mean, se) = sums.rgb(&integrand.lobes);
-                let done = match options.tol {
-                    None => true,
-                    Some(tol) => se.iter().all(|&s| s <= tol) || goal >= options.max_samples,
-                };
-                if done || progress.cancel.load(Ordering::Relaxed) {
-                    break (mean, se, sums.n);
-                }
-                goal = (goal * 2).min(options.max_samples);
-            }
+    let random = options.sequence == Sequence::Random;
+    let streams_count = if random {
+        1
+    } else {
+        u64::from(options.replicates)
+    };
+    let cap = if options.tol.is_some() {
+        options.max_samples
+    } else {
+        u64::MAX
+    };
+    // Points per stream in the first round: at least 2 for a variance (random); a power
+    // of two per replicate, as every such prefix is a net (Sobol).
+    let first = options.samples.min(cap);
+    let mut per_stream = if random {
+        first.max(2)
+    } else {
+        first.div_ceil(streams_count).next_power_of_two()
+    };
+    let mut streams: Vec<Stream> = (0..streams_count)
+        .map(|r| Stream::new(options.sequence, options.seed, cell, r))
+        .collect();
+    let mut sums = vec![LobeSums::new(); streams.len()];
+    let mut done_per_stream = 0u64;
+    let (mean, stderr, samples) = loop {
+        let count = per_stream - done_per_stream;
+        for (stream, s) in streams.iter_mut().zip(sums.iter_mut()) {
+            // SAFETY: the caller's contract.
+            unsafe { accumulate::<K, I>(&integrand, stream, count, &mut block, s, random) };
         }
-        Sequence::Sobol => {
-            let reps = u64::from(options.replicates);
-            let cap = if options.tol.is_some() {
-                options.max_samples
-            } else {
-                u64::MAX
-            };
-            // Points per replicate: a power of two (every such prefix is a net).
-            let mut per_rep = options.samples.min(cap).div_ceil(reps).next_power_of_two();
-            let mut streams: Vec<Stream> = (0..reps)
-                .map(|r| Stream::new(Sequence::Sobol, options.seed, cell, r))
-                .collect();
-            let mut sums = vec![LobeSums::new(); streams.len()];
-            let mut done_per_rep = 0u64;
-            loop {
-                for (stream, s) in streams.iter_mut().zip(sums.iter_mut()) {
-                    let count = per_rep - done_per_rep;
-                    accumulate(&integrand, stream, count, &mut block, s, false);
-                }
-                progress
-                    .samples_done
-                    .fetch_add((per_rep - done_per_rep) * reps, Ordering::Relaxed);
-                done_per_rep = per_rep;
-                // Replicate means, then their mean and spread.
-                let means: Vec<[f64; 3]> = sums.iter().map(|s| s.rgb(&integrand.lobes).0).collect();
-                let (mean, se) = mean_and_stderr(&means);
-                let total = per_rep * reps;
-                let done = match options.tol {
-                    None => true,
-                    Some(tol) => se.iter().all(|&s| s <= tol) || total * 2 > options.max_samples,
+        progress
+            .samples_done
+            .fetch_add(count * streams_count, Ordering::Relaxed);
+        done_per_stream = per_stream;
+        let total = per_stream * streams_count;
+        let (mean, se) = if random {
+            sums[0].rgb(&integrand.lobes)
+        } else {
+            // Replicate means, then their mean and spread.
+            let means: Vec<[f64; 3]> = sums.iter().map(|s| s.rgb(&integrand.lobes).0).collect();
+            mean_and_stderr(&means)
+        };
+        let done = match options.tol {
+            None => true,
+            Some(tol) => {
+                let capped = if random {
+                    total >= options.max_samples
+                } else {
+                    total * 2 > options.max_samples
                 };
-                if done || progress.cancel.load(Ordering::Relaxed) {
-                    break (mean, se, total);
-                }
-                per_rep *= 2;
+                se.iter().all(|&s| s <= tol) || capped
             }
+        };
+        if done || progress.cancel.load(Ordering::Relaxed) {
+            break (mean, se, total);
         }
+        per_stream = if random {
+            (per_stream * 2).min(options.max_samples)
+        } else {
+            per_stream * 2
+        };
     };
     let value = std::array::from_fn(|c| exact[c] + mean[c]);
     CellResult {
@@ -807,7 +732,8 @@ fn cell_baseline<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    integrate_cell::<K>(mu, phi, slots, cell, options, progress)
+    // SAFETY: baseline instructions only.
+    unsafe { integrate_cell::<K, loops::Baseline>(mu, phi, slots, cell, options, progress) }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -820,7 +746,8 @@ fn cell_avx2<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    integrate_cell::<K>(mu, phi, slots, cell, options, progress)
+    // SAFETY: this function's own features (its caller checked the CPU).
+    unsafe { integrate_cell::<K, loops::Avx2>(mu, phi, slots, cell, options, progress) }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -833,7 +760,8 @@ fn cell_avx512<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    integrate_cell::<K>(mu, phi, slots, cell, options, progress)
+    // SAFETY: as above.
+    unsafe { integrate_cell::<K, loops::Avx512>(mu, phi, slots, cell, options, progress) }
 }
 
 /// Integrates one cell with the loop compiled for `isa` (which the CPU must support).
