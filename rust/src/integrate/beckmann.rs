@@ -36,11 +36,8 @@
 
 use glam::DVec3;
 
-use crate::models::beckmann::mu_lambda;
+use crate::models::beckmann::{lambda_of_c, mu_lambda};
 use crate::sampling::beckmann_visible::{BeckmannVisibleNormals, SlopeTable};
-
-/// `1/sqrt(π)`.
-const FRAC_1_SQRT_PI: f64 = 0.564_189_583_547_756_3;
 
 /// One cell's Beckmann lobe: the incidence, its Smith term and the visible-normal warp.
 pub(super) struct VisibleLobe {
@@ -54,15 +51,6 @@ pub(super) struct VisibleLobe {
     f0: f64,
     /// `mu_i > 0`: family-A lobes are 0 at grazing incidence `mu_i = 0`.
     lit: bool,
-}
-
-/// Returns `Λ(c)` for `c = mu/(α·sinθ) > 0`: `(e^{−c²}/(c·sqrt(π)) − erfc(c))/2`
-/// (infinite as `c → 0`, where `wo` grazes; 0 for `c = ∞`).
-#[inline(always)]
-fn lambda_of_c(c: f64) -> f64 {
-    let v = 0.5 * ((-c * c).exp() * FRAC_1_SQRT_PI / c - libm::erfc(c));
-    // Past c ≈ 27 both terms underflow; the difference is below 1e-300 anyway.
-    v.max(0.0)
 }
 
 impl VisibleLobe {
