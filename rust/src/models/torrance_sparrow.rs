@@ -85,12 +85,12 @@ impl Kernel for TorranceSparrow {
         let fresnel = pp.r0 + (F::ONE - pp.r0) * schlick_weight(cos_b);
         let half = F::HALF;
         let ratio = cos_th.cos / cos_b.cos;
+        // min(ratio/2/mu_i, ratio/2/mu_o) = ratio/2/max(mu_i, mu_o): rounded division is
+        // monotone in the divisor, so this is the same value with one division fewer.
+        let mu_max = if mu_i > mu_o { mu_i } else { mu_o };
         let g_over = min(
-            min(
-                F::ONE / (F::from_f64(4.0) * mu_i * mu_o),
-                ratio * half / mu_i,
-            ),
-            ratio * half / mu_o,
+            F::ONE / (F::from_f64(4.0) * mu_i * mu_o),
+            ratio * half / mu_max,
         );
         // D·F is 0 where cos_th^p underflows; G/(4 mu_i mu_o) is infinite where the
         // exact value is (grazing): never multiply the two into NaN.
