@@ -355,6 +355,34 @@ def test_s8_half_vector_of_nearly_opposite_directions_from_the_exact_unit_vector
     assert_within(kernel("ashikhmin_shirley", wi, wo, **params), want, kappa, "ashikhmin")
 
 
+@pytest.mark.parametrize(
+    "model, wi, wo, params",
+    [
+        (
+            "blinn_phong",
+            [0.5918201952324826, -0.8060700072047007, 5e-324],
+            [-0.5926259691952697, 0.8054777840731346, 5e-324],
+            {"kd": 0.5, "ks": 1.0, "p": 0.5},
+        ),
+        (
+            "blinn_specular",
+            [-0.9992310257371086, 0.039209146947692765, 5e-324],
+            [0.9992697352620502, -0.038209896483922416, 5e-324],
+            {"ks": 1.0, "p": 0.5},
+        ),
+    ],
+)
+def test_s10_subnormal_half_cosine_keeps_its_digits(model, wi, wo, params):
+    # n·h = (mu_i + mu_o)/|wi + wo| ≈ 1e-320 is a subnormal with ~10 significant bits;
+    # p = 0.5 (and blinn_phong's division by mu_i = 5e-324) bring the result back to the
+    # normal range: 2.1e-8 relative error before (1e5 κu), now the cosine is formed from
+    # the sum scaled by 2^600 and the power takes the exponent back in its logarithm.
+    want = exact(model, wi, wo, **params)
+    kappa = mpref.condition(model, wi, wo, **params)
+    assert 1e2 < kappa < 1e4
+    assert_within(kernel(model, wi, wo, **params), want, kappa, model)
+
+
 def test_kajiya_kay_peak_along_the_fibre():
     # l along the fibre, v = -l + 1e-12: the highlight's cosine is 1 - 5e-25, and
     # (1 - 5e-25)^1e6 = 1. With b = sin_l - sin_v taken through the identity

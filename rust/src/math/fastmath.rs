@@ -289,8 +289,10 @@ fn exp2_dd_f64<const FMA: bool>(yh: f64, yl: f64, e: f64) -> f64 {
 /// x^p 2^-e for x in [0, 1] and an integer e with |e| <= 1100 (`e` = 0: plain x^p,
 /// bit for bit); see [`pow_unit_f64`]. Results beyond the float range are +inf.
 #[inline(always)]
-fn pow_unit_scaled_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64, e: f64) -> f64 {
+fn pow_unit_scaled_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64, e: f64, kx: f64) -> f64 {
+    // The base is x·2^-kx: its exponent enters the double-double log2 exactly.
     let (k, f, c15) = reduce_f64(x);
+    let k = k - kx;
     let f = if x > SQRT3_HALF_F64 { -one_minus_x } else { f };
     let (t1, t2) = log2_dd_f64::<FMA>(k, f, c15);
     // y = p * (t1 + t2) = yh + yl, yh exact
@@ -306,7 +308,7 @@ fn pow_unit_scaled_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64, e: f64
 
 #[inline(always)]
 fn pow_unit_impl_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64) -> f64 {
-    pow_unit_scaled_f64::<FMA>(x, one_minus_x, p, 0.0)
+    pow_unit_scaled_f64::<FMA>(x, one_minus_x, p, 0.0, 0.0)
 }
 
 /// Splits d > 0 (subnormal included) as m 2^e, m in [1, 2); e as an f64.
@@ -331,7 +333,18 @@ pub fn pow_unit_over_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
     // An e outside the exponent range (d = 0, inf, NaN: callers select those away)
     // would corrupt the bit tricks: keep it in range.
     let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_unit_scaled_f64::<false>(x, one_minus_x, p, e) / m
+    pow_unit_scaled_f64::<false>(x, one_minus_x, p, e, 0.0) / m
+}
+
+/// `(x·2^-kx)^p / d`: [`pow_unit_over_f64`] of a base below the float range, carried
+/// as `x` in `(0, 2^-400]` with the extra exponent `kx` (an integer, `0 <= kx <= 600`;
+/// `kx = 0` is [`pow_unit_over_f64`] bit for bit). The exponent enters the logarithm
+/// exactly, so a cosine of 1e-320 (10 significant bits as a subnormal) keeps all 53.
+#[inline(always)]
+pub fn pow_unit_over_scaled_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
+    let (m, e) = split_f64(d);
+    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
+    pow_unit_scaled_f64::<false>(x, one_minus_x, p, e, kx) / m
 }
 
 /// x^p for x in [0, 1], given both x and `one_minus_x` = 1 - x.
@@ -635,6 +648,34 @@ pub(crate) mod tests {
         // Gradual underflow: 0.5^1074 is the smallest subnormal, 0.5^1075 rounds to 0.
         assert_eq!(pow_unit_f64(0.5, 0.5, 1074.0), f64::from_bits(1));
         assert_eq!(pow_unit_f64(0.5, 0.5, 1076.0), 0.0);
+    }
+
+    /// The extended-exponent power is the plain one where both can hold the base: `kx = 0`
+    /// bitwise, and a base `x·2^-600` in the normal range bitwise too (the same reduced
+    /// mantissa, the exponent moved exactly); below the range, a subnormal base's power
+    /// is right to an ulp.
+    #[test]
+    fn scaled_power_is_the_power_of_the_scaled_base() {
+        let two_600 = 2f64.powi(600);
+        let mut s = 7;
+        for _ in 0..20_000 {
+            let x = uniform(&mut s).max(1e-300);
+            let p = 10f64.powf(uniform(&mut s) * 4.0 - 2.0);
+            let d = 10f64.powf(uniform(&mut s) * 600.0 - 320.0);
+            let plain = pow_unit_over_f64(x, 1.0 - x, p, d);
+            let scaled = pow_unit_over_scaled_f64(x, 1.0 - x, p, 0.0, d);
+            assert_eq!(plain.to_bits(), scaled.to_bits(), "x={x} p={p} d={d}");
+            // A base in [2^-1000, 2^-990): carried as x·2^600 in [2^-400, 2^-390).
+            let tiny = 2f64.powi(-1000) * (1.0 + 1023.0 * uniform(&mut s));
+            let plain = pow_unit_over_f64(tiny, 1.0, p, d);
+            let scaled = pow_unit_over_scaled_f64(tiny * two_600, 1.0, p, 600.0, d);
+            assert_eq!(plain.to_bits(), scaled.to_bits(), "tiny={tiny} p={p} d={d}");
+        }
+        // The base 3·2^-1070 (a subnormal): its square root over 2^-1074 is sqrt(3)·2^539.
+        let x = 3.0 * 2f64.powi(-1070) * two_600;
+        let got = pow_unit_over_scaled_f64(x, 1.0, 0.5, 600.0, 2f64.powi(-1074));
+        let want = 3f64.sqrt() * 2f64.powi(-535) / 2f64.powi(-1074);
+        assert!(ulps(got, want) <= 1.0, "{got} vs {want}");
     }
 
     #[test]

@@ -119,6 +119,9 @@ pub trait Real:
     /// or returns 0 (`f32`, whose goals do not need them): kernels that correct for them
     /// test this constant, so the `f32` loops carry none of the work.
     const EXACT_LENGTHS: bool;
+    /// Whether kernels carry a cosine below the normal range with an extended exponent
+    /// ([`Real::pow_unit_over_scaled`]; `f64`): `f32` keeps the subnormal cosine.
+    const EXTENDED_COSINES: bool;
 
     /// Converts from `f64` (rounding for `f32`).
     fn from_f64(x: f64) -> Self;
@@ -163,6 +166,10 @@ pub trait Real:
     /// and `d > 0`, with no underflow of `x^p` before the division: `cos^p / mu_i` at
     /// `mu_i = 1e-300` keeps every digit. `p = 0` (also `0^0`) gives `1/d`.
     fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
+    /// [`Real::pow_unit_over`] of the base `x·2^-kx` (`kx` an integer in `[0, 600]`, `x`
+    /// at most `2^-400` when `kx > 0`): a cosine below the normal range carried with an
+    /// extended exponent. `f64` only ([`Real::EXTENDED_COSINES`]); `f32` ignores `kx`.
+    fn pow_unit_over_scaled(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
     /// Returns whether `v` is finite and nonzero, without normalizing it.
     fn usable(v: Self::V3) -> bool;
     /// Returns `|v|² − 1` for a vector of about unit length (components of magnitude at
@@ -240,6 +247,7 @@ macro_rules! impl_real {
             const INFINITY: Self = $f::INFINITY;
             const DTYPE: &'static str = stringify!($f);
             const EXACT_LENGTHS: bool = $exact_lengths;
+            const EXTENDED_COSINES: bool = $exact_lengths;
 
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
@@ -276,6 +284,26 @@ macro_rules! impl_real {
             #[inline(always)]
             fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
                 fastmath::$pow_over(x, one_minus_x, p, d)
+            }
+            #[inline(always)]
+            fn pow_unit_over_scaled(
+                x: Self,
+                one_minus_x: Self,
+                p: Self,
+                kx: Self,
+                d: Self,
+            ) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_over_scaled_f64(
+                        x as f64,
+                        one_minus_x as f64,
+                        p as f64,
+                        kx as f64,
+                        d as f64,
+                    ) as $f
+                } else {
+                    fastmath::$pow_over(x, one_minus_x, p, d)
+                }
             }
             #[inline(always)]
             fn exp(self) -> Self {

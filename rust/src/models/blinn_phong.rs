@@ -4,7 +4,7 @@
 //! without `1/π` (the Summary's convention). 0 where the half vector is undefined.
 
 use super::albedo::{Importance, Term, diffuse_and_lobe};
-use super::lobes::{DiffuseSpecular, half_cosine};
+use super::lobes::{DiffuseSpecular, half_cosine_pow_over};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
@@ -40,9 +40,8 @@ impl Kernel for BlinnPhong {
     fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
-        let (cos_th, defined) = half_cosine(d);
         // cos_th^p / mu_i in one step: cos_th^p may underflow where the quotient does not
-        let lobe = cos_th.powf_over(pp.p, mu_i);
+        let (lobe, defined) = half_cosine_pow_over(d, pp.p, mu_i);
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
     }

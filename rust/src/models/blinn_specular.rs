@@ -3,7 +3,7 @@
 //! `s(l, v) = ks·clamp(n·h, 0, 1)^p`, 0 when `n·l <= 0` or when `h` is undefined
 //! (`l = −v`); `= mu_i·blinn_phong(kd=0)` for mu_i, mu_o > 0.
 
-use super::lobes::half_cosine;
+use super::lobes::half_cosine_pow_over;
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{Real, Vector3};
@@ -37,8 +37,7 @@ impl Kernel for BlinnSpecular {
     #[inline(always)]
     fn eval<F: Real>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
         let (ks, p) = *pp;
-        let (cos_th, defined) = half_cosine(d);
-        let lobe = cos_th.powf(p);
+        let (lobe, defined) = half_cosine_pow_over(d, p, F::ONE);
         let lit = d.n.dot(d.wi) > F::ZERO && defined;
         ks.map(|c| if lit { c * lobe } else { F::ZERO })
     }

@@ -49,3 +49,36 @@ pub fn half_cosine<F: Real>(d: &Directions<F>) -> (Cosine<F>, bool) {
     let hv = half_vector::<F>(d.wi, d.wo);
     (clamped_cosine::<F>(d.n, hv.h), hv.defined)
 }
+
+/// `cos_th^p / div` (`div > 0`: `mu_i` for the Blinn-Phong lobe, 1 for a plain power)
+/// and whether the half vector is defined: `half_cosine(d).0.powf_over(p, div)`, except
+/// where `n·h` lies below the normal range. That happens in float64 when both directions
+/// are within ~1e-308 of the horizon on opposite sides: `n·h = (mu_i + mu_o)/|wi + wo|` is
+/// a subnormal with as few as 10 significant bits, which `p < 1` or the division by
+/// `mu_i` brings back to the normal range. There `n·h` is formed from `wi + wo` scaled by
+/// 2^600 (exact) and the power takes the exponent back inside its logarithm, so the
+/// result keeps full precision (docs/numerics.md). Elsewhere bitwise the plain power.
+#[inline(always)]
+pub fn half_cosine_pow_over<F: Real>(d: &Directions<F>, p: F, div: F) -> (F, bool) {
+    let hv = half_vector::<F>(d.wi, d.wo);
+    let cos = clamped_cosine::<F>(d.n, hv.h);
+    if !F::EXTENDED_COSINES {
+        return (cos.powf_over(p, div), hv.defined);
+    }
+    // 2^600, and |wi + wo| = 2·cos_b (at most 2: its clamp at 1 never bites here).
+    let up = F::from_f64(4.149_515_568_880_993e180);
+    let scaled = d.n.dot((d.wi + d.wo) * up) / (F::TWO * hv.cos_b.cos);
+    // The scaled cosine must be that of a tiny n·h (at most 2^-400, the power's domain):
+    // where the two disagree, cancellation in n·h decides, as in the plain power.
+    let tiny = cos.cos < F::from_f64(f64::MIN_POSITIVE)
+        && scaled > F::ZERO
+        && scaled <= F::from_f64(3.872_591_914_849_318_3e-121);
+    let lobe = F::pow_unit_over_scaled(
+        if tiny { scaled } else { cos.cos },
+        if tiny { F::ONE } else { cos.one_minus },
+        p,
+        if tiny { F::from_f64(600.0) } else { F::ZERO },
+        div,
+    );
+    (F::flush_subnormal(lobe), hv.defined)
+}
