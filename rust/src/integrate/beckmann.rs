@@ -36,6 +36,8 @@
 
 use glam::DVec3;
 
+use super::loops::ClosedFormLobe;
+
 use crate::models::beckmann::{lambda_of_c, mu_lambda};
 use crate::sampling::beckmann_visible::{BeckmannVisibleNormals, SlopeTable};
 
@@ -70,21 +72,15 @@ impl VisibleLobe {
             lit,
         }
     }
+}
 
-    /// Writes the weight of every point `(u0[j], u1[j])` into `w`; `fold`: slopes across
-    /// on the half that puts `h.y >= 0` (the integrand is even in `h.y`).
-    #[inline(always)]
-    pub(super) fn weights(&self, fold: bool, u0: &[f64], u1: &[f64], w: &mut [f64]) {
-        if !self.lit {
-            w.fill(0.0);
-            return;
-        }
-        match (fold, self.f0 == 1.0) {
-            (true, true) => self.fill::<true, true>(u0, u1, w),
-            (true, false) => self.fill::<true, false>(u0, u1, w),
-            (false, true) => self.fill::<false, true>(u0, u1, w),
-            (false, false) => self.fill::<false, false>(u0, u1, w),
-        }
+impl ClosedFormLobe for VisibleLobe {
+    fn lit(&self) -> bool {
+        self.lit
+    }
+
+    fn f0(&self) -> f64 {
+        self.f0
     }
 
     /// The weights, with `h̃ = (−α·x, −α·y, 1)` the unnormalized half vector

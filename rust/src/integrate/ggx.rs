@@ -21,6 +21,8 @@
 
 use glam::DVec3;
 
+use super::loops::ClosedFormLobe;
+
 use crate::math::geometry::ggx_mu_lambda;
 use crate::sampling::GgxVisibleNormals;
 
@@ -52,22 +54,15 @@ impl VisibleLobe {
             lit: mu_i > 0.0,
         }
     }
+}
 
-    /// Writes the weight of every point `(u0[j], u1[j])` into `w`; `fold`: azimuths on
-    /// the half `h.y >= 0` (the integrand is even in `h.y`).
-    #[inline(always)]
-    pub(super) fn weights(&self, fold: bool, u0: &[f64], u1: &[f64], w: &mut [f64]) {
-        if !self.lit {
-            w.fill(0.0);
-            return;
-        }
-        // One loop per (fold, Fresnel) case: straight-line bodies.
-        match (fold, self.f0 == 1.0) {
-            (true, true) => self.fill::<true, true>(u0, u1, w),
-            (true, false) => self.fill::<true, false>(u0, u1, w),
-            (false, true) => self.fill::<false, true>(u0, u1, w),
-            (false, false) => self.fill::<false, false>(u0, u1, w),
-        }
+impl ClosedFormLobe for VisibleLobe {
+    fn lit(&self) -> bool {
+        self.lit
+    }
+
+    fn f0(&self) -> f64 {
+        self.f0
     }
 
     /// The weights, with `h̃` the unnormalized half vector (`q = |h̃|²`): with

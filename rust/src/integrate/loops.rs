@@ -1,6 +1,6 @@
 //! The integrator's loops that do not depend on the model, compiled once per instruction
 //! set rather than once per model: the warps' directions and densities for a block of
-//! points, and GGX's and Beckmann's closed-form lobe weights.
+//! points, and GGX's and Beckmann's closed-form lobe weights ([`ClosedFormLobe`]).
 //!
 //! A cell's model-specific work is then one evaluation loop over the block
 //! (`CellIntegrand::weights`). Before this split every model carried its own copy of
@@ -13,7 +13,7 @@
 
 use glam::DVec3;
 
-use super::{POINTS, beckmann, ggx};
+use super::POINTS;
 use crate::math::series::sin_cos_pi;
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
@@ -75,23 +75,44 @@ pub(super) trait Loops {
         out: &mut DirectionBlock,
     );
 
-    /// GGX's closed-form weights ([`ggx::VisibleLobe::weights`]).
+    /// The closed-form weights of GGX's or Beckmann's lobe ([`ClosedFormLobe::weights`]).
     ///
     /// # Safety
     /// See the trait.
-    unsafe fn ggx(lobe: &ggx::VisibleLobe, fold: bool, u0: &[f64], u1: &[f64], w: &mut [f64]);
-
-    /// Beckmann's closed-form weights ([`beckmann::VisibleLobe::weights`]).
-    ///
-    /// # Safety
-    /// See the trait.
-    unsafe fn beckmann(
-        lobe: &beckmann::VisibleLobe,
+    unsafe fn closed_form<L: ClosedFormLobe>(
+        lobe: &L,
         fold: bool,
         u0: &[f64],
         u1: &[f64],
         w: &mut [f64],
     );
+}
+
+/// A lobe drawn from its visible normals whose weights are known in closed form (GGX's,
+/// `integrate/ggx.rs`; Beckmann's, `integrate/beckmann.rs`).
+pub(super) trait ClosedFormLobe {
+    /// `mu_i > 0`: family-A lobes are 0 at grazing incidence.
+    fn lit(&self) -> bool;
+    /// The grey F0 (1 gives F = 1).
+    fn f0(&self) -> f64;
+    /// The weights of one (fold, Fresnel) case, a loop with a straight-line body.
+    fn fill<const FOLD: bool, const F_ONE: bool>(&self, u0: &[f64], u1: &[f64], w: &mut [f64]);
+
+    /// Writes the weight of every point `(u0[j], u1[j])` into `w`; `fold`: azimuths on
+    /// the half `h.y >= 0` (the integrand is even in `h.y`).
+    #[inline(always)]
+    fn weights(&self, fold: bool, u0: &[f64], u1: &[f64], w: &mut [f64]) {
+        if !self.lit() {
+            w.fill(0.0);
+            return;
+        }
+        match (fold, self.f0() == 1.0) {
+            (true, true) => self.fill::<true, true>(u0, u1, w),
+            (true, false) => self.fill::<true, false>(u0, u1, w),
+            (false, true) => self.fill::<false, true>(u0, u1, w),
+            (false, false) => self.fill::<false, false>(u0, u1, w),
+        }
+    }
 }
 
 /// One loop per warp and fold, so each loop body is straight-line code. Local frames:
@@ -208,109 +229,60 @@ fn directions_averaged(
     }
 }
 
-/// Implements [`Loops`] for the marker `$isa`: each method calls the shared body
-/// through one out-of-line function compiled with `$features`.
+/// One method of [`Loops`]: it calls `$body` through an out-of-line function compiled
+/// with the attributes given (the instruction set's `target_feature`, or none).
+macro_rules! forward {
+    ($(#[$attr:meta])* fn $name:ident $(<$l:ident: $bound:path>)?($($arg:ident: $ty:ty),*) $body:block) => {
+        unsafe fn $name$(<$l: $bound>)?($($arg: $ty),*) {
+            $(#[$attr])*
+            #[inline(never)]
+            unsafe fn run$(<$l: $bound>)?($($arg: $ty),*) $body
+            // SAFETY: the caller checked the CPU (the trait's contract).
+            unsafe { run($($arg),*) }
+        }
+    };
+}
+
+/// Implements [`Loops`] for the marker `$isa`, each method out of line with `$attr`.
 macro_rules! isa_loops {
-    ($(#[$doc:meta])* $isa:ident $(, $features:literal)?) => {
+    ($(#[$doc:meta])* $isa:ident $(, #[$attr:meta])?) => {
         $(#[$doc])*
         pub(super) struct $isa;
 
         impl Loops for $isa {
-            unsafe fn directions(
+            forward!($(#[$attr])? fn directions(
                 warp: Warp,
                 fold: bool,
                 wi: DVec3,
                 mirror: &Frame,
                 u0: &[f64],
                 u1: &[f64],
-                out: &mut DirectionBlock,
+                out: &mut DirectionBlock
             ) {
-                $(#[target_feature(enable = $features)])?
-                #[inline(never)]
-                unsafe fn run(
-                    warp: Warp,
-                    fold: bool,
-                    wi: DVec3,
-                    mirror: &Frame,
-                    u0: &[f64],
-                    u1: &[f64],
-                    out: &mut DirectionBlock,
-                ) {
-                    directions(warp, fold, wi, mirror, u0, u1, out)
-                }
-                // SAFETY: the caller checked the CPU (the trait's contract).
-                unsafe { run(warp, fold, wi, mirror, u0, u1, out) }
-            }
+                directions(warp, fold, wi, mirror, u0, u1, out)
+            });
 
-            unsafe fn directions_averaged(
+            forward!($(#[$attr])? fn directions_averaged(
                 warp: Warp,
                 sin: f64,
                 mu: f64,
                 u0: &[f64],
                 u1: &[f64],
                 u2: &[f64],
-                out: &mut DirectionBlock,
+                out: &mut DirectionBlock
             ) {
-                $(#[target_feature(enable = $features)])?
-                #[inline(never)]
-                unsafe fn run(
-                    warp: Warp,
-                    sin: f64,
-                    mu: f64,
-                    u0: &[f64],
-                    u1: &[f64],
-                    u2: &[f64],
-                    out: &mut DirectionBlock,
-                ) {
-                    directions_averaged(warp, sin, mu, u0, u1, u2, out)
-                }
-                // SAFETY: as above.
-                unsafe { run(warp, sin, mu, u0, u1, u2, out) }
-            }
+                directions_averaged(warp, sin, mu, u0, u1, u2, out)
+            });
 
-            unsafe fn ggx(
-                lobe: &ggx::VisibleLobe,
+            forward!($(#[$attr])? fn closed_form<L: ClosedFormLobe>(
+                lobe: &L,
                 fold: bool,
                 u0: &[f64],
                 u1: &[f64],
-                w: &mut [f64],
+                w: &mut [f64]
             ) {
-                $(#[target_feature(enable = $features)])?
-                #[inline(never)]
-                unsafe fn run(
-                    lobe: &ggx::VisibleLobe,
-                    fold: bool,
-                    u0: &[f64],
-                    u1: &[f64],
-                    w: &mut [f64],
-                ) {
-                    lobe.weights(fold, u0, u1, w)
-                }
-                // SAFETY: as above.
-                unsafe { run(lobe, fold, u0, u1, w) }
-            }
-
-            unsafe fn beckmann(
-                lobe: &beckmann::VisibleLobe,
-                fold: bool,
-                u0: &[f64],
-                u1: &[f64],
-                w: &mut [f64],
-            ) {
-                $(#[target_feature(enable = $features)])?
-                #[inline(never)]
-                unsafe fn run(
-                    lobe: &beckmann::VisibleLobe,
-                    fold: bool,
-                    u0: &[f64],
-                    u1: &[f64],
-                    w: &mut [f64],
-                ) {
-                    lobe.weights(fold, u0, u1, w)
-                }
-                // SAFETY: as above.
-                unsafe { run(lobe, fold, u0, u1, w) }
-            }
+                lobe.weights(fold, u0, u1, w)
+            });
         }
     };
 }
@@ -323,11 +295,11 @@ isa_loops!(
 isa_loops!(
     /// x86-64-v3: AVX2 + FMA.
     Avx2,
-    "avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 );
 #[cfg(target_arch = "x86_64")]
 isa_loops!(
     /// x86-64-v4: AVX-512 (F, DQ, VL, BW) + FMA.
     Avx512,
-    "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
 );

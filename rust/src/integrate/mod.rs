@@ -438,12 +438,12 @@ impl<K: Kernel> CellIntegrand<K> {
         }
         if let Some(ggx) = &lobe.ggx {
             // SAFETY: the caller's contract.
-            unsafe { I::ggx(ggx, self.fold, u0, u1, w) };
+            unsafe { I::closed_form(ggx, self.fold, u0, u1, w) };
             return;
         }
         if let Some(beckmann) = &lobe.beckmann {
             // SAFETY: the caller's contract.
-            unsafe { I::beckmann(beckmann, self.fold, u0, u1, w) };
+            unsafe { I::closed_form(beckmann, self.fold, u0, u1, w) };
             return;
         }
         let wi = self.wi;
