@@ -47,6 +47,19 @@ pub struct Prepared<F> {
     alpha2: F,
 }
 
+/// The parts of `2Λ(c) = e·d/c − v` that [`mu_lambda`] and [`lambda_of_c`] share:
+/// `e = exp(−c²)`, `d = 1/sqrt(π) − exp(r − 0.5625)` (the exponential only in erfc's tails)
+/// and `v`, with `erfc(c) = v + e·exp(r − 0.5625)/c` ([`Real::erfc_parts`]).
+#[inline(always)]
+fn smith_parts<F: Real>(c: F) -> (F, F, F) {
+    let e = (-(c * c)).exp();
+    let (v, r, tail) = c.erfc_parts();
+    let frac_1_sqrt_pi = F::from_f64(0.564_189_583_547_756_3);
+    let tail_term = (r - F::from_f64(0.5625)).exp();
+    let tail_term = if tail { tail_term } else { F::ZERO };
+    (e, frac_1_sqrt_pi - tail_term, v)
+}
+
 /// `μ·Λ(μ)` of the Beckmann Smith function, from `μ` and `sin²θ`.
 ///
 /// `μ·Λ = α·s·e/(2√π) − μ·erfc(c)/2` (`s = sinθ`, `c = μ/(α s)`, `e = exp(−c²)`; MODELS.md's
@@ -58,12 +71,8 @@ pub struct Prepared<F> {
 pub fn mu_lambda<F: Real>(mu: F, sin2: F, alpha: F) -> F {
     let s = sin2.sqrt();
     let c = mu / (alpha * s);
-    let e = (-(c * c)).exp();
-    let (v, r, tail) = c.erfc_parts();
-    let frac_1_sqrt_pi = F::from_f64(0.564_189_583_547_756_3);
-    let tail_term = (r - F::from_f64(0.5625)).exp();
-    let tail_term = if tail { tail_term } else { F::ZERO };
-    let value = alpha * s * e * (frac_1_sqrt_pi - tail_term) * F::HALF - mu * v * F::HALF;
+    let (e, d, v) = smith_parts(c);
+    let value = alpha * s * e * d * F::HALF - mu * v * F::HALF;
     // At normal incidence (s = 0) c is infinite and every term vanishes.
     if s > F::ZERO { value } else { F::ZERO }
 }
@@ -75,12 +84,8 @@ pub fn mu_lambda<F: Real>(mu: F, sin2: F, alpha: F) -> F {
 /// closed-form weights).
 #[inline(always)]
 pub fn lambda_of_c<F: Real>(c: F) -> F {
-    let e = (-(c * c)).exp();
-    let (v, r, tail) = c.erfc_parts();
-    let frac_1_sqrt_pi = F::from_f64(0.564_189_583_547_756_3);
-    let tail_term = (r - F::from_f64(0.5625)).exp();
-    let tail_term = if tail { tail_term } else { F::ZERO };
-    let value = (e * (frac_1_sqrt_pi - tail_term) / c - v) * F::HALF;
+    let (e, d, v) = smith_parts(c);
+    let value = (e * d / c - v) * F::HALF;
     if value > F::ZERO { value } else { F::ZERO }
 }
 
