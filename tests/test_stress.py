@@ -383,6 +383,55 @@ def test_s10_subnormal_half_cosine_keeps_its_digits(model, wi, wo, params):
     assert_within(kernel(model, wi, wo, **params), want, kappa, model)
 
 
+@pytest.mark.parametrize(
+    "tangent, params",
+    [
+        (None, {"kd": 0.5, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2}),
+        (
+            [-0.1955666074969966, 0.4804580991552153, -0.8549349197384986],
+            {"kd": 0.5, "ks": [1.0, 0.0, 0.5], "alpha_x": 0.2, "alpha_y": 0.2},
+        ),
+        (
+            [0.569869514252563, -0.21153666132167795, -0.7940409168565721],
+            {"kd": 0.5, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 1e7},
+        ),
+    ],
+)
+def test_s11_ward_cosine_below_the_range_of_its_unit_vector(tangent, params):
+    # wi = (1e300, 0, 1e-300): mu_i = 1e-600, not representable even as a subnormal, so
+    # normalization keeps only its sign (B1). Ward's 1/sqrt(mu_i·mu_o) depends on its
+    # size: 1.2e151 for 2.8e289 before; now the engine takes the cosines of such rows
+    # from the raw vectors with an extended exponent.
+    wi, wo = [1e300, 0.0, 1e-300], [1e-300, 1e-300, 1e300]
+    want = exact("ward", wi, wo, tangent=tangent, **params)
+    assert want[0] > 1e280
+    kappa = mpref.condition("ward", wi, wo, tangent=tangent, **params)
+    got = kernel("ward", wi, wo, tangent=tangent, **params)
+    assert_within(got, want, kappa, "ward")
+    # The same rows inside a batch, between ordinary rows, with per-row parameters.
+    rows = np.array([[0.3, 0.2, 0.9], wi, [0.1, -0.4, 0.5]])
+    alpha_x = np.array([0.3, params["alpha_x"], 0.5])
+    t = None if tangent is None else np.asarray(tangent)
+    batch = brdf_rs.eval("ward", rows, wo, tangent=t, **{**params, "alpha_x": alpha_x})
+    assert tuple(batch[1]) == got
+    for i in (0, 2):
+        single = brdf_rs.eval("ward", rows[i], wo, tangent=t, **{**params, "alpha_x": alpha_x[i]})
+        assert tuple(batch[i]) == tuple(single)
+
+
+def test_s11_ward_subnormal_cosines_keep_their_digits():
+    # |wi| = 0.58: normalization rounds mu_i = 5.1e-320 to the subnormal grid (~14
+    # significant bits), and Ward's sqrt(mu_i) kept that error (1.9e-5 relative before).
+    # The wide cosine is formed from the raw vector.
+    wi = [0.3, 0.5, 3e-320]
+    wo = [0.28, -0.46, 0.3]
+    params = {"kd": 0.0, "ks": 1.0, "alpha_x": 0.7, "alpha_y": 0.9}
+    want = exact("ward", wi, wo, **params)
+    kappa = mpref.condition("ward", wi, wo, **params)
+    assert kappa < 100  # 57: 8·κ·u is 1e-13, the error was 1.9e-5
+    assert_within(kernel("ward", wi, wo, **params), want, kappa, "ward")
+
+
 def test_kajiya_kay_peak_along_the_fibre():
     # l along the fibre, v = -l + 1e-12: the highlight's cosine is 1 - 5e-25, and
     # (1 - 5e-25)^1e6 = 1. With b = sin_l - sin_v taken through the identity

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use super::Plan;
 use super::rows::Rows;
+use crate::math::geometry::wide_cosine;
 use crate::math::{Real, Vector3};
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource};
 use crate::parallel;
@@ -266,6 +267,9 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
             lane.fill(plan.uniform[slot]);
         }
     }
+    // Rows whose cosine the kernel needs beyond `f64`'s range (see `wide_cosine_rows`).
+    let wide = K::WIDE_COSINES && F::EXTENDED_COSINES && !plan.options.normalized;
+    let min_normal = F::from_f64(f64::MIN_POSITIVE);
     let mut any_bad = false;
     for block_start in (0..rows).step_by(BLOCK) {
         let len = BLOCK.min(rows - block_start);
@@ -301,6 +305,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         }
         let [wi, wo, n, t] = &scratch.vectors;
         let [r, g, b] = &mut scratch.rgb;
+        let mut any_tiny = false;
         // The model over the whole block (lanes past `len` compute on stale, harmless
         // scratch and are never written out), into structure-of-arrays RGB.
         for j in 0..BLOCK {
@@ -324,11 +329,21 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                 K::eval(&uniform, &d)
             };
             let ok = scratch.ok[j];
+            if K::WIDE_COSINES && F::EXTENDED_COSINES {
+                // The kernel's own dot products (the same expressions, merged by the
+                // compiler); a stale lane past `len` at most costs a look at the block.
+                let tiny = |c: F| c != F::ZERO && c.abs() < min_normal;
+                any_tiny |= ok & (tiny(d.n.dot(d.wi)) | tiny(d.n.dot(d.wo)));
+            }
             r[j] = if ok { rgb[0] } else { F::NAN };
             g[j] = if ok { rgb[1] } else { F::NAN };
             b[j] = if ok { rgb[2] } else { F::NAN };
         }
+        if wide && any_tiny {
+            wide_cosine_rows::<F, K>(plan, &mut scratch, row0, len, &uniform, vary);
+        }
         let out_block = &mut out[3 * block_start..3 * (block_start + len)];
+        let [r, g, b] = &scratch.rgb;
         for (j, rgb_out) in out_block.chunks_exact_mut(3).enumerate() {
             rgb_out[0] = r[j];
             rgb_out[1] = g[j];
@@ -337,6 +352,57 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         any_bad |= scratch.ok[..len].iter().any(|ok| !ok);
     }
     any_bad
+}
+
+/// Re-evaluates with [`Kernel::eval_wide`] the rows of a block whose cosine `n·wi` or
+/// `n·wo` is nonzero and below 2^-1022 (`f64`): their cosines are taken from the raw
+/// input vectors with [`wide_cosine`], which keeps what normalization rounds away. Rare,
+/// so the rows are read again one by one and the block's loop carries none of it.
+#[cold]
+#[inline(never)]
+fn wide_cosine_rows<F: Real, K: Kernel>(
+    plan: &Plan<'_, F>,
+    scratch: &mut Scratch<F>,
+    row0: usize,
+    len: usize,
+    uniform: &K::Prepared<F>,
+    vary: bool,
+) {
+    let min_normal = F::from_f64(f64::MIN_POSITIVE);
+    for j in 0..len {
+        let [wi, wo, n, t] = &scratch.vectors;
+        let v = |a: &[[F; BLOCK]; 3]| F::V3::new(a[0][j], a[1][j], a[2][j]);
+        let d = Directions::<F> {
+            wi: v(wi),
+            wo: v(wo),
+            n: v(n),
+            t: v(t),
+        };
+        let (mu_i, mu_o) = (d.n.dot(d.wi), d.n.dot(d.wo));
+        let tiny = |c: F| c != F::ZERO && c.abs() < min_normal;
+        if !scratch.ok[j] || !(tiny(mu_i) || tiny(mu_o)) {
+            continue;
+        }
+        let raw = |i: usize| {
+            let mut r = [F::ZERO; 3];
+            read_row(&plan.vectors[i], 3, &plan.batch, row0 + j, &mut r);
+            r.map(F::to_f64)
+        };
+        let unit_n = [d.n.x(), d.n.y(), d.n.z()].map(F::to_f64);
+        let (wide_i, wide_o) = (wide_cosine(unit_n, raw(0)), wide_cosine(unit_n, raw(1)));
+        let rgb = if vary {
+            let params = BlockParams {
+                slots: &scratch.params,
+                j,
+            };
+            K::eval_wide(&K::prepare(&params), &d, wide_i, wide_o)
+        } else {
+            K::eval_wide(uniform, &d, wide_i, wide_o)
+        };
+        for (c, channel) in scratch.rgb.iter_mut().enumerate() {
+            channel[j] = rgb[c];
+        }
+    }
 }
 
 const MODE_UNIFORM: u8 = 0;

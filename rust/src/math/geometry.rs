@@ -6,6 +6,8 @@
 //! digits within 1e-16 of the peak) and makes Schlick's `(1 - cos_b)^5` free of
 //! cancellation. All inputs are unit vectors.
 
+use glam::DVec3;
+
 use super::{Real, Vector3, clamp, max, min};
 
 /// A cosine together with its accurately computed complement `1 - cos`.
@@ -261,6 +263,44 @@ pub fn above_both<F: Real>(mu_i: F, mu_o: F, rgb: [F; 3]) -> [F; 3] {
     rgb.map(|c| if above { c } else { F::ZERO })
 }
 
+/// A cosine `m·2^k` (`m` in [0.5, 1) or 0, with the cosine's sign) carried with an
+/// exponent wider than `f64`'s: see [`wide_cosine`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WideCosine {
+    pub m: f64,
+    pub k: i32,
+}
+
+/// Returns `n·w/|w|` for a unit `n` and a raw (unnormalized, finite, nonzero) `w`, as
+/// `m·2^k`, without the underflow of normalizing `w` first.
+///
+/// A vector like `(1e300, 0, 1e-300)` has a unit vector `(1, 0, 1e-600)` whose last
+/// component is below even the subnormal range: normalization keeps only its sign
+/// (±2^-1074). Its cosine with `+z` is still `1e-300/1e300` exactly, here `m·2^k` with
+/// `k` = -1994. Each product `n_c·w_c` is split into mantissa and exponent, the products
+/// are summed relative to the largest (a product more than 2^1074 times smaller than the
+/// largest is below its rounding), and the sum is divided by `|w|` the same way.
+pub fn wide_cosine(n: [f64; 3], w: [f64; 3]) -> WideCosine {
+    let parts = [0, 1, 2].map(|c| {
+        let (nm, ne) = libm::frexp(n[c]);
+        let (wm, we) = libm::frexp(w[c]);
+        (nm * wm, ne + we)
+    });
+    let top = parts
+        .iter()
+        .filter(|(m, _)| *m != 0.0)
+        .map(|(_, e)| *e)
+        .max()
+        .unwrap_or(0);
+    let sum: f64 = parts.iter().map(|(m, e)| libm::scalbn(*m, e - top)).sum();
+    let (lm, le) = libm::frexp(f64::length(DVec3::from_array(w)));
+    let (m, e) = libm::frexp(sum / lm);
+    WideCosine {
+        m,
+        k: if m == 0.0 { 0 } else { e + top - le },
+    }
+}
+
 /// Returns `a·x + b` per channel.
 #[inline(always)]
 pub fn rgb_affine<F: Real>(a: [F; 3], x: F, b: [F; 3]) -> [F; 3] {
@@ -270,7 +310,38 @@ pub fn rgb_affine<F: Real>(a: [F; 3], x: F, b: [F; 3]) -> [F; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
+
+    #[test]
+    fn wide_cosine_keeps_what_normalization_loses() {
+        let z = [0.0, 0.0, 1.0];
+        // 1e-300/1e300: 2^1000 times that is one rounding of 1e-300/(1e300·2^-1000).
+        for (w, sign) in [([1e300, 0.0, 1e-300], 1.0), ([0.0, -1e300, -1e-300], -1.0)] {
+            let c = wide_cosine(z, w);
+            assert!((0.5..1.0).contains(&c.m.abs()) && c.m.signum() == sign);
+            let want = sign * 1e-300 / libm::scalbn(1e300, -1000);
+            assert_eq!(libm::scalbn(c.m, c.k + 1000), want, "{w:?}");
+        }
+        assert_eq!(wide_cosine(z, [1.0, 2.0, 0.0]), WideCosine { m: 0.0, k: 0 });
+        assert_eq!(wide_cosine(z, [1.0, 2.0, -0.0]).m, 0.0);
+        // In the normal range it is the cosine of the normalized vector, within its
+        // rounding, for unit normals and vectors of any length.
+        let mut state = 0x9E37_79B9_7F4A_7C15_u64;
+        let mut uniform = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..10_000 {
+            let n = DVec3::new(uniform(), uniform(), uniform()).normalize();
+            let scale = 10f64.powf(300.0 * uniform());
+            let w = DVec3::new(uniform(), uniform(), uniform()) * scale;
+            let want = n.dot(w / f64::length(w));
+            let c = wide_cosine(n.to_array(), w.to_array());
+            let got = libm::scalbn(c.m, c.k);
+            assert!((got - want).abs() <= 1e-15, "{n} {w}: {got} {want}");
+        }
+    }
 
     #[test]
     fn complement_is_accurate_near_the_peak() {

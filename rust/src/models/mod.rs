@@ -41,6 +41,7 @@ pub use spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 
 use crate::error::{BrdfError, closest};
 use crate::math::Real;
+use crate::math::geometry::WideCosine;
 
 /// The unit directions one evaluation sees. `wi` points toward the light, `wo` toward the
 /// viewer, both away from the surface; `n` is the unit normal; `t` the unit tangent (for
@@ -87,6 +88,25 @@ pub trait Kernel: 'static {
     /// Returns the model's RGB value for one set of unit directions: `f(wi, wo)` in 1/sr
     /// for family A (cosine excluded), the shading term `s(l, v)` for family B.
     fn eval<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
+
+    /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
+    /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one
+    /// is (Ward's `1/sqrt(mu_i·mu_o)`). Most models only need its sign, which
+    /// normalization keeps.
+    const WIDE_COSINES: bool = false;
+
+    /// [`Kernel::eval`] given `mu_i = n·wi` and `mu_o = n·wo` with extended exponents
+    /// ([`wide_cosine`](crate::math::geometry::wide_cosine) of the raw input vectors).
+    /// The batch engine calls it for `f64` rows where one of them is nonzero and below
+    /// 2^-1022, if [`Kernel::WIDE_COSINES`]; `d` holds the normalized vectors as usual.
+    fn eval_wide<F: Real>(
+        prepared: &Self::Prepared<F>,
+        d: &Directions<F>,
+        _mu_i: WideCosine,
+        _mu_o: WideCosine,
+    ) -> [F; 3] {
+        Self::eval(prepared, d)
+    }
 
     /// Returns the model's directional albedo at incidence `mu` as `Σ colour_k · I_k` for
     /// the raw parameter slots (see [`albedo`]); `None` for family-B shading terms, which

@@ -8,7 +8,7 @@
 use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
+use crate::math::geometry::{WideCosine, above_both, half_vector, tangent_frame, weighted};
 use crate::math::{Real, Vector3};
 
 /// The Ward kernel.
@@ -67,22 +67,29 @@ impl Kernel for Ward {
 
     #[inline(always)]
     fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let mu_i = d.n.dot(d.wi);
-        let mu_o = d.n.dot(d.wo);
-        let (x, y) = tangent_frame::<F>(d.n, d.t);
-        let hv = half_vector::<F>(d.wi, d.wo);
-        let cos_th = d.n.dot(hv.h);
-        let hx = hv.h.dot(x) * pp.inv_ax;
-        let hy = hv.h.dot(y) * pp.inv_ay;
-        let e = (hx * hx + hy * hy) / (cos_th * cos_th);
-        let lobe = (-e).exp() * pp.norm / (mu_i.sqrt() * mu_o.sqrt());
-        let lobe = if e < F::from_f64(700.0) && hv.defined {
-            F::flush_subnormal(lobe)
-        } else {
-            F::ZERO
-        };
-        let rgb = [0, 1, 2].map(|c| weighted(pp.ks[c], lobe) + pp.kd_over_pi[c]);
-        above_both(mu_i, mu_o, rgb)
+        let root = d.n.dot(d.wi).sqrt() * d.n.dot(d.wo).sqrt();
+        value(pp, d, root, |lobe| lobe)
+    }
+
+    /// The cosines can be below the normal range (`wi = (1e300, 0, 1e-300)` has
+    /// `mu_i = 1e-600`) while `1/sqrt(mu_i·mu_o)` is not.
+    const WIDE_COSINES: bool = true;
+
+    /// `sqrt(mu_i·mu_o) = sqrt(m_i·m_o·2^r)·2^h` with `k_i + k_o = 2h + r`; the lobe is
+    /// divided by the first factor and scaled by `2^-h` with one rounding.
+    fn eval_wide<F: Real>(
+        pp: &Prepared<F>,
+        d: &Directions<F>,
+        mu_i: WideCosine,
+        mu_o: WideCosine,
+    ) -> [F; 3] {
+        let k = mu_i.k + mu_o.k;
+        let r = k.rem_euclid(2);
+        let root = (mu_i.m * mu_o.m * f64::from(1 + r)).sqrt();
+        let h = (k - r) / 2;
+        value(pp, d, F::from_f64(root), |lobe| {
+            F::from_f64(libm::scalbn(lobe.to_f64(), -h))
+        })
     }
 
     /// `kd·1 + ks·I`, the lobe drawn with Walter's sampling of the Gaussian NDF.
@@ -105,4 +112,26 @@ impl Kernel for Ward {
             },
         ])
     }
+}
+
+/// Ward's value given `root = sqrt(mu_i·mu_o)` up to a power of two that `scale`
+/// applies to the lobe.
+#[inline(always)]
+fn value<F: Real>(pp: &Prepared<F>, d: &Directions<F>, root: F, scale: impl Fn(F) -> F) -> [F; 3] {
+    let mu_i = d.n.dot(d.wi);
+    let mu_o = d.n.dot(d.wo);
+    let (x, y) = tangent_frame::<F>(d.n, d.t);
+    let hv = half_vector::<F>(d.wi, d.wo);
+    let cos_th = d.n.dot(hv.h);
+    let hx = hv.h.dot(x) * pp.inv_ax;
+    let hy = hv.h.dot(y) * pp.inv_ay;
+    let e = (hx * hx + hy * hy) / (cos_th * cos_th);
+    let lobe = scale((-e).exp() * pp.norm / root);
+    let lobe = if e < F::from_f64(700.0) && hv.defined {
+        F::flush_subnormal(lobe)
+    } else {
+        F::ZERO
+    };
+    let rgb = [0, 1, 2].map(|c| weighted(pp.ks[c], lobe) + pp.kd_over_pi[c]);
+    above_both(mu_i, mu_o, rgb)
 }
