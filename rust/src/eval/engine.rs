@@ -138,14 +138,36 @@ fn load_vector<F: Real>(
         }
         Rows::Contiguous(s) => {
             let s = &s[3 * row0..3 * (row0 + len)];
-            let [x, y, z] = dst;
-            for (j, row) in s.chunks_exact(3).enumerate() {
-                x[j] = row[0];
-                y[j] = row[1];
-                z[j] = row[2];
+            // A full block as an array: a fixed trip count that the vectorized loop
+            // covers with no scalar remainder.
+            match <&[F; 3 * BLOCK]>::try_from(s) {
+                Ok(full) => deinterleave(full, dst),
+                Err(_) => deinterleave(s, dst),
             }
         }
         Rows::Strided(s) => s.for_each(batch, row0, len, 3, |j, c, v| dst[c][j] = v),
+    }
+}
+
+/// Copies rows of 3 into three lanes.
+#[inline(always)]
+fn deinterleave<F: Real>(rows: &[F], dst: &mut [[F; BLOCK]; 3]) {
+    let [x, y, z] = dst;
+    for (j, row) in rows.chunks_exact(3).enumerate() {
+        x[j] = row[0];
+        y[j] = row[1];
+        z[j] = row[2];
+    }
+}
+
+/// Copies three lanes into rows of 3.
+#[inline(always)]
+fn interleave<F: Real>(src: &[[F; BLOCK]; 3], rows: &mut [F]) {
+    let [x, y, z] = src;
+    for (j, row) in rows.chunks_exact_mut(3).enumerate() {
+        row[0] = x[j];
+        row[1] = y[j];
+        row[2] = z[j];
     }
 }
 
@@ -306,6 +328,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         let [wi, wo, n, t] = &scratch.vectors;
         let [r, g, b] = &mut scratch.rgb;
         let mut any_tiny = false;
+        let mut bad_in_block = false;
         // The model over the whole block (lanes past `len` compute on stale, harmless
         // scratch and are never written out), into structure-of-arrays RGB.
         for j in 0..BLOCK {
@@ -329,6 +352,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                 K::eval(&uniform, &d)
             };
             let ok = scratch.ok[j];
+            bad_in_block |= !ok & (j < len);
             if K::WIDE_COSINES && F::EXTENDED_COSINES {
                 // The kernel's own dot products (the same expressions, merged by the
                 // compiler); a stale lane past `len` at most costs a look at the block.
@@ -343,13 +367,11 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
             wide_cosine_rows::<F, K>(plan, &mut scratch, row0, len, &uniform, vary);
         }
         let out_block = &mut out[3 * block_start..3 * (block_start + len)];
-        let [r, g, b] = &scratch.rgb;
-        for (j, rgb_out) in out_block.chunks_exact_mut(3).enumerate() {
-            rgb_out[0] = r[j];
-            rgb_out[1] = g[j];
-            rgb_out[2] = b[j];
+        match <&mut [F; 3 * BLOCK]>::try_from(&mut *out_block) {
+            Ok(full) => interleave(&scratch.rgb, full),
+            Err(_) => interleave(&scratch.rgb, out_block),
         }
-        any_bad |= scratch.ok[..len].iter().any(|ok| !ok);
+        any_bad |= bad_in_block;
     }
     any_bad
 }
