@@ -379,7 +379,8 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
 /// Re-evaluates with [`Kernel::eval_wide`] the rows of a block whose cosine `n·wi` or
 /// `n·wo` is nonzero and below 2^-1022 (`f64`): their cosines are taken from the raw
 /// input vectors with [`wide_cosine`], which keeps what normalization rounds away. Rare,
-/// so the rows are read again one by one and the block's loop carries none of it.
+/// so the rows are read again one by one and the block's loop carries none of it. Not
+/// called with `normalized=True`: inputs promised unit length are taken as given.
 #[cold]
 #[inline(never)]
 fn wide_cosine_rows<F: Real, K: Kernel>(
