@@ -296,6 +296,35 @@ def test_results_are_bitwise_identical_for_any_thread_count(rng):
         brdf_rs.set_num_threads(0)
 
 
+def test_large_outputs_written_past_the_caches_are_the_same_bits(rng):
+    # Outputs of 32 MiB and more are written with non-temporal stores (16-byte aligned
+    # blocks) and ordinary ones elsewhere: the same bits as calls on slices below that
+    # size, for an aligned output and for one offset by a single element, in 1 and 2
+    # threads (the last partial block of every task included: 1,500,007 rows).
+    rows = 1_500_007  # 36 MB of float64 output
+    wi = random_directions(rng, rows)
+    wo = random_directions(rng, rows)
+    want = np.concatenate(
+        [
+            brdf_rs.eval("torrance_sparrow", wi[k : k + 500_000], wo[k : k + 500_000], p=40.0)
+            for k in range(0, rows, 500_000)
+        ]
+    )
+    backing = np.empty(3 * rows + 1)
+    before = brdf_rs.num_threads()
+    try:
+        for threads in (1, 2):
+            brdf_rs.set_num_threads(threads)
+            got = brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0)
+            np.testing.assert_array_equal(got, want)
+            shifted = backing[1:].reshape(rows, 3)
+            assert shifted.ctypes.data % 16 != backing.ctypes.data % 16
+            brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, out=shifted)
+            np.testing.assert_array_equal(shifted, want)
+    finally:
+        brdf_rs.set_num_threads(before)
+
+
 def test_concurrent_calls_match_serial_calls(rng):
     wi = random_directions(rng, 50_000)
     wo = random_directions(rng, 50_000)
