@@ -432,6 +432,45 @@ def test_s11_ward_subnormal_cosines_keep_their_digits():
     assert_within(kernel("ward", wi, wo, **params), want, kappa, "ward")
 
 
+def test_s11_ward_side_of_the_surface_from_the_wide_cosine():
+    # n·wi for the normalized wi rounds to a tiny positive number while the raw one is
+    # negative (below the surface: 0), or exactly 0 while the raw one is positive (the
+    # lobe), found by review of S11: NaN and 0 before. And the largest products
+    # cancelling exactly, leaving the small one whole.
+    s = 2.0**-74
+    n = [0.6, -0.8, 0.0]
+    params = {"kd": 0.5, "ks": 1.0, "alpha_x": 1.0, "alpha_y": 1.0}
+    for wi in ([4.55 * s, 3.45 * s, 2.0**1000], [4.4 * s, 3.6 * s, 2.0**1000]):
+        want = exact("ward", wi, n, n, **params)
+        assert kernel("ward", wi, n, n, **params) == want
+    tilted = [math.sqrt(0.84), 0.0, 0.4]
+    params = {"kd": 0.5, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2}
+    wi = [0.0, 1e300, 1e-300]
+    want = exact("ward", wi, tilted, tilted, **params)
+    assert want[0] > 1e280
+    kappa = mpref.condition("ward", wi, tilted, tilted, **params)
+    assert_within(kernel("ward", wi, tilted, tilted, **params), want, kappa, "zero")
+    n = [0.5, 0.5, math.sqrt(0.5)]
+    params = {"kd": 0.5, "ks": 1.0, "alpha_x": 1.0, "alpha_y": 1.0}
+    wi = [1e300, -1e300, 1e-300]
+    want = exact("ward", wi, n, n, **params)
+    assert math.isfinite(want[0]) and want[0] > 1e290
+    kappa = mpref.condition("ward", wi, n, n, **params)
+    assert_within(kernel("ward", wi, n, n, **params), want, kappa, "cancel")
+
+
+@pytest.mark.parametrize("wi", [[1e300, 0.0, 1e-300], [1.0, 0.0, 1e-200]])
+def test_ward_large_roughness_lobe_does_not_underflow_before_its_division(wi):
+    # α = 1e7: exp(−e)·norm is ~1e-16·exp(−e), subnormal for e ≈ 700 before it was
+    # divided by sqrt(mu_i·mu_o) (2.1e-9 and 1e-11 relative before).
+    params = {"kd": 0.0, "ks": 1.0, "alpha_x": 1e7, "alpha_y": 1e7}
+    for z in (5.38e-9, 5.40e-9, 5.42e-9):
+        wo = [0.0, 1.0, z]
+        want = exact("ward", wi, wo, **params)
+        kappa = mpref.condition("ward", wi, wo, **params)
+        assert_within(kernel("ward", wi, wo, **params), want, kappa, f"z = {z}")
+
+
 def test_kajiya_kay_peak_along_the_fibre():
     # l along the fibre, v = -l + 1e-12: the highlight's cosine is 1 - 5e-25, and
     # (1 - 5e-25)^1e6 = 1. With b = sin_l - sin_v taken through the identity

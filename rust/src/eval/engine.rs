@@ -296,8 +296,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         }
     }
     // Rows whose cosine the kernel needs beyond `f64`'s range (see `wide_cosine_rows`).
-    let wide = K::WIDE_COSINES && F::EXTENDED_COSINES && !plan.options.normalized;
-    let min_normal = F::from_f64(f64::MIN_POSITIVE);
+    let wide = K::WIDE_COSINES && F::EXTENDED_COSINES;
     let stream = plan.rows * 3 * std::mem::size_of::<F>() >= STREAM_BYTES;
     let mut staged = Staged([F::ZERO; 3 * BLOCK]);
     let mut any_bad = false;
@@ -364,8 +363,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
             if K::WIDE_COSINES && F::EXTENDED_COSINES {
                 // The kernel's own dot products (the same expressions, merged by the
                 // compiler); a stale lane past `len` at most costs a look at the block.
-                let tiny = |c: F| c != F::ZERO && c.abs() < min_normal;
-                any_tiny |= ok & (tiny(d.n.dot(d.wi)) | tiny(d.n.dot(d.wo)));
+                any_tiny |= ok & (needs_wide::<F>(d.n, d.wi) | needs_wide::<F>(d.n, d.wo));
             }
             r[j] = if ok { rgb[0] } else { F::NAN };
             g[j] = if ok { rgb[1] } else { F::NAN };
@@ -419,11 +417,23 @@ fn stream_copy<F: Real>(src: &Staged<F>, dst: &mut [F; 3 * BLOCK]) {
     dst.copy_from_slice(src);
 }
 
+/// Whether the cosine `n·w` of a normalized `w` may have lost what a wide cosine keeps:
+/// it is nonzero and below 2^-1022, or it is 0 while a component of `w` is (normalization
+/// rounded it there: `(0, 1e300, 1e-300)` under a tilted normal). A direction exactly on
+/// the horizon, with components in the normal range, does not qualify.
+#[inline(always)]
+fn needs_wide<F: Real>(n: F::V3, w: F::V3) -> bool {
+    let min_normal = F::from_f64(f64::MIN_POSITIVE);
+    let tiny = |c: F| (c != F::ZERO) & (c.abs() < min_normal);
+    let c = n.dot(w);
+    tiny(c) | ((c == F::ZERO) & (tiny(w.x()) | tiny(w.y()) | tiny(w.z())))
+}
+
 /// Re-evaluates with [`Kernel::eval_wide`] the rows of a block whose cosine `n·wi` or
-/// `n·wo` is nonzero and below 2^-1022 (`f64`): their cosines are taken from the raw
+/// `n·wo` [`needs_wide`] (`f64`): their cosines are taken from the raw
 /// input vectors with [`wide_cosine`], which keeps what normalization rounds away. Rare,
-/// so the rows are read again one by one and the block's loop carries none of it. Not
-/// called with `normalized=True`: inputs promised unit length are taken as given.
+/// so the rows are read again one by one and the block's loop carries none of it. With
+/// `normalized=True` the given vectors are the raw ones; `n` is used normalized.
 #[cold]
 #[inline(never)]
 fn wide_cosine_rows<F: Real, K: Kernel>(
@@ -434,7 +444,6 @@ fn wide_cosine_rows<F: Real, K: Kernel>(
     uniform: &K::Prepared<F>,
     vary: bool,
 ) {
-    let min_normal = F::from_f64(f64::MIN_POSITIVE);
     for j in 0..len {
         let [wi, wo, n, t] = &scratch.vectors;
         let v = |a: &[[F; BLOCK]; 3]| F::V3::new(a[0][j], a[1][j], a[2][j]);
@@ -444,9 +453,7 @@ fn wide_cosine_rows<F: Real, K: Kernel>(
             n: v(n),
             t: v(t),
         };
-        let (mu_i, mu_o) = (d.n.dot(d.wi), d.n.dot(d.wo));
-        let tiny = |c: F| c != F::ZERO && c.abs() < min_normal;
-        if !scratch.ok[j] || !(tiny(mu_i) || tiny(mu_o)) {
+        if !scratch.ok[j] || !(needs_wide::<F>(d.n, d.wi) || needs_wide::<F>(d.n, d.wo)) {
             continue;
         }
         let raw = |i: usize| {

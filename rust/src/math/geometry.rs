@@ -263,12 +263,24 @@ pub fn above_both<F: Real>(mu_i: F, mu_o: F, rgb: [F; 3]) -> [F; 3] {
     rgb.map(|c| if above { c } else { F::ZERO })
 }
 
-/// A cosine `m·2^k` (`m` in [0.5, 1) or 0, with the cosine's sign) carried with an
-/// exponent wider than `f64`'s: see [`wide_cosine`].
+/// A cosine `m·2^k` (`|m|` in [0.5, 1) with the cosine's sign, or `m` = 0 and `k` = 0)
+/// carried with an exponent wider than `f64`'s: see [`wide_cosine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WideCosine {
     pub m: f64,
     pub k: i32,
+}
+
+impl WideCosine {
+    /// `m·2^k` for a nonzero finite `x` (subnormal included), 0 for 0.
+    fn of(x: f64, k: i32) -> WideCosine {
+        let (m, e) = libm::frexp(x);
+        if m == 0.0 {
+            WideCosine { m: 0.0, k: 0 }
+        } else {
+            WideCosine { m, k: e + k }
+        }
+    }
 }
 
 /// Returns `n·w/|w|` for a unit `n` and a raw (unnormalized, finite, nonzero) `w`, as
@@ -277,28 +289,31 @@ pub struct WideCosine {
 /// A vector like `(1e300, 0, 1e-300)` has a unit vector `(1, 0, 1e-600)` whose last
 /// component is below even the subnormal range: normalization keeps only its sign
 /// (±2^-1074). Its cosine with `+z` is still `1e-300/1e300` exactly, here `m·2^k` with
-/// `k` = -1994. Each product `n_c·w_c` is split into mantissa and exponent, the products
-/// are summed relative to the largest (a product more than 2^1074 times smaller than the
-/// largest is below its rounding), and the sum is divided by `|w|` the same way.
+/// `k` = -1994. Each product `n_c·w_c` is split into mantissa and exponent (one
+/// rounding), and the products are added largest first into a running `m·2^k`, each
+/// addition rescaled to the larger of the two: a sum that cancels, such as
+/// `(1e300, −1e300, 1e-300)` under `n = (½, ½, √½)`, keeps the small term whole. The sum
+/// is then divided by `|w|` the same way. `n` is taken as given (normalized).
 pub fn wide_cosine(n: [f64; 3], w: [f64; 3]) -> WideCosine {
-    let parts = [0, 1, 2].map(|c| {
+    let mut parts = [0, 1, 2].map(|c| {
         let (nm, ne) = libm::frexp(n[c]);
         let (wm, we) = libm::frexp(w[c]);
-        (nm * wm, ne + we)
+        WideCosine::of(nm * wm, ne + we)
     });
-    let top = parts
-        .iter()
-        .filter(|(m, _)| *m != 0.0)
-        .map(|(_, e)| *e)
-        .max()
-        .unwrap_or(0);
-    let sum: f64 = parts.iter().map(|(m, e)| libm::scalbn(*m, e - top)).sum();
+    parts.sort_by_key(|p| std::cmp::Reverse(if p.m == 0.0 { i32::MIN } else { p.k }));
+    let sum = parts.iter().fold(WideCosine { m: 0.0, k: 0 }, |acc, p| {
+        if p.m == 0.0 {
+            return acc;
+        }
+        if acc.m == 0.0 {
+            return *p;
+        }
+        let top = acc.k.max(p.k);
+        let s = libm::scalbn(acc.m, acc.k - top) + libm::scalbn(p.m, p.k - top);
+        WideCosine::of(s, top)
+    });
     let (lm, le) = libm::frexp(f64::length(DVec3::from_array(w)));
-    let (m, e) = libm::frexp(sum / lm);
-    WideCosine {
-        m,
-        k: if m == 0.0 { 0 } else { e + top - le },
-    }
+    WideCosine::of(sum.m / lm, sum.k - le)
 }
 
 /// Returns `a·x + b` per channel.
@@ -322,7 +337,19 @@ mod tests {
             assert_eq!(libm::scalbn(c.m, c.k + 1000), want, "{w:?}");
         }
         assert_eq!(wide_cosine(z, [1.0, 2.0, 0.0]), WideCosine { m: 0.0, k: 0 });
-        assert_eq!(wide_cosine(z, [1.0, 2.0, -0.0]).m, 0.0);
+        // The largest products cancel exactly: the small one is the whole sum.
+        let n = [0.5, 0.5, 0.5f64.sqrt()];
+        let c = wide_cosine(n, [1e300, -1e300, 1e-300]);
+        let want = 0.5f64.sqrt() * 1e-300 / libm::scalbn(1e300 * 2f64.sqrt(), -1000);
+        assert!(
+            (libm::scalbn(c.m, c.k + 1000) / want - 1.0).abs() < 4e-16,
+            "{c:?}"
+        );
+        // Components of very different exponents in both vectors.
+        let n = DVec3::new(1e-200, 0.6, 0.8).normalize().to_array();
+        let c = wide_cosine(n, [0.0, 1e300, -1e-300]);
+        let want = n[1] * 1e300 / 1e300 - n[2] * 1e-300 / 1e300;
+        assert!((libm::scalbn(c.m, c.k) / want - 1.0).abs() < 4e-16, "{c:?}");
         // In the normal range it is the cosine of the normalized vector, within its
         // rounding, for unit normals and vectors of any length.
         let mut state = 0x9E37_79B9_7F4A_7C15_u64;

@@ -92,13 +92,16 @@ pub trait Kernel: 'static {
     /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
     /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one
     /// is (Ward's `1/sqrt(mu_i·mu_o)`). Most models only need its sign, which
-    /// normalization keeps.
+    /// normalization keeps (up to the limits in docs/numerics.md).
     const WIDE_COSINES: bool = false;
 
     /// [`Kernel::eval`] given `mu_i = n·wi` and `mu_o = n·wo` with extended exponents
-    /// ([`wide_cosine`](crate::math::geometry::wide_cosine) of the raw input vectors).
-    /// The batch engine calls it for `f64` rows where one of them is nonzero and below
-    /// 2^-1022, if [`Kernel::WIDE_COSINES`]; `d` holds the normalized vectors as usual.
+    /// ([`wide_cosine`](crate::math::geometry::wide_cosine) of the input vectors as given,
+    /// with the normalized `n`). The batch engine calls it for `f64` rows where one of
+    /// them is nonzero and below 2^-1022, or rounded to 0 from such a value, if
+    /// [`Kernel::WIDE_COSINES`]; `d`
+    /// holds the normalized vectors as usual, and the wide cosines' signs decide the side
+    /// of the surface.
     fn eval_wide<F: Real>(
         prepared: &Self::Prepared<F>,
         d: &Directions<F>,

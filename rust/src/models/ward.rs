@@ -67,16 +67,32 @@ impl Kernel for Ward {
 
     #[inline(always)]
     fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let root = d.n.dot(d.wi).sqrt() * d.n.dot(d.wo).sqrt();
-        value(pp, d, root, |lobe| lobe)
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let root = mu_i.sqrt() * mu_o.sqrt();
+        // f64: exp(−e) ≥ 1e-304 and 2.2e-308 ≤ root ≤ 1 here (smaller cosines take
+        // `eval_wide`), so the quotient is normal and the product by `norm` is the one
+        // rounding that may underflow (forming exp(−e)·norm first underflowed before the
+        // division for large α: 1e-11 relative at cosθ = 1e-200, α = 1e7). f32 keeps its
+        // subnormal cosines, where exp(−e)/root could overflow: norm first.
+        value(pp, d, mu_i, mu_o, |g| {
+            if F::EXTENDED_COSINES {
+                g / root * pp.norm
+            } else {
+                g * pp.norm / root
+            }
+        })
     }
 
     /// The cosines can be below the normal range (`wi = (1e300, 0, 1e-300)` has
     /// `mu_i = 1e-600`) while `1/sqrt(mu_i·mu_o)` is not.
     const WIDE_COSINES: bool = true;
 
-    /// `sqrt(mu_i·mu_o) = sqrt(m_i·m_o·2^r)·2^h` with `k_i + k_o = 2h + r`; the lobe is
-    /// divided by the first factor and scaled by `2^-h` with one rounding.
+    /// `sqrt(mu_i·mu_o) = sqrt(m_i·m_o·2^r)·2^h` with `k_i + k_o = 2h + r`, `norm =
+    /// n_m·2^n_e`: the lobe is `exp(−e)/sqrt(m_i·m_o·2^r)·n_m` (normal) scaled by
+    /// `2^(n_e − h)` with one rounding. The side of the surface comes from the wide
+    /// cosines' signs: normalization may round a cosine of the other sign, or an exact
+    /// 0, to a tiny positive one.
     fn eval_wide<F: Real>(
         pp: &Prepared<F>,
         d: &Directions<F>,
@@ -87,8 +103,11 @@ impl Kernel for Ward {
         let r = k.rem_euclid(2);
         let root = (mu_i.m * mu_o.m * f64::from(1 + r)).sqrt();
         let h = (k - r) / 2;
-        value(pp, d, F::from_f64(root), |lobe| {
-            F::from_f64(libm::scalbn(lobe.to_f64(), -h))
+        let (norm_m, norm_e) = libm::frexp(pp.norm.to_f64());
+        let (sign_i, sign_o) = (F::from_f64(mu_i.m), F::from_f64(mu_o.m));
+        value(pp, d, sign_i, sign_o, |g| {
+            let lobe = g.to_f64() / root * norm_m;
+            F::from_f64(libm::scalbn(lobe, norm_e - h))
         })
     }
 
@@ -114,19 +133,23 @@ impl Kernel for Ward {
     }
 }
 
-/// Ward's value given `root = sqrt(mu_i·mu_o)` up to a power of two that `scale`
-/// applies to the lobe.
+/// Ward's value given the cosines that decide the side of the surface and `lobe`, which
+/// turns `exp(−e)` into the lobe `exp(−e)·norm/sqrt(mu_i·mu_o)`.
 #[inline(always)]
-fn value<F: Real>(pp: &Prepared<F>, d: &Directions<F>, root: F, scale: impl Fn(F) -> F) -> [F; 3] {
-    let mu_i = d.n.dot(d.wi);
-    let mu_o = d.n.dot(d.wo);
+fn value<F: Real>(
+    pp: &Prepared<F>,
+    d: &Directions<F>,
+    mu_i: F,
+    mu_o: F,
+    lobe: impl Fn(F) -> F,
+) -> [F; 3] {
     let (x, y) = tangent_frame::<F>(d.n, d.t);
     let hv = half_vector::<F>(d.wi, d.wo);
     let cos_th = d.n.dot(hv.h);
     let hx = hv.h.dot(x) * pp.inv_ax;
     let hy = hv.h.dot(y) * pp.inv_ay;
     let e = (hx * hx + hy * hy) / (cos_th * cos_th);
-    let lobe = scale((-e).exp() * pp.norm / root);
+    let lobe = lobe((-e).exp());
     let lobe = if e < F::from_f64(700.0) && hv.defined {
         F::flush_subnormal(lobe)
     } else {
