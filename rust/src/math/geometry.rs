@@ -272,6 +272,24 @@ pub struct WideCosine {
 }
 
 impl WideCosine {
+    /// Returns the larger of two cosines of which at least one is positive.
+    pub fn max_positive(self, other: WideCosine) -> WideCosine {
+        let larger = if other.m <= 0.0 {
+            true
+        } else if self.m <= 0.0 {
+            false
+        } else {
+            (self.k, self.m) > (other.k, other.m)
+        };
+        if larger { self } else { other }
+    }
+
+    /// Returns `x / self` rounded once (overflowing to ±inf, underflowing to 0) for a
+    /// nonzero `self` and finite `x`.
+    pub fn divide(self, x: f64) -> f64 {
+        libm::scalbn(x / self.m, -self.k)
+    }
+
     /// `m·2^k` for a nonzero finite `x` (subnormal included), 0 for 0.
     fn of(x: f64, k: i32) -> WideCosine {
         let (m, e) = libm::frexp(x);
@@ -345,6 +363,17 @@ mod tests {
             (libm::scalbn(c.m, c.k + 1000) / want - 1.0).abs() < 4e-16,
             "{c:?}"
         );
+        // The larger of two wide cosines, and a division by one.
+        let (a, b) = (
+            wide_cosine(z, [1e300, 0.0, 1e-300]),
+            wide_cosine(z, [1.0, 0.0, 1e-300]),
+        );
+        assert_eq!(a.max_positive(b), b);
+        assert_eq!(b.max_positive(a), b);
+        assert_eq!(a.max_positive(wide_cosine(z, [1.0, 0.0, -1.0])), a);
+        assert_eq!(wide_cosine(z, [1.0, 0.0, 0.0]).max_positive(a), a);
+        assert_eq!(b.divide(1e-301), 0.1);
+        assert_eq!(a.divide(1.0), f64::INFINITY);
         // Components of very different exponents in both vectors.
         let n = DVec3::new(1e-200, 0.6, 0.8).normalize().to_array();
         let c = wide_cosine(n, [0.0, 1e300, -1e-300]);

@@ -10,7 +10,7 @@ use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
 use crate::math::Vector3;
-use crate::math::geometry::{above_both, oren_nayar_ab, oren_nayar_angular, weighted};
+use crate::math::geometry::{WideCosine, above_both, oren_nayar_ab, oren_nayar_angular, weighted};
 
 /// The Oren-Nayar BRDF kernel.
 pub struct OrenNayar;
@@ -56,10 +56,30 @@ impl Kernel for OrenNayar {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);
-        // g is infinite where the exact value is beyond the float range (both directions
-        // within 1e-308 of the horizon); a channel with kd·B = 0 stays kd·A there.
-        let rgb = [0, 1, 2].map(|c| weighted(pp.kd_b[c], g) + pp.kd_a[c]);
-        above_both(mu_i, mu_o, rgb)
+        value(pp, mu_i, mu_o, g)
+    }
+
+    /// `sin a·tan b·max(0, cos(φi − φo)) = max(0, (n × wi)·(n × wo))/max(mu_i, mu_o)`
+    /// depends on the size of the larger cosine (both below the range: 2.9e222 for a
+    /// value beyond it, before).
+    const WIDE_COSINES: bool = true;
+
+    /// The larger cosine divides with its extended exponent; the wide cosines' signs
+    /// decide the side of the surface.
+    fn eval_wide<F: Real>(
+        pp: &Prepared<F>,
+        d: &Directions<F>,
+        mu_i: WideCosine,
+        mu_o: WideCosine,
+    ) -> [F; 3] {
+        let above = mu_i.m > 0.0 && mu_o.m > 0.0;
+        let proj = d.n.cross(d.wi).dot(d.n.cross(d.wo)).to_f64().max(0.0);
+        let g = if above {
+            mu_i.max_positive(mu_o).divide(proj)
+        } else {
+            0.0
+        };
+        value(pp, F::from_f64(mu_i.m), F::from_f64(mu_o.m), F::from_f64(g))
     }
 
     /// One term: `kd·∫(A + B·g)/π·mu_o`, integrated with cosine sampling (the constant `A`
@@ -79,4 +99,14 @@ impl Kernel for OrenNayar {
             integral,
         }])
     }
+}
+
+/// The model's value given `g = sin a·tan b·max(0, cos(φi − φo))` and the cosines that
+/// decide the side of the surface.
+#[inline(always)]
+fn value<F: Real>(pp: &Prepared<F>, mu_i: F, mu_o: F, g: F) -> [F; 3] {
+    // g is infinite where the exact value is beyond the float range (both directions
+    // within 1e-308 of the horizon); a channel with kd·B = 0 stays kd·A there.
+    let rgb = [0, 1, 2].map(|c| weighted(pp.kd_b[c], g) + pp.kd_a[c]);
+    above_both(mu_i, mu_o, rgb)
 }

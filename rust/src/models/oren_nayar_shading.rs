@@ -6,7 +6,7 @@
 
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::oren_nayar_ab;
+use crate::math::geometry::{WideCosine, oren_nayar_ab};
 use crate::math::{Real, Vector3, clamp, max};
 
 /// The Oren-Nayar shading kernel.
@@ -59,6 +59,29 @@ impl Kernel for OrenNayarShading {
         let ratio = cos_l / if cos_b > F::ZERO { cos_b } else { F::ONE };
         let g = max(d.n.cross(d.wi).dot(d.n.cross(d.wo)), F::ZERO) * ratio;
         let g = if mu_i > F::ZERO { g } else { F::ZERO };
+        [0, 1, 2].map(|c| pp.kd_b[c] * g + pp.kd_a[c] * cos_l)
+    }
+
+    /// `cos_l/max(mu_i, mu_o)` is a ratio of cosines that may both be below the range
+    /// (then 1 for any ratio, before).
+    const WIDE_COSINES: bool = true;
+
+    /// The ratio and `cos_l` from the wide cosines, each rounded once.
+    fn eval_wide<F: Real>(
+        pp: &Prepared<F>,
+        d: &Directions<F>,
+        mu_i: WideCosine,
+        mu_o: WideCosine,
+    ) -> [F; 3] {
+        let (cos_l, g) = if mu_i.m > 0.0 {
+            let cos_b = mu_i.max_positive(mu_o);
+            let ratio = libm::scalbn(mu_i.m / cos_b.m, mu_i.k - cos_b.k);
+            let proj = d.n.cross(d.wi).dot(d.n.cross(d.wo)).to_f64().max(0.0);
+            (libm::scalbn(mu_i.m, mu_i.k).min(1.0), proj * ratio)
+        } else {
+            (0.0, 0.0)
+        };
+        let (cos_l, g) = (F::from_f64(cos_l), F::from_f64(g));
         [0, 1, 2].map(|c| pp.kd_b[c] * g + pp.kd_a[c] * cos_l)
     }
 }
