@@ -472,6 +472,33 @@ def test_ward_large_roughness_lobe_does_not_underflow_before_its_division(wi):
 
 
 @pytest.mark.parametrize(
+    "wi, wo, params",
+    [
+        # Both cosines below the range: (n × wi)·(n × wo) = 1e-600 from the raw vectors
+        # (the normalized ones hold it as 2^-1074: 1.2e275 for 0.15).
+        ([1e300, 0.0, 1e-300], [1e-300, 1e300, 2e-300], {"kd": [0.5, 0.0, 0.3], "sigma": 0.5}),
+        # tan b alone overflows where kd·B·tan b does not (inf for 1.3e307).
+        ([1.0, 0.0, 4e-309], [1.0, 0.0, 4e-309], {"kd": 0.5, "sigma": 0.5}),
+        # Both cosines below the range: the value is beyond the float range (2.9e222).
+        (
+            [4.969985056583462, 3.668324422641278e300, 2.2104172762278833e-300],
+            [-2.6531736787662738e300, 7.15144785989542e200, 6.408720933928785e-300],
+            {"kd": 1.0, "sigma": 0.5},
+        ),
+    ],
+)
+def test_s11_oren_nayar_wide_cosines(wi, wo, params):
+    want = exact("oren_nayar", wi, wo, **params)
+    kappa = mpref.condition("oren_nayar", wi, wo, **params)
+    got = kernel("oren_nayar", wi, wo, **params)
+    if all(math.isinf(w) for w in want if w):
+        assert got == want
+    else:
+        assert kappa < 10
+        assert_within(got, want, kappa, "oren_nayar")
+
+
+@pytest.mark.parametrize(
     "model, params",
     [
         ("ward", {"kd": 0.0, "ks": 1.0, "alpha_x": 0.5, "alpha_y": 0.5}),

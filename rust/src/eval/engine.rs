@@ -16,7 +16,7 @@ use super::Plan;
 use super::rows::Rows;
 use crate::math::geometry::wide_cosine;
 use crate::math::{Real, Vector3};
-use crate::models::{Directions, Kernel, KernelVisitor, ParamSource};
+use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
 
 /// Rows per block (the scratch stays inside L1).
@@ -462,15 +462,21 @@ fn wide_cosine_rows<F: Real, K: Kernel>(
             r.map(F::to_f64)
         };
         let unit_n = [d.n.x(), d.n.y(), d.n.z()].map(F::to_f64);
-        let (wide_i, wide_o) = (wide_cosine(unit_n, raw(0)), wide_cosine(unit_n, raw(1)));
+        let (wi, wo) = (raw(0), raw(1));
+        let w = WideRow {
+            mu_i: wide_cosine(unit_n, wi),
+            mu_o: wide_cosine(unit_n, wo),
+            wi,
+            wo,
+        };
         let rgb = if vary {
             let params = BlockParams {
                 slots: &scratch.params,
                 j,
             };
-            K::eval_wide(&K::prepare(&params), &d, wide_i, wide_o)
+            K::eval_wide(&K::prepare(&params), &d, &w)
         } else {
-            K::eval_wide(uniform, &d, wide_i, wide_o)
+            K::eval_wide(uniform, &d, &w)
         };
         for (c, channel) in scratch.rgb.iter_mut().enumerate() {
             channel[j] = rgb[c];

@@ -290,13 +290,55 @@ impl WideCosine {
         libm::scalbn(x / self.m, -self.k)
     }
 
+    /// Returns `self/|w|` for a finite nonzero `w` (one rounding).
+    pub fn over_length(self, w: [f64; 3]) -> WideCosine {
+        let (lm, le) = libm::frexp(f64::length(DVec3::from_array(w)));
+        WideCosine::of(self.m / lm, self.k - le)
+    }
+
     /// `m·2^k` for a nonzero finite `x` (subnormal included), 0 for 0.
-    fn of(x: f64, k: i32) -> WideCosine {
+    pub fn of(x: f64, k: i32) -> WideCosine {
         let (m, e) = libm::frexp(x);
         if m == 0.0 {
             WideCosine { m: 0.0, k: 0 }
         } else {
             WideCosine { m, k: e + k }
+        }
+    }
+}
+
+/// The sum, rescaled to the larger of the two (one rounding).
+impl std::ops::Add for WideCosine {
+    type Output = WideCosine;
+    fn add(self, other: WideCosine) -> WideCosine {
+        if other.m == 0.0 {
+            return self;
+        }
+        if self.m == 0.0 {
+            return other;
+        }
+        let top = self.k.max(other.k);
+        WideCosine::of(
+            libm::scalbn(self.m, self.k - top) + libm::scalbn(other.m, other.k - top),
+            top,
+        )
+    }
+}
+
+/// The product (one rounding).
+impl std::ops::Mul for WideCosine {
+    type Output = WideCosine;
+    fn mul(self, other: WideCosine) -> WideCosine {
+        WideCosine::of(self.m * other.m, self.k + other.k)
+    }
+}
+
+impl std::ops::Neg for WideCosine {
+    type Output = WideCosine;
+    fn neg(self) -> WideCosine {
+        WideCosine {
+            m: -self.m,
+            k: self.k,
         }
     }
 }
@@ -313,25 +355,21 @@ impl WideCosine {
 /// `(1e300, −1e300, 1e-300)` under `n = (½, ½, √½)`, keeps the small term whole. The sum
 /// is then divided by `|w|` the same way. `n` is taken as given (normalized).
 pub fn wide_cosine(n: [f64; 3], w: [f64; 3]) -> WideCosine {
+    wide_dot(n, w).over_length(w)
+}
+
+/// Returns `a·b` as `m·2^k`: each product split into mantissa and exponent (one
+/// rounding), added largest first (`WideCosine`'s `+`).
+pub fn wide_dot(a: [f64; 3], b: [f64; 3]) -> WideCosine {
     let mut parts = [0, 1, 2].map(|c| {
-        let (nm, ne) = libm::frexp(n[c]);
-        let (wm, we) = libm::frexp(w[c]);
-        WideCosine::of(nm * wm, ne + we)
+        let (am, ae) = libm::frexp(a[c]);
+        let (bm, be) = libm::frexp(b[c]);
+        WideCosine::of(am * bm, ae + be)
     });
     parts.sort_by_key(|p| std::cmp::Reverse(if p.m == 0.0 { i32::MIN } else { p.k }));
-    let sum = parts.iter().fold(WideCosine { m: 0.0, k: 0 }, |acc, p| {
-        if p.m == 0.0 {
-            return acc;
-        }
-        if acc.m == 0.0 {
-            return *p;
-        }
-        let top = acc.k.max(p.k);
-        let s = libm::scalbn(acc.m, acc.k - top) + libm::scalbn(p.m, p.k - top);
-        WideCosine::of(s, top)
-    });
-    let (lm, le) = libm::frexp(f64::length(DVec3::from_array(w)));
-    WideCosine::of(sum.m / lm, sum.k - le)
+    parts
+        .iter()
+        .fold(WideCosine { m: 0.0, k: 0 }, |acc, p| acc + *p)
 }
 
 /// Returns `a·x + b` per channel.

@@ -54,6 +54,16 @@ pub struct Directions<F: Real> {
     pub t: F::V3,
 }
 
+/// What [`Kernel::eval_wide`] gets beyond the normalized directions: the cosines with
+/// extended exponents and the input vectors as given (`f64`).
+#[derive(Clone, Copy, Debug)]
+pub struct WideRow {
+    pub mu_i: WideCosine,
+    pub mu_o: WideCosine,
+    pub wi: [f64; 3],
+    pub wo: [f64; 3],
+}
+
 /// Where a kernel reads its raw parameter values: the spec's slots, one float each
 /// (a colour takes three consecutive slots).
 pub trait ParamSource<F: Real> {
@@ -102,12 +112,7 @@ pub trait Kernel: 'static {
     /// [`Kernel::WIDE_COSINES`]; `d`
     /// holds the normalized vectors as usual, and the wide cosines' signs decide the side
     /// of the surface.
-    fn eval_wide<F: Real>(
-        prepared: &Self::Prepared<F>,
-        d: &Directions<F>,
-        _mu_i: WideCosine,
-        _mu_o: WideCosine,
-    ) -> [F; 3] {
+    fn eval_wide<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>, _w: &WideRow) -> [F; 3] {
         Self::eval(prepared, d)
     }
 

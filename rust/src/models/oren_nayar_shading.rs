@@ -5,8 +5,8 @@
 //! The viewer may be below the surface; the light below gives 0.
 
 use super::spec::{self, Family, ModelSpec, TangentUse};
-use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{WideCosine, oren_nayar_ab};
+use super::{Directions, Kernel, ParamSource, WideRow};
+use crate::math::geometry::oren_nayar_ab;
 use crate::math::{Real, Vector3, clamp, max};
 
 /// The Oren-Nayar shading kernel.
@@ -67,12 +67,8 @@ impl Kernel for OrenNayarShading {
     const WIDE_COSINES: bool = true;
 
     /// The ratio and `cos_l` from the wide cosines, each rounded once.
-    fn eval_wide<F: Real>(
-        pp: &Prepared<F>,
-        d: &Directions<F>,
-        mu_i: WideCosine,
-        mu_o: WideCosine,
-    ) -> [F; 3] {
+    fn eval_wide<F: Real>(pp: &Prepared<F>, d: &Directions<F>, w: &WideRow) -> [F; 3] {
+        let (mu_i, mu_o) = (w.mu_i, w.mu_o);
         let (cos_l, g) = if mu_i.m > 0.0 {
             let cos_b = mu_i.max_positive(mu_o);
             let ratio = libm::scalbn(mu_i.m / cos_b.m, mu_i.k - cos_b.k);

@@ -7,8 +7,8 @@
 
 use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, Family, ModelSpec, TangentUse};
-use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{WideCosine, above_both, half_vector, tangent_frame, weighted};
+use super::{Directions, Kernel, ParamSource, WideRow};
+use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
 use crate::math::{Real, Vector3};
 
 /// The Ward kernel.
@@ -93,12 +93,8 @@ impl Kernel for Ward {
     /// `2^(n_e − h)` with one rounding. The side of the surface comes from the wide
     /// cosines' signs: normalization may round a cosine of the other sign, or an exact
     /// 0, to a tiny positive one.
-    fn eval_wide<F: Real>(
-        pp: &Prepared<F>,
-        d: &Directions<F>,
-        mu_i: WideCosine,
-        mu_o: WideCosine,
-    ) -> [F; 3] {
+    fn eval_wide<F: Real>(pp: &Prepared<F>, d: &Directions<F>, w: &WideRow) -> [F; 3] {
+        let (mu_i, mu_o) = (w.mu_i, w.mu_o);
         let k = mu_i.k + mu_o.k;
         let r = k.rem_euclid(2);
         let root = (mu_i.m * mu_o.m * f64::from(1 + r)).sqrt();
