@@ -295,7 +295,8 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
             lane.fill(plan.uniform[slot]);
         }
     }
-    // Rows whose cosine the kernel needs beyond `f64`'s range (see `wide_cosine_rows`).
+    // Rows whose cosine the kernel needs beyond `f64`'s range (see `wide_cosine_rows`);
+    // a compile-time constant (a run-time one here lost the loop's vectorization).
     let wide = K::WIDE_COSINES && F::EXTENDED_COSINES;
     let stream = plan.rows * 3 * std::mem::size_of::<F>() >= STREAM_BYTES;
     let mut staged = Staged([F::ZERO; 3 * BLOCK]);
@@ -360,7 +361,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
             };
             let ok = scratch.ok[j];
             bad_in_block |= !ok & (j < len);
-            if K::WIDE_COSINES && F::EXTENDED_COSINES {
+            if wide {
                 // The kernel's own dot products (the same expressions, merged by the
                 // compiler); a stale lane past `len` at most costs a look at the block.
                 any_tiny |= ok & (needs_wide::<F>(d.n, d.wi) | needs_wide::<F>(d.n, d.wo));

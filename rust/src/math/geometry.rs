@@ -284,10 +284,10 @@ impl WideCosine {
         if larger { self } else { other }
     }
 
-    /// Returns `x / self` rounded once (overflowing to ±inf, underflowing to 0) for a
-    /// nonzero `self` and finite `x`.
-    pub fn divide(self, x: f64) -> f64 {
-        libm::scalbn(x / self.m, -self.k)
+    /// Returns `self / other` as an `f64` (overflowing to ±inf, underflowing to 0) for a
+    /// nonzero `other`: the mantissas' quotient, then one scaling.
+    pub fn over(self, other: WideCosine) -> f64 {
+        libm::scalbn(self.m / other.m, self.k - other.k)
     }
 
     /// Returns `self/|w|` for a finite nonzero `w` (one rounding).
@@ -410,8 +410,8 @@ mod tests {
         assert_eq!(b.max_positive(a), b);
         assert_eq!(a.max_positive(wide_cosine(z, [1.0, 0.0, -1.0])), a);
         assert_eq!(wide_cosine(z, [1.0, 0.0, 0.0]).max_positive(a), a);
-        assert_eq!(b.divide(1e-301), 0.1);
-        assert_eq!(a.divide(1.0), f64::INFINITY);
+        assert_eq!(WideCosine::of(1e-301, 0).over(b), 0.1);
+        assert_eq!(WideCosine::of(1.0, 0).over(a), f64::INFINITY);
         // Components of very different exponents in both vectors.
         let n = DVec3::new(1e-200, 0.6, 0.8).normalize().to_array();
         let c = wide_cosine(n, [0.0, 1e300, -1e-300]);

@@ -10,7 +10,9 @@ use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::Real;
 use crate::math::Vector3;
-use crate::math::geometry::{above_both, oren_nayar_ab, oren_nayar_angular, weighted, wide_dot};
+use crate::math::geometry::{
+    WideCosine, above_both, oren_nayar_ab, oren_nayar_angular, weighted, wide_dot,
+};
 
 /// The Oren-Nayar BRDF kernel.
 pub struct OrenNayar;
@@ -76,7 +78,7 @@ impl Kernel for OrenNayar {
         let proj = wide_dot(w.wi, w.wo).over_length(w.wi).over_length(w.wo) + -(w.mu_i * w.mu_o);
         let rgb = [0, 1, 2].map(|c| {
             let g = if above && proj.m > 0.0 {
-                libm::scalbn(pp.kd_b[c].to_f64() * proj.m / max.m, proj.k - max.k)
+                WideCosine::of(pp.kd_b[c].to_f64() * proj.m, proj.k).over(max)
             } else {
                 0.0
             };

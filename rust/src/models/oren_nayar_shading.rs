@@ -71,7 +71,7 @@ impl Kernel for OrenNayarShading {
         let (mu_i, mu_o) = (w.mu_i, w.mu_o);
         let (cos_l, g) = if mu_i.m > 0.0 {
             let cos_b = mu_i.max_positive(mu_o);
-            let ratio = libm::scalbn(mu_i.m / cos_b.m, mu_i.k - cos_b.k);
+            let ratio = mu_i.over(cos_b);
             let proj = d.n.cross(d.wi).dot(d.n.cross(d.wo)).to_f64().max(0.0);
             (libm::scalbn(mu_i.m, mu_i.k).min(1.0), proj * ratio)
         } else {
