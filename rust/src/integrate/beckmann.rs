@@ -53,11 +53,14 @@ pub(super) struct VisibleLobe {
     f0: f64,
     /// `mu_i > 0`: family-A lobes are 0 at grazing incidence `mu_i = 0`.
     lit: bool,
+    /// The substitution `u = 1 − (1 − v)²` (QMC); else `u = u0`.
+    smooth: bool,
 }
 
 impl VisibleLobe {
     /// The lobe at `wi = (sqrt(1 − mu²), 0, mu)` for roughness `alpha` and grey `f0`.
-    pub(super) fn new(alpha: f64, f0: f64, wi: DVec3) -> Self {
+    /// `smooth`: the QMC substitution of the slope CDF (see the module doc).
+    pub(super) fn new(alpha: f64, f0: f64, wi: DVec3, smooth: bool) -> Self {
         let mu_i = wi.z;
         let lit = mu_i > 0.0;
         let l_i = mu_lambda(mu_i, wi.x * wi.x + wi.y * wi.y, alpha);
@@ -70,6 +73,7 @@ impl VisibleLobe {
             one_lambda_i: if lit { (mu_i + l_i) / mu_i } else { 1.0 },
             f0,
             lit,
+            smooth,
         }
     }
 }
@@ -83,15 +87,31 @@ impl ClosedFormLobe for VisibleLobe {
         self.f0
     }
 
+    fn smooth(&self) -> bool {
+        self.smooth
+    }
+
     /// The weights, with `h̃ = (−α·x, −α·y, 1)` the unnormalized half vector
     /// (`q = |h̃|²`): `M = 2(wi·h̃) − mu_i·q = q·mu_o` and `q²sin²θo = (q − M)(q + M)`, so
     /// `c_o = M/(α·sqrt((q − M)(q + M)))` without normalizing `h̃`; the Jacobian of
     /// `u = 1 − (1 − v)²` relative to uniform `u` is `2(1 − v)`.
     #[inline(always)]
-    fn fill<const FOLD: bool, const F_ONE: bool>(&self, u0: &[f64], u1: &[f64], w: &mut [f64]) {
+    fn fill<const FOLD: bool, const F_ONE: bool, const SMOOTH: bool>(
+        &self,
+        u0: &[f64],
+        u1: &[f64],
+        w: &mut [f64],
+    ) {
         let (wi, mu_i) = (self.wi, self.wi.z);
         let (alpha, one_lambda_i) = (self.alpha, self.one_lambda_i);
-        for ((w, &v), &a) in w.iter_mut().zip(u0).zip(u1) {
+        for ((w, &u), &a) in w.iter_mut().zip(u0).zip(u1) {
+            // Smooth: v = u0, Jacobian 2(1 − v). Else the CDF value is u0 itself:
+            // v = 1 − sqrt(1 − u0) = u0/(1 + sqrt(1 − u0)), Jacobian 1.
+            let (v, jacobian) = if SMOOTH {
+                (u, 2.0 * (1.0 - u))
+            } else {
+                (u / (1.0 + (1.0 - u).sqrt()), 1.0)
+            };
             let x = self.normals.slope_along_v_tabulated(&self.table, v);
             let y = BeckmannVisibleNormals::slope_across(a, !FOLD);
             let h = self.normals.scaled_half_vector(x, y);
@@ -114,7 +134,7 @@ impl ClosedFormLobe for VisibleLobe {
                 let x2 = x * x;
                 self.f0 + (1.0 - self.f0) * (x2 * x2 * x)
             };
-            let x = 2.0 * (1.0 - v) * fresnel * g;
+            let x = jacobian * fresnel * g;
             *w = if m > 0.0 { x } else { 0.0 };
         }
     }
@@ -127,7 +147,8 @@ mod tests {
     use crate::sampling::{Warp, reflect, reflected_pdf};
 
     /// The closed form equals the generic `f·mu_o/pdf` of the same half vector (the
-    /// warp's own sample at `u = 1 − (1 − v)²`), times the Jacobian `2(1 − v)`.
+    /// warp's own sample at `u = 1 − (1 − v)²`), times the Jacobian `2(1 − v)`; without
+    /// the substitution, the warp's sample at `u = v` and no Jacobian.
     #[test]
     fn closed_form_weight_is_f_mu_over_pdf() {
         let cases: [(f64, f64); 6] = [
@@ -139,10 +160,10 @@ mod tests {
             (1.5, 0.01),
         ];
         for (alpha, mu) in cases {
-            for f0 in [1.0, 0.0] {
+            for (f0, smooth) in [(1.0, true), (0.0, true), (1.0, false), (0.0, false)] {
                 let sin = ((1.0 - mu) * (1.0 + mu)).sqrt();
                 let wi = DVec3::new(sin, 0.0, mu);
-                let lobe = VisibleLobe::new(alpha, f0, wi);
+                let lobe = VisibleLobe::new(alpha, f0, wi, smooth);
                 let slots = [0.0, 0.0, 0.0, f0, f0, f0, alpha];
                 let prepared = Beckmann::prepare::<f64, [f64]>(&slots[..]);
                 let warp = Warp::BeckmannVisible { alpha };
@@ -151,7 +172,13 @@ mod tests {
                     let a = (i * 29 % 256) as f64 / 256.0 + 0.001;
                     let mut w = [0.0];
                     lobe.weights(true, &[v], &[a], &mut w);
-                    let sample = warp.sample_folded(wi, [v * (2.0 - v), a]);
+                    // Smooth: the warp's u = 1 − (1 − v)², Jacobian 2(1 − v); else u = v.
+                    let (u, jacobian) = if smooth {
+                        (v * (2.0 - v), 2.0 * (1.0 - v))
+                    } else {
+                        (v, 1.0)
+                    };
+                    let sample = warp.sample_folded(wi, [u, a]);
                     let wo = reflect(wi, sample.dir);
                     let pdf = reflected_pdf(sample.pdf, wo.dot(sample.dir));
                     let d = Directions::<f64> {
@@ -162,13 +189,13 @@ mod tests {
                     };
                     let f = Beckmann::eval::<f64>(&prepared, &d)[0];
                     let want = if wo.z > 0.0 && pdf > 0.0 {
-                        2.0 * (1.0 - v) * f * wo.z / pdf
+                        jacobian * f * wo.z / pdf
                     } else {
                         0.0
                     };
                     assert!(
                         (w[0] - want).abs() <= 1e-11 * want.abs().max(1e-3),
-                        "alpha={alpha} mu={mu} f0={f0} v={v} a={a}: {} vs {want}",
+                        "alpha={alpha} mu={mu} f0={f0} smooth={smooth} v={v} a={a}: {} vs {want}",
                         w[0]
                     );
                 }

@@ -37,11 +37,14 @@ pub(super) struct VisibleLobe {
     f0: f64,
     /// `mu_i > 0`: family-A lobes are 0 at grazing incidence `mu_i = 0`.
     lit: bool,
+    /// The radius substitution `r² = 1 − s²` (QMC); else Heitz's `r² = u0`.
+    smooth: bool,
 }
 
 impl VisibleLobe {
     /// The lobe at `wi = (sqrt(1 − mu²), 0, mu)` for roughness `alpha` and grey `f0`.
-    pub(super) fn new(alpha: f64, f0: f64, wi: DVec3) -> Self {
+    /// `smooth`: the QMC radius substitution (see the module doc).
+    pub(super) fn new(alpha: f64, f0: f64, wi: DVec3, smooth: bool) -> Self {
         let mu_i = wi.z;
         let alpha2 = alpha * alpha;
         let l_i = ggx_mu_lambda(mu_i, wi.x * wi.x + wi.y * wi.y, alpha2);
@@ -52,6 +55,7 @@ impl VisibleLobe {
             mu_l_i: mu_i + l_i,
             f0,
             lit: mu_i > 0.0,
+            smooth,
         }
     }
 }
@@ -65,6 +69,10 @@ impl ClosedFormLobe for VisibleLobe {
         self.f0
     }
 
+    fn smooth(&self) -> bool {
+        self.smooth
+    }
+
     /// The weights, with `h̃` the unnormalized half vector (`q = |h̃|²`): with
     /// `M = 2(wi·h̃)h̃.z − mu_i·q = q·mu_o` and `R = sqrt(M² + α²(q² − M²)) = q·r_o`,
     ///
@@ -73,13 +81,23 @@ impl ClosedFormLobe for VisibleLobe {
     /// (the factors of `q` cancel): one square root and one division per point, no
     /// normalization.
     #[inline(always)]
-    fn fill<const FOLD: bool, const F_ONE: bool>(&self, u0: &[f64], u1: &[f64], w: &mut [f64]) {
+    fn fill<const FOLD: bool, const F_ONE: bool, const SMOOTH: bool>(
+        &self,
+        u0: &[f64],
+        u1: &[f64],
+        w: &mut [f64],
+    ) {
         let (wi, mu_i) = (self.wi, self.wi.z);
         let (alpha2, mu_l_i) = (self.alpha2, self.mu_l_i);
         for ((w, &u), &a) in w.iter_mut().zip(u0).zip(u1) {
-            // s = 1 − u0 in (0, 1]; r² = 1 − s² = u0·(1 + s), accurate for small u0.
-            let s = 1.0 - u;
-            let r = (u * (1.0 + s)).sqrt();
+            // Smooth: s = 1 − u0 in (0, 1]; r² = 1 − s² = u0·(1 + s), accurate for small
+            // u0, and the Jacobian 2s. Else r² = u0.
+            let (r, jacobian) = if SMOOTH {
+                let s = 1.0 - u;
+                ((u * (1.0 + s)).sqrt(), 2.0 * s)
+            } else {
+                (u.sqrt(), 1.0)
+            };
             let h = self.normals.scaled_half_vector(r, a, !FOLD);
             let q = h.length_squared();
             let c = wi.dot(h);
@@ -95,7 +113,7 @@ impl ClosedFormLobe for VisibleLobe {
                 let x2 = x * x;
                 self.f0 + (1.0 - self.f0) * (x2 * x2 * x)
             };
-            let x = 2.0 * s * fresnel * g;
+            let x = jacobian * fresnel * g;
             *w = if m > 0.0 { x } else { 0.0 };
         }
     }
@@ -108,7 +126,8 @@ mod tests {
     use crate::sampling::{Warp, reflect, reflected_pdf};
 
     /// The closed form equals the generic `f·mu_o/pdf` of the same half vector (drawn
-    /// with r² = u0, the warp's own radius), times the Jacobian 2s of the substitution.
+    /// with r² = u0, the warp's own radius), times the Jacobian 2s of the substitution;
+    /// without it, the warp's own sample and no Jacobian.
     #[test]
     fn closed_form_weight_is_f_mu_over_pdf() {
         let cases: [(f64, f64); 5] = [
@@ -119,10 +138,10 @@ mod tests {
             (0.8, 0.999),
         ];
         for (alpha, mu) in cases {
-            for f0 in [1.0, 0.0] {
+            for (f0, smooth) in [(1.0, true), (0.0, true), (1.0, false), (0.0, false)] {
                 let sin = ((1.0 - mu) * (1.0 + mu)).sqrt();
                 let wi = DVec3::new(sin, 0.0, mu);
-                let lobe = VisibleLobe::new(alpha, f0, wi);
+                let lobe = VisibleLobe::new(alpha, f0, wi, smooth);
                 let slots = [0.0, 0.0, 0.0, f0, f0, f0, alpha];
                 let prepared = Ggx::prepare::<f64, [f64]>(&slots[..]);
                 let warp = Warp::GgxVisible { alpha };
@@ -132,8 +151,14 @@ mod tests {
                     let u = 1.0 - s;
                     let mut w = [0.0];
                     lobe.weights(true, &[u], &[a], &mut w);
-                    // The same half vector from the generic warp: radius² = u(1 + s).
-                    let sample = warp.sample_folded(wi, [u * (1.0 + s), a]);
+                    // The same half vector from the generic warp: radius² = u(1 + s) with
+                    // the Jacobian 2s (smooth), else radius² = u.
+                    let (r2, jacobian) = if smooth {
+                        (u * (1.0 + s), 2.0 * s)
+                    } else {
+                        (u, 1.0)
+                    };
+                    let sample = warp.sample_folded(wi, [r2, a]);
                     let wo = reflect(wi, sample.dir);
                     let pdf = reflected_pdf(sample.pdf, wo.dot(sample.dir));
                     let d = Directions::<f64> {
@@ -144,13 +169,13 @@ mod tests {
                     };
                     let f = Ggx::eval::<f64>(&prepared, &d)[0];
                     let want = if wo.z > 0.0 && pdf > 0.0 {
-                        2.0 * s * f * wo.z / pdf
+                        jacobian * f * wo.z / pdf
                     } else {
                         0.0
                     };
                     assert!(
                         (w[0] - want).abs() <= 1e-12 * want.abs().max(1e-3),
-                        "alpha={alpha} mu={mu} f0={f0} s={s} a={a}: {} vs {want}",
+                        "alpha={alpha} mu={mu} f0={f0} smooth={smooth} s={s} a={a}: {} vs {want}",
                         w[0]
                     );
                 }

@@ -95,8 +95,18 @@ pub(super) trait ClosedFormLobe {
     fn lit(&self) -> bool;
     /// The grey F0 (1 gives F = 1).
     fn f0(&self) -> f64;
-    /// The weights of one (fold, Fresnel) case, a loop with a straight-line body.
-    fn fill<const FOLD: bool, const F_ONE: bool>(&self, u0: &[f64], u1: &[f64], w: &mut [f64]);
+    /// Whether `u0` is first substituted to smooth the rim singularity for QMC (with the
+    /// Jacobian in the weight); plain Monte Carlo takes `u0` as the sampler's own number,
+    /// because the Jacobian's spread would add variance that only QMC's smoothness repays.
+    fn smooth(&self) -> bool;
+    /// The weights of one (fold, Fresnel, substitution) case, a loop with a straight-line
+    /// body.
+    fn fill<const FOLD: bool, const F_ONE: bool, const SMOOTH: bool>(
+        &self,
+        u0: &[f64],
+        u1: &[f64],
+        w: &mut [f64],
+    );
 
     /// Writes the weight of every point `(u0[j], u1[j])` into `w`; `fold`: azimuths on
     /// the half `h.y >= 0` (the integrand is even in `h.y`).
@@ -106,11 +116,15 @@ pub(super) trait ClosedFormLobe {
             w.fill(0.0);
             return;
         }
-        match (fold, self.f0() == 1.0) {
-            (true, true) => self.fill::<true, true>(u0, u1, w),
-            (true, false) => self.fill::<true, false>(u0, u1, w),
-            (false, true) => self.fill::<false, true>(u0, u1, w),
-            (false, false) => self.fill::<false, false>(u0, u1, w),
+        match (fold, self.f0() == 1.0, self.smooth()) {
+            (true, true, true) => self.fill::<true, true, true>(u0, u1, w),
+            (true, false, true) => self.fill::<true, false, true>(u0, u1, w),
+            (false, true, true) => self.fill::<false, true, true>(u0, u1, w),
+            (false, false, true) => self.fill::<false, false, true>(u0, u1, w),
+            (true, true, false) => self.fill::<true, true, false>(u0, u1, w),
+            (true, false, false) => self.fill::<true, false, false>(u0, u1, w),
+            (false, true, false) => self.fill::<false, true, false>(u0, u1, w),
+            (false, false, false) => self.fill::<false, false, false>(u0, u1, w),
         }
     }
 }
