@@ -320,9 +320,9 @@ def test_cli_outputs_in_the_way(tmp_path):
     (tmp_path / "adir.npy").mkdir()
     env = {**os.environ, "BRDF_RS_NUM_THREADS": "2"}
     scene = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "gallery.toml"
-    for args, flag, name in (
-        (["table", "normalized_phong", "--axis", "mu=0.5,1", "-o", "adir.npz"], "-o", "adir.npz"),
-        (["render", str(scene), "--resolution", "8x4", "--npy", "adir.npy"], "--npy", "adir.npy"),
+    for args, name in (
+        (["table", "normalized_phong", "--axis", "mu=0.5,1", "-o", "adir.npz"], "adir.npz"),
+        (["render", str(scene), "--resolution", "8x4", "--npy", "adir.npy"], "adir.npy"),
     ):
         result = subprocess.run(
             [sys.executable, "-m", "brdf_rs", *args],
@@ -332,10 +332,10 @@ def test_cli_outputs_in_the_way(tmp_path):
             env=env,
             check=False,
         )
-        assert result.returncode == 2, result.stderr
-        assert result.stderr.strip() == (
-            f"brdf-rs {args[0]}: {flag} {name}: is a directory; give a file name"
-        )
+        # Refused before the work, with the error writing would give (exit 1: a file that
+        # cannot be written).
+        assert result.returncode == 1, result.stderr
+        assert result.stderr.strip() == f"brdf-rs {args[0]}: [Errno 21] Is a directory: '{name}'"
         assert listing(tmp_path) == ["adir.npy", "adir.npz"]
 
 
@@ -656,3 +656,16 @@ def test_save_refuses_a_table_load_would_refuse(tmp_path):
     with pytest.raises(ValueError, match=r"axis_names'\] is \['p', 'mu'\] but the axes are"):
         table.save(tmp_path / "t.npz")
     assert listing(tmp_path) == []
+
+
+def test_numpy_scalars_in_meta_are_written_as_numbers(tmp_path):
+    # Options given as NumPy scalars (samples=np.int64(64)) end up in meta.
+    table = brdf_rs.albedo_table(
+        "normalized_phong", {"mu": [0.5, 1.0]}, samples=np.int64(64), seed=np.uint8(1)
+    )
+    back = brdf_rs.Table.load(table.save(tmp_path / "t.npz"))
+    assert back.meta["samples"] == 64 and back.meta["seed"] == 1
+    np.testing.assert_array_equal(back.value, table.value)
+    table.meta["note"] = object()
+    with pytest.raises(ValueError, match=r"^table: meta cannot be written as JSON: object"):
+        table.save(tmp_path / "u.npz")

@@ -250,7 +250,8 @@ class Table:
         suffix = path.suffix.lower()
         if suffix not in (".npz", ".exr", ".png"):
             raise ValueError(f"path: unknown table format {suffix!r}; use .npz, .exr or .png")
-        names = self.meta.get("axis_names") if isinstance(self.meta, dict) else None
+        meta = json.loads(_meta_json(self.meta))  # what the file will hold
+        names = meta.get("axis_names") if isinstance(meta, dict) else None
         if isinstance(names, list) and names != list(self.axes):
             raise ValueError(
                 f"table: meta['axis_names'] is {names} but the axes are {list(self.axes)}"
@@ -262,14 +263,14 @@ class Table:
                 "samples": np.asarray(self.samples),
                 **{f"axis_{k}": np.asarray(v) for k, v in self.axes.items()},
             },
-            self.meta,
+            meta,
         )
         if problem is not None:
             raise ValueError(f"table: {problem}")
         if suffix == ".npz":
-            _save_npz(self, path)
+            _save_npz(self, path, meta)
         elif suffix == ".exr":
-            _save_exr(self, path)
+            _save_exr(self, path, meta)
         else:
             _save_png(self, path)
         return path
@@ -431,23 +432,37 @@ def _first_bad(a: np.ndarray, ok: np.ndarray) -> list[int] | None:
     return [int(i) for i in np.unravel_index(int(np.argmin(ok)), a.shape)]
 
 
+def _meta_json(meta: Any) -> str:
+    """``meta`` as JSON text, NumPy scalars and arrays as numbers and lists."""
+
+    def default(x: Any) -> Any:
+        if isinstance(x, (np.generic, np.ndarray)):
+            return x.tolist()
+        raise TypeError(f"{type(x).__name__} {x!r} is not a JSON value")
+
+    try:
+        return json.dumps(meta, default=default)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"table: meta cannot be written as JSON: {exc}") from None
+
+
 def _flat_meta(meta: Mapping[str, Any]) -> dict[str, str]:
     return {k: v if isinstance(v, str) else json.dumps(v) for k, v in meta.items()}
 
 
-def _save_npz(table: Table, path: Path) -> None:
+def _save_npz(table: Table, path: Path, meta: dict[str, Any]) -> None:
     arrays: dict[str, Any] = {f"axis_{k}": np.asarray(v) for k, v in table.axes.items()}
     _atomic.save_npz(
         path,
         value=table.value,
         stderr=table.stderr,
         samples=table.samples,
-        meta=np.array(json.dumps(table.meta)),
+        meta=np.array(json.dumps(meta)),
         **arrays,
     )
 
 
-def _save_exr(table: Table, path: Path) -> None:
+def _save_exr(table: Table, path: Path, meta: dict[str, Any]) -> None:
     try:
         import OpenEXR
     except ImportError:
@@ -461,7 +476,7 @@ def _save_exr(table: Table, path: Path) -> None:
         raise ValueError(f"table: .exr holds 1-D or 2-D tables; this one has {value.ndim - 1} axes")
     stderr = table.stderr.astype(np.float32).reshape(value.shape)
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    header.update({f"brdf_rs_{k}": v for k, v in _flat_meta(table.meta).items()})
+    header.update({f"brdf_rs_{k}": v for k, v in _flat_meta(meta).items()})
     channels = {"RGB": np.ascontiguousarray(value), "stderr.RGB": np.ascontiguousarray(stderr)}
     with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, channels) as f:
         f.write(str(tmp))

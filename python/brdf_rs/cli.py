@@ -11,6 +11,7 @@ parameter out of range), 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import os
 import sys
@@ -368,13 +369,14 @@ def _output_path(text: str, formats: Sequence[str], what: str = "-o") -> Path:
 
 
 def _check_location(text: str, what: str) -> None:
-    """An output's folder exists and the name is not taken by a directory."""
+    """An output's folder exists (else a usage error) and the name is not taken by a
+    directory (else the ``IsADirectoryError`` the write would raise, before the work)."""
     path = Path(text)
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         raise UsageError(f"{what} {text}: directory {parent} does not exist")
-    if path.is_dir():
-        raise UsageError(f"{what} {text}: is a directory; give a file name")
+    if path.is_dir():  # the error writing would give (exit 1), before the work
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), text)
 
 
 def _plot_path(text: str | None) -> Path | None:
