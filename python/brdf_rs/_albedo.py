@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _arrays, _normalization
+from . import _arrays, _atomic, _normalization
 from . import _brdf_rs as _core
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (xarray is optional)
@@ -28,6 +28,7 @@ __all__ = [
     "Energy",
     "EnergyCompensation",
     "Table",
+    "TableFileError",
     "albedo",
     "albedo_table",
     "dfg_table",
@@ -233,27 +234,103 @@ class Table:
 
     def save(self, path: str | Path) -> Path:
         """Writes ``.npz`` (everything), ``.exr`` (float32 value and stderr, needs the
-        ``exr`` extra) or ``.png`` (a 16-bit preview of a 2-D table)."""
+        ``exr`` extra) or ``.png`` (a 16-bit preview of a 2-D table).
+
+        The file is replaced in one step: ``path`` holds either its old content or the
+        whole table, never part of it, even when the write fails or is interrupted or
+        several processes save to the same path at once (the last one wins). Only
+        ``.npz`` can be read back (:meth:`load`).
+
+        Raises:
+            ValueError: an unknown suffix, or a table whose arrays, axes and ``meta``
+                disagree (the checks :meth:`load` makes: such a file could not be read).
+            OSError: ``path`` cannot be written; the message names ``path``.
+        """
         path = Path(path)
         suffix = path.suffix.lower()
-        if suffix == ".npz":
-            _save_npz(self, path)
-        elif suffix == ".exr":
-            _save_exr(self, path)
-        elif suffix == ".png":
-            _save_png(self, path)
-        else:
+        if suffix not in (".npz", ".exr", ".png"):
             raise ValueError(f"path: unknown table format {suffix!r}; use .npz, .exr or .png")
+        meta = json.loads(_meta_json(self.meta))  # what the file will hold
+        names = meta.get("axis_names") if isinstance(meta, dict) else None
+        if isinstance(names, list) and names != list(self.axes):
+            raise ValueError(
+                f"table: meta['axis_names'] is {names} but the axes are {list(self.axes)}"
+            )
+        problem = _table_problem(
+            {
+                "value": np.asarray(self.value),
+                "stderr": np.asarray(self.stderr),
+                "samples": np.asarray(self.samples),
+                **{f"axis_{k}": np.asarray(v) for k, v in self.axes.items()},
+            },
+            meta,
+        )
+        if problem is not None:
+            raise ValueError(f"table: {problem}")
+        if suffix == ".npz":
+            _save_npz(self, path, meta)
+        elif suffix == ".exr":
+            _save_exr(self, path, meta)
+        else:
+            _save_png(self, path)
         return path
 
     @classmethod
     def load(cls, path: str | Path) -> Table:
-        """Reads a table written by :meth:`save` as ``.npz``."""
-        with np.load(Path(path), allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            names = meta["axis_names"]
-            axes = {name: data[f"axis_{name}"] for name in names}
-            return cls(data["value"], data["stderr"], data["samples"], axes, meta)
+        """Reads a table written by :meth:`save` as ``.npz``.
+
+        Nothing in the file is trusted: it must be an ``.npz`` archive (no pickled data
+        is ever read) holding ``value`` and ``stderr`` (floats, shape ``axes lengths +
+        (3,)``, finite, ``stderr`` ≥ 0), ``samples`` (non-negative integers, shape ``axes
+        lengths``), one ``axis_<name>`` per axis (finite real numbers, 1-D, non-empty)
+        and ``meta`` (a JSON object with ``model``, a string, and ``axis_names``, a list
+        of distinct strings, one per axis, plus the library's other keys with their
+        types: strings, numbers, ``fixed`` an object).
+
+        Raises:
+            TableFileError: (a ``ValueError``) the file is not a table: not an ``.npz``
+                archive (``.exr`` and ``.png`` are previews and cannot be read back),
+                damaged or cut short, or with contents missing, of the wrong type or
+                inconsistent (an array whose shape does not match the axes). The message
+                names the file and what is wrong.
+            OSError: the file cannot be opened (missing, a directory, no permission).
+        """
+        path = Path(path)
+        with open(path, "rb") as f:
+            head = f.read(4)
+            if not head:
+                raise TableFileError(f"{path}: not a table: an empty file")
+            if head not in (b"PK\x03\x04", b"PK\x05\x06"):
+                raise TableFileError(
+                    f"{path}: not a table: not an .npz archive (tables are read back from the"
+                    " .npz that Table.save writes; .exr and .png are not read back)"
+                )
+            f.seek(0)
+            try:
+                with np.load(f, allow_pickle=False) as data:
+                    arrays = {name: data[name] for name in data.files}
+            except Exception as exc:  # any damage: a bad CRC, a cut-off member, a bad header
+                raise TableFileError(
+                    f"{path}: damaged or truncated .npz archive ({type(exc).__name__}: {exc})"
+                ) from exc
+        meta: Any = None
+        problem = None
+        raw = arrays.get("meta")
+        if raw is None:
+            problem = "no 'meta' array"
+        elif raw.ndim != 0 or raw.dtype.kind != "U":
+            problem = f"'meta' must be a JSON string; got a {raw.dtype} array of shape {raw.shape}"
+        else:
+            try:
+                meta = json.loads(str(raw))
+            except ValueError as exc:
+                problem = f"'meta' is not valid JSON ({exc})"
+        if problem is None:
+            problem = _table_problem(arrays, meta)
+        if problem is not None:
+            raise TableFileError(f"{path}: not a valid table: {problem}")
+        axes = {name: arrays[f"axis_{name}"] for name in meta["axis_names"]}
+        return cls(arrays["value"], arrays["stderr"], arrays["samples"], axes, meta)
 
     def to_xarray(self) -> xarray.DataArray:
         """Returns ``value`` as an ``xarray.DataArray`` with named coordinates (needs xarray)."""
@@ -268,31 +345,124 @@ class Table:
         return f"Table({self.meta.get('model')!r}, axes={axes})"
 
 
+class TableFileError(ValueError):
+    """A file that :meth:`Table.load` cannot read as a table: not an ``.npz`` archive,
+    damaged or cut short, or with missing, mistyped or inconsistent contents. The
+    message names the file and what is wrong with it."""
+
+
+#: Types of the ``meta`` keys the library writes (other keys are free): the first two
+#: are required.
+_META_TYPES: dict[str, tuple[str, tuple[type, ...]]] = {
+    "model": ("a string", (str,)),
+    "axis_names": ("a list of strings", (list,)),
+    "quantity": ("a string", (str,)),
+    "brdf_rs": ("a string", (str,)),
+    "sampler": ("a string", (str,)),
+    "sequence": ("a string", (str,)),
+    "samples": ("a number", (int, float)),
+    "seed": ("a number", (int, float)),
+    "replicates": ("a number", (int, float)),
+    "tol": ("a number or null", (int, float, type(None))),
+    "max_samples": ("a number or null", (int, float, type(None))),
+    "fixed": ("an object", (dict,)),
+    "cache_key": ("an object", (dict,)),
+}
+
+
+def _table_problem(arrays: Mapping[str, np.ndarray], meta: Any) -> str | None:
+    """What is wrong with a table's arrays (``value``, ``stderr``, ``samples``,
+    ``axis_<name>``) and ``meta``, or None: the checks of :meth:`Table.load`."""
+    if not isinstance(meta, dict):
+        return f"'meta' must be a JSON object; got {type(meta).__name__}"
+    for key in ("model", "axis_names"):
+        if key not in meta:
+            return f"meta has no {key!r}"
+    for key, (what, types) in _META_TYPES.items():
+        v = meta.get(key)
+        if key in meta and (isinstance(v, bool) or not isinstance(v, types)):
+            return f"meta[{key!r}] must be {what}; got {v!r}"
+    names = meta["axis_names"]
+    if not names or not all(isinstance(n, str) for n in names) or len(set(names)) != len(names):
+        return f"meta['axis_names'] must be a non-empty list of distinct strings; got {names!r}"
+    for key in ("value", "stderr", "samples", *(f"axis_{n}" for n in names)):
+        if key not in arrays:
+            return f"no {key!r} array"
+    lengths = []
+    for name in names:
+        a = arrays[f"axis_{name}"]
+        if a.dtype.kind not in "fiu" or a.ndim != 1 or a.size == 0:
+            return (
+                f"axis_{name}: expected a non-empty 1-D array of real numbers; got a"
+                f" {a.dtype} array of shape {a.shape}"
+            )
+        bad = _first_bad(a, np.isfinite(a))
+        if bad is not None:
+            return f"axis_{name}{bad} is {a[tuple(bad)]}: coordinates must be finite"
+        lengths.append(a.size)
+    expected = (*lengths, 3)
+    axes = " x ".join(f"{n}[{k}]" for n, k in zip(names, lengths, strict=True))
+    for key, shape, kinds in (
+        ("value", expected, "f"),
+        ("stderr", expected, "f"),
+        ("samples", expected[:-1], "iu"),
+    ):
+        a = arrays[key]
+        kind = "floats" if kinds == "f" else "integers"
+        if a.dtype.kind not in kinds:
+            return f"{key}: expected {kind}; got dtype {a.dtype}"
+        if a.shape != shape:
+            return f"{key}: shape {a.shape} does not match the axes {axes} (expected {shape})"
+    for key, ok, what in (
+        ("value", np.isfinite(arrays["value"]), "finite"),
+        ("stderr", arrays["stderr"] >= 0, "non-negative and finite"),
+        ("stderr", np.isfinite(arrays["stderr"]), "non-negative and finite"),
+        ("samples", arrays["samples"] >= 0, "non-negative"),
+    ):
+        bad = _first_bad(arrays[key], ok)
+        if bad is not None:
+            return f"{key}{bad} is {arrays[key][tuple(bad)]}: must be {what}"
+    return None
+
+
+def _first_bad(a: np.ndarray, ok: np.ndarray) -> list[int] | None:
+    """The index of the first false entry of ``ok`` (shaped like ``a``), or None."""
+    if ok.all():
+        return None
+    return [int(i) for i in np.unravel_index(int(np.argmin(ok)), a.shape)]
+
+
+def _meta_json(meta: Any) -> str:
+    """``meta`` as JSON text, NumPy scalars and arrays as numbers and lists."""
+
+    def default(x: Any) -> Any:
+        if isinstance(x, (np.generic, np.ndarray)):
+            return x.tolist()
+        raise TypeError(f"{type(x).__name__} {x!r} is not a JSON value")
+
+    try:
+        return json.dumps(meta, default=default)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"table: meta cannot be written as JSON: {exc}") from None
+
+
 def _flat_meta(meta: Mapping[str, Any]) -> dict[str, str]:
     return {k: v if isinstance(v, str) else json.dumps(v) for k, v in meta.items()}
 
 
-def save_npz_atomically(path: Path, **arrays: Any) -> None:
-    """Writes a compressed ``.npz`` next to ``path`` and renames it into place, so a
-    half-written file never stands under the real name (an interrupted build, a full disk)."""
-    tmp = path.with_name(path.name + ".partial.npz")
-    np.savez_compressed(tmp, **arrays)
-    tmp.replace(path)
-
-
-def _save_npz(table: Table, path: Path) -> None:
+def _save_npz(table: Table, path: Path, meta: dict[str, Any]) -> None:
     arrays: dict[str, Any] = {f"axis_{k}": np.asarray(v) for k, v in table.axes.items()}
-    save_npz_atomically(
+    _atomic.save_npz(
         path,
         value=table.value,
         stderr=table.stderr,
         samples=table.samples,
-        meta=np.array(json.dumps(table.meta)),
+        meta=np.array(json.dumps(meta)),
         **arrays,
     )
 
 
-def _save_exr(table: Table, path: Path) -> None:
+def _save_exr(table: Table, path: Path, meta: dict[str, Any]) -> None:
     try:
         import OpenEXR
     except ImportError:
@@ -306,12 +476,10 @@ def _save_exr(table: Table, path: Path) -> None:
         raise ValueError(f"table: .exr holds 1-D or 2-D tables; this one has {value.ndim - 1} axes")
     stderr = table.stderr.astype(np.float32).reshape(value.shape)
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    header.update({f"brdf_rs_{k}": v for k, v in _flat_meta(table.meta).items()})
+    header.update({f"brdf_rs_{k}": v for k, v in _flat_meta(meta).items()})
     channels = {"RGB": np.ascontiguousarray(value), "stderr.RGB": np.ascontiguousarray(stderr)}
-    tmp = path.with_name(path.name + ".partial.exr")
-    with OpenEXR.File(header, channels) as f:
+    with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, channels) as f:
         f.write(str(tmp))
-    tmp.replace(path)
 
 
 def _save_png(table: Table, path: Path) -> None:
@@ -328,12 +496,9 @@ def _save_png(table: Table, path: Path) -> None:
     scaled = np.clip(value / top, 0.0, 1.0)
     pixels = np.round(scaled * 65535).astype(np.uint16)
     rows = pixels.reshape(pixels.shape[0], -1)
-    tmp = path.with_name(path.name + ".partial.png")
-    with open(tmp, "wb") as f:
-        png.Writer(width=value.shape[1], height=value.shape[0], greyscale=False, bitdepth=16).write(
-            f, rows.tolist()
-        )
-    tmp.replace(path)
+    writer = png.Writer(width=value.shape[1], height=value.shape[0], greyscale=False, bitdepth=16)
+    with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
+        writer.write(f, rows.tolist())
 
 
 def albedo_table(

@@ -11,6 +11,7 @@ parameter out of range), 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
+import errno
 import json
 import os
 import sys
@@ -237,12 +238,16 @@ def cmd_render(args: argparse.Namespace) -> int:
     scene = scenes.load_scene(args.scene)
     if args.resolution is not None:
         scene = scene.with_resolution(*args.resolution)
-    outputs = [Path(p) for p in (args.output, args.exr, args.npy) if p is not None]
+    flags = {"-o": args.output, "--exr": args.exr, "--npy": args.npy}
+    outputs = [Path(p) for p in flags.values() if p is not None]
     if not outputs:
         raise UsageError("nothing to write: give -o image.png (or .exr, .npy), --exr or --npy")
-    for path in outputs:
-        if path.suffix.lower() not in (".png", ".exr", ".npy"):
-            raise UsageError(f"{path}: unknown image format; use .png, .exr or .npy")
+    for flag, text in flags.items():
+        if text is None:
+            continue
+        if Path(text).suffix.lower() not in (".png", ".exr", ".npy"):
+            raise UsageError(f"{text}: unknown image format; use .png, .exr or .npy")
+        _check_location(text, flag)
     start = time.perf_counter()
     linear, stats = scenes.render(scene, only=args.only, tonemap="none", exposure=0.0, stats=True)
     seconds = time.perf_counter() - start
@@ -354,14 +359,24 @@ PLOT_FORMATS = (".png", ".svg", ".pdf")
 
 
 def _output_path(text: str, formats: Sequence[str], what: str = "-o") -> Path:
-    """Checks an output path before any work: known format, existing directory."""
+    """Checks an output path before any work: known format, existing directory, not a
+    directory itself (the file is written atomically when the work is done)."""
     path = Path(text)
     if path.suffix.lower() not in formats:
         raise UsageError(f"{what} {text}: unknown format; use {', '.join(formats)}")
+    _check_location(text, what)
+    return path
+
+
+def _check_location(text: str, what: str) -> None:
+    """An output's folder exists (else a usage error) and the name is not taken by a
+    directory (else the ``IsADirectoryError`` the write would raise, before the work)."""
+    path = Path(text)
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         raise UsageError(f"{what} {text}: directory {parent} does not exist")
-    return path
+    if path.is_dir():  # the error writing would give (exit 1), before the work
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), text)
 
 
 def _plot_path(text: str | None) -> Path | None:
@@ -480,7 +495,7 @@ def cmd_dfg(args: argparse.Namespace) -> int:
 
 def save_energy(result: Any, path: Path) -> Path:
     """Writes an :class:`~brdf_rs.EnergyCompensation` as ``.npz`` (arrays and metadata)."""
-    from . import __version__, _albedo
+    from . import __version__, _atomic
 
     meta = {
         "model": result.model,
@@ -488,7 +503,7 @@ def save_energy(result: Any, path: Path) -> Path:
         " e_avg[alpha] = 2 * integral of E(mu) mu dmu",
         "brdf_rs": __version__,
     }
-    _albedo.save_npz_atomically(
+    _atomic.save_npz(
         path,
         mu=result.mu,
         alpha=result.alpha,

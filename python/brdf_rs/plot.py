@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 import numpy.typing as npt
 
-from . import _albedo, _api
+from . import _albedo, _api, _atomic
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from matplotlib.axes import Axes
@@ -76,7 +76,13 @@ def _figure(width: float, height: float) -> Figure:
 def _finish(fig: Figure, path: str | os.PathLike[str] | None, dpi: float) -> Figure:
     if path is not None:
         path = Path(path)
-        fig.savefig(path, dpi=dpi)
+        # The format by the suffix (or matplotlib's default), written atomically: an open
+        # file, so matplotlib adds no suffix of its own to the name.
+        import matplotlib
+
+        fmt = path.suffix[1:].lower() or matplotlib.rcParams["savefig.format"]
+        with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
+            fig.savefig(f, dpi=dpi, format=fmt)
         log.debug("wrote %s", path)
     return fig
 

@@ -61,17 +61,22 @@ import dataclasses
 import difflib
 import hashlib
 import json
+import logging
 import math
 import os
 import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal, overload
+from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 
+from . import _atomic
 from . import _brdf_rs as _core
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from ._albedo import Table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -90,6 +95,8 @@ __all__ = [
     "shade",
     "tonemap",
 ]
+
+log = logging.getLogger("brdf_rs")
 
 TONEMAPS = ("clamp", "reinhard", "aces", "none")
 
@@ -853,33 +860,37 @@ def shade(
 
 def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     """Writes an image by its suffix: ``.png`` (8-bit sRGB of display values in [0, 1],
-    needs Pillow), ``.exr`` (float32 RGB, needs OpenEXR) or ``.npy`` (float32)."""
+    needs Pillow), ``.exr`` (float32 RGB, needs OpenEXR) or ``.npy`` (float32).
+
+    The file is replaced in one step: ``path`` holds either its old content or the whole
+    image, never part of it, even when the write fails or is interrupted or several
+    processes write the same path at once. An ``OSError`` names ``path``."""
     path = Path(path)
     image = np.ascontiguousarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
         raise ValueError(f"image: expected shape (height, width, 3), got {image.shape}")
     suffix = path.suffix.lower()
-    tmp = path.with_name(path.name + ".partial" + suffix)
     if suffix == ".png":
         try:
             from PIL import Image
         except ImportError:
             raise ImportError("writing .png needs Pillow: pip install brdf-rs[scene]") from None
-        Image.fromarray(_core.encode_srgb8(image), mode="RGB").save(tmp, format="PNG")
+        encoded = Image.fromarray(_core.encode_srgb8(image), mode="RGB")
+        with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
+            encoded.save(f, format="PNG")
     elif suffix == ".exr":
         try:
             import OpenEXR
         except ImportError:
             raise ImportError("writing .exr needs OpenEXR: pip install brdf-rs[exr]") from None
         header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-        with OpenEXR.File(header, {"RGB": image}) as f:
+        with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, {"RGB": image}) as f:
             f.write(str(tmp))
     elif suffix == ".npy":
-        with open(tmp, "wb") as f:
+        with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
             np.save(f, image)
     else:
         raise ValueError(f"path: unknown image format {suffix!r}; use .png, .exr or .npy")
-    tmp.replace(path)
     return path
 
 
@@ -927,6 +938,31 @@ def _canonical_params(model: str, params: Mapping[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _cached_table(path: Path, key: Mapping[str, Any]) -> Table | None:
+    """The table cached at ``path`` if it is whole and is the one ``key`` asks for, else
+    None (the caller builds it again); a file that fails is logged as a warning."""
+    from ._albedo import Table, TableFileError
+
+    try:
+        table = Table.load(path)
+    except (OSError, TableFileError) as exc:
+        log.warning("albedo table cache: %s; building it again", exc)
+        return None
+    # The name holds a prefix of the key's hash: check the whole key and the grid too.
+    want = json.loads(json.dumps(key))
+    if (
+        table.meta.get("cache_key") != want
+        or list(table.axes) != ["mu"]
+        or not np.array_equal(table.axes["mu"], np.asarray(key["mu"], dtype=np.float64))
+    ):
+        log.warning(
+            "albedo table cache: %s holds another table than its name says; building it again",
+            path,
+        )
+        return None
+    return table
+
+
 def scene_tables(
     scene: Scene | str | os.PathLike[str] | Mapping[str, Any],
     *,
@@ -943,13 +979,16 @@ def scene_tables(
     ``mu_count`` cell midpoints of [0, 1] (:func:`brdf_rs.albedo_table`). Each table is
     cached in ``cache_dir`` (default :func:`default_cache_dir`) under a hash of the model,
     its parameters (defaults filled in), the sampler settings and the library version; a
-    table already there is read, not rebuilt. Family-B shading terms are not BRDFs and
+    table already there is read, not rebuilt, once it has been checked: a cached file that
+    is damaged, cut short or holds another table is built again (with a warning on the
+    ``brdf_rs`` logger), never used. Tables are written atomically, so processes sharing
+    a cache never see a half-written one. Family-B shading terms are not BRDFs and
     have no albedo: they are skipped.
 
     ``progress(material, cells_done, cells)`` is called while a table is built.
     """
     from . import __version__
-    from ._albedo import DEFAULT_REPLICATES, Table, albedo_table
+    from ._albedo import DEFAULT_REPLICATES, albedo_table
 
     scene = _as_scene(scene)
     if isinstance(mu_count, bool) or not isinstance(mu_count, int) or mu_count < 1:
@@ -979,13 +1018,8 @@ def scene_tables(
         digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
         path = directory / f"{model}-{digest[:24]}.npz"
         start = time.perf_counter()
-        cached = path.exists()
-        table = None
-        if cached:
-            try:
-                table = Table.load(path)
-            except (OSError, ValueError, KeyError):
-                cached = False  # a damaged file: build it again
+        table = _cached_table(path, key) if path.exists() else None
+        cached = table is not None
         if table is None:
             callback = None
             if progress is not None:
