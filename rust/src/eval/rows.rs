@@ -100,6 +100,10 @@ impl<'a, F: Real> Rows<'a, F> {
 impl<F: Real> StridedRows<'_, F> {
     /// Calls `store(j, component, value)` for rows `start .. start + len` of the batch
     /// `batch`, `comps` components each (a length-1 component axis is repeated).
+    ///
+    /// An odometer over the batch axes keeps the element offset incrementally (one add
+    /// per row, a carry at the end of an axis), so a broadcast or strided input costs
+    /// about what a contiguous one does, not a dynamic index per element.
     pub fn for_each(
         &self,
         batch: &[usize],
@@ -109,37 +113,56 @@ impl<F: Real> StridedRows<'_, F> {
         mut store: impl FnMut(usize, usize, F),
     ) {
         let ndim = self.view.ndim();
+        let strides = self.view.strides();
         let own_comps = if self.has_component_axis {
             self.view.shape()[ndim - 1]
         } else {
             1
         };
-        // Multi-index of `start` in the batch, then an odometer.
+        assert!(comps <= 3 && (own_comps == 1 || own_comps >= comps));
+        // Element strides: per batch axis (0 where broadcast), and between components.
+        let step: Vec<isize> = self
+            .axis_of
+            .iter()
+            .map(|axis| axis.map_or(0, |a| strides[a]))
+            .collect();
+        let comp_step = if self.has_component_axis && own_comps > 1 {
+            strides[ndim - 1]
+        } else {
+            0
+        };
+        // Multi-index of `start` in the batch, and its offset.
         let mut m = vec![0usize; batch.len()];
         let mut rest = start;
         for k in (0..batch.len()).rev() {
             m[k] = rest % batch[k];
             rest /= batch[k];
         }
-        let mut idx = vec![0usize; ndim];
+        let mut offset: isize = m.iter().zip(&step).map(|(&i, &s)| i as isize * s).sum();
+        let base = self.view.as_ptr();
+        let Some(last) = batch.len().checked_sub(1) else {
+            return;
+        };
         for j in 0..len {
-            for (k, axis) in self.axis_of.iter().enumerate() {
-                if let Some(a) = axis {
-                    idx[*a] = m[k];
-                }
-            }
             for c in 0..comps {
-                if self.has_component_axis {
-                    idx[ndim - 1] = if own_comps == 1 { 0 } else { c };
-                }
-                store(j, c, self.view[IxDyn(&idx)]);
+                // SAFETY: every read axis has the batch axis's length (`Rows::new` maps an
+                // axis only where the lengths agree), `m[k] < batch[k]`, and `c` is below
+                // the component axis's length (or its stride is 0): the offset is that of
+                // an element of the view.
+                let value = unsafe { *base.offset(offset + c as isize * comp_step) };
+                store(j, c, value);
             }
-            for k in (0..batch.len()).rev() {
+            // Next row: the last axis moves; a full axis carries into the one before.
+            let mut k = last;
+            loop {
                 m[k] += 1;
-                if m[k] < batch[k] {
+                offset += step[k];
+                if m[k] < batch[k] || k == 0 {
                     break;
                 }
+                offset -= m[k] as isize * step[k];
                 m[k] = 0;
+                k -= 1;
             }
         }
     }
@@ -279,6 +302,52 @@ mod tests {
         let g = arr(&[2, 1]);
         let rows = Rows::new(g.view(), true, 3, &[2]);
         assert_eq!(read_all(&rows, &[2], 3), vec![0., 0., 0., 1., 1., 1.]);
+    }
+
+    /// The odometer reads what indexing element by element reads, for broadcast,
+    /// reversed and transposed views, from any starting row and for any length.
+    #[test]
+    fn strided_rows_match_indexing_from_any_start() {
+        let base = arr(&[3, 1, 4, 3]);
+        let reversed = base.slice(ndarray::s![..;-1, .., ..;-1, ..]).into_dyn();
+        let transposed = arr(&[4, 5, 3]).permuted_axes(IxDyn(&[1, 0, 2]));
+        let grey = arr(&[3, 1, 4, 1]);
+        let batch = [2usize, 3, 5, 4];
+        let views = [
+            (base.view(), 3),
+            (reversed.view(), 3),
+            (transposed.view(), 3),
+            (grey.view(), 3),
+        ];
+        for (view, comps) in views {
+            let rows = Rows::new(view.clone(), true, comps, &batch);
+            let Rows::Strided(strided) = &rows else {
+                panic!("expected strided rows");
+            };
+            let n: usize = batch.iter().product();
+            let nd = view.ndim();
+            let nb = nd - 1;
+            let own = &view.shape()[..nb];
+            for start in [0usize, 1, 7, 19, 20, 57, n - 1] {
+                for len in [1usize, 3, 20, n - start] {
+                    let len = len.min(n - start);
+                    let mut got = vec![0.0; len * comps];
+                    strided.for_each(&batch, start, len, comps, |j, c, v| got[j * comps + c] = v);
+                    for j in 0..len {
+                        let idx = own_index(start + j, &batch, own);
+                        for c in 0..comps {
+                            let mut full = idx.clone();
+                            full.push(if view.shape()[nb] == 1 { 0 } else { c });
+                            assert_eq!(
+                                got[j * comps + c],
+                                view[IxDyn(&full)],
+                                "start {start} row {j}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
