@@ -5,10 +5,63 @@ long calls that answer Ctrl-C."""
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import brdf_rs
 import numpy as np
 import pytest
+from brdf_rs.scene import TONEMAPS, load_scene
+
+SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
+DTYPES = (np.float64, np.float32)
+EPS = {np.float64: np.finfo(np.float64).eps, np.float32: np.finfo(np.float32).eps}
+
+# ------------------------------------------------------------------------ exposure
+
+
+def _exact_exposure(x: np.ndarray, exposure: float) -> np.ndarray:
+    """``x·2^exposure`` rounded to float32 (2^±1000 is beyond float32 for any nonzero x)."""
+    scale = np.exp2(np.clip(exposure, -1000.0, 1000.0))
+    with np.errstate(over="ignore", under="ignore"):
+        return (x.astype(np.float64) * scale).astype(np.float32)
+
+
+@pytest.mark.parametrize("kind", TONEMAPS)
+@pytest.mark.parametrize("exposure", [127.5, 128.0, 129.0, 300.0, 1e300, -150.0, -1e300, 2.5])
+def test_tonemap_never_makes_nan_from_finite_input(kind, exposure):
+    image = np.array([[[0.0, -0.0, 1.0], [1e-45, 3e38, -2.0], [0.5, 1e-30, 7.0]]], dtype=np.float32)
+    out = brdf_rs.tonemap(image, kind, exposure)
+    assert not np.isnan(out).any(), out
+    assert out[0, 0, 0] == 0 and out[0, 0, 1] == 0
+    if kind == "none":
+        np.testing.assert_array_equal(out, _exact_exposure(image, exposure))
+    else:
+        reference = brdf_rs.tonemap(_exact_exposure(image, exposure), kind, 0.0)
+        np.testing.assert_array_equal(out, reference)
+
+
+def test_tonemap_exposure_huge_but_finite_is_not_called_infinite():
+    # 1e39 stops is finite: it must not be refused as "inf" (a float32 cast).
+    out = brdf_rs.tonemap(np.ones((1, 1, 3)), "reinhard", 1e39)
+    np.testing.assert_array_equal(out, 1.0)
+
+
+@pytest.mark.parametrize("exposure", [np.nan, np.inf, -np.inf])
+def test_tonemap_refuses_non_finite_exposure(exposure):
+    with pytest.raises(ValueError, match="exposure"):
+        brdf_rs.tonemap(np.zeros((1, 1, 3)), "none", exposure)
+
+
+def test_render_with_overflowing_exposure_has_no_nan():
+    scene = load_scene(SCENES / "gallery.toml").with_resolution(64, 32)
+    linear = brdf_rs.render(scene, tonemap="none")
+    for exposure in (129.0, 1000.0):
+        image = brdf_rs.render(scene, tonemap="none", exposure=exposure)
+        assert not np.isnan(image).any()
+        np.testing.assert_array_equal(image == 0, linear == 0)
+        shown = brdf_rs.render(scene, tonemap="aces", exposure=exposure)
+        assert not np.isnan(shown).any()
+
 
 # ------------------------------------------------------------------------ cell ids
 

@@ -654,7 +654,8 @@ def render(
         only: ``"diffuse"`` or ``"specular"`` renders that component alone (the other's
             kernels never run); a family-A model's diffuse term is its ``kd`` term.
         tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
-        exposure: stops (default: the scene's, or 0 with ``tonemap="none"``).
+        exposure: stops, any finite number (default: the scene's, or 0 with
+            ``tonemap="none"``); as in :func:`tonemap`, 0 stays 0 and nothing is NaN.
         stats: also return a dict counting the work done: ``pixels``, ``ray_tests``,
             ``hits``, ``lights`` (and ``lights_dropped``: black ones),
             ``materials_prepared``, pixel-light ``pairs`` with those
@@ -690,7 +691,10 @@ def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.nda
     """Returns ``image × 2^exposure`` through a tone map (a new float32 array).
 
     ``"clamp"``: min(max(x, 0), 1); ``"reinhard"``: x/(1 + x); ``"aces"``: Narkowicz's
-    fit of the ACES filmic curve; ``"none"``: exposure only.
+    fit of the ACES filmic curve; ``"none"``: exposure only. Any finite ``exposure`` is
+    valid: the product is rounded to float32 as computed exactly, so 0 stays 0 however
+    large the exposure, a product beyond float32's range is ±inf (1 after a tone map),
+    and finite input never gives NaN.
     """
     out = np.array(image, dtype=np.float32, order="C", copy=True)
     return _apply_tonemap(out, kind, exposure)

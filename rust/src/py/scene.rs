@@ -343,7 +343,7 @@ pub fn tonemap_inplace<'py>(
     let values = image
         .as_slice_mut()
         .map_err(|_| PyValueError::new_err("image: expected a C-contiguous float32 array"))?;
-    py.detach(|| tonemap::apply(values, kind, exposure as f32))?;
+    py.detach(|| tonemap::apply(values, kind, exposure))?;
     Ok(())
 }
 
