@@ -10,7 +10,7 @@ from pathlib import Path
 import brdf_rs
 import numpy as np
 import pytest
-from brdf_rs.scene import TONEMAPS, load_scene
+from brdf_rs.scene import TONEMAPS, SceneError, load_scene, parse_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 DTYPES = (np.float64, np.float32)
@@ -61,6 +61,197 @@ def test_render_with_overflowing_exposure_has_no_nan():
         np.testing.assert_array_equal(image == 0, linear == 0)
         shown = brdf_rs.render(scene, tonemap="aces", exposure=exposure)
         assert not np.isnan(shown).any()
+
+
+# ------------------------------------------------------------------------ sample / pdf
+
+
+@pytest.mark.parametrize(
+    ("bad", "problem"),
+    [
+        (np.nan, "NaN"),
+        (np.inf, "infinite"),
+        (-np.inf, "infinite"),
+        (-1e-300, r"outside \[0, 1\)"),
+        (1.0, r"outside \[0, 1\)"),
+        (1.5, r"outside \[0, 1\)"),
+    ],
+)
+@pytest.mark.parametrize("component", [0, 1])
+def test_sample_refuses_bad_random_numbers(bad, problem, component):
+    u = np.full((4, 2), 0.25)
+    u[2, component] = bad
+    u[3, 0] = bad  # only the first bad index is named
+    with pytest.raises(ValueError, match=rf"^u\[2\] is {problem} \(first bad index \[2\]\)"):
+        brdf_rs.sample("ggx", [0.3, 0, 1], u, alpha=0.3)
+
+
+def test_sample_refuses_the_reported_nan():
+    with pytest.raises(ValueError, match=r"^u is NaN"):
+        brdf_rs.sample("ggx", [0.3, 0, 1], [np.nan, 0.5])
+
+
+def test_sample_accepts_the_ends_of_the_unit_interval():
+    u = np.array([[0.0, 0.0], [np.nextafter(1.0, 0.0), np.nextafter(1.0, 0.0)], [0.0, 0.999]])
+    wo, weight, pdf = brdf_rs.sample("ggx", [0.3, 0, 1], u, alpha=0.3)
+    assert np.isfinite(wo).all() and np.isfinite(weight).all() and np.isfinite(pdf).all()
+
+
+def test_sample_index_is_in_the_arguments_own_array():
+    # u broadcasts against wi: the index named is u's own.
+    wi = np.tile([0.3, 0.0, 1.0], (5, 3, 1))
+    u = np.full((3, 2), 0.5)
+    u[1, 1] = 2.0
+    with pytest.raises(ValueError, match=r"^u\[1\] is outside"):
+        brdf_rs.sample("lambert", wi, u)
+
+
+@pytest.mark.parametrize("function", ["sample", "pdf"])
+@pytest.mark.parametrize(
+    ("argument", "value", "problem"),
+    [
+        ("wi", [np.nan, 0, 1], "NaN"),
+        ("wi", [0, 0, 0], "a zero-length vector"),
+        ("n", [0, np.inf, 1], "infinite"),
+        ("n", [0, 0, 0], "a zero-length vector"),
+        ("tangent", [np.nan, 1, 0], "NaN"),
+    ],
+)
+def test_sample_and_pdf_refuse_bad_directions(function, argument, value, problem):
+    given = {"wi": [0.3, 0.0, 1.0], "n": None, "tangent": [1.0, 0.0, 0.0]}
+    rows = np.tile(given[argument] or [0.0, 0.0, 1.0], (3, 1))
+    rows[1] = value
+    given[argument] = rows
+    second = np.full((3, 2), 0.5) if function == "sample" else np.tile([0.0, 0.3, 1.0], (3, 1))
+    with pytest.raises(ValueError, match=rf"^{argument}\[1\] is {problem}"):
+        getattr(brdf_rs, function)(
+            "ward", given["wi"], second, given["n"], tangent=given["tangent"]
+        )
+
+
+def test_pdf_refuses_a_bad_wo():
+    wo = np.tile([0.0, 0.3, 1.0], (3, 1))
+    wo[2] = np.nan
+    with pytest.raises(ValueError, match=r"^wo\[2\] is NaN"):
+        brdf_rs.pdf("ggx", [0.3, 0, 1], wo, alpha=0.3)
+
+
+# ------------------------------------------------------------------------ tangents
+
+
+def _tilted_normal():
+    n = np.array([0.3, -0.2, 0.9])
+    return n / np.linalg.norm(n)
+
+
+def _tangents_near(n, sine):
+    """A tangent at angle asin(sine) from n (and its opposite)."""
+    side = np.cross(n, [1.0, 0.0, 0.0])
+    side /= np.linalg.norm(side)
+    t = np.sqrt(1 - sine**2) * n + sine * side
+    return t, -t
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("model", ["ward", "ashikhmin_shirley"])
+def test_eval_refuses_a_tangent_parallel_to_the_normal(model, dtype):
+    n = _tilted_normal()
+    wi = np.array([0.5, 0.1, 1.0])
+    wo = np.array([-0.2, 0.4, 1.0])
+    for sine in (0.0, 1e-17, 8 * EPS[dtype]):
+        for t in _tangents_near(n, sine):
+            tangent = np.tile([1.0, 0.0, 0.0], (4, 1))
+            tangent[1] = t
+            args = [np.asarray(a, dtype) for a in (wi, wo, n, tangent)]
+            with pytest.raises(ValueError, match=r"^tangent\[1\] is parallel to the normal n"):
+                brdf_rs.eval(model, *args[:3], tangent=args[3])
+            # check=False: the row is NaN like any unusable row; the others are computed.
+            out = brdf_rs.eval(model, *args[:3], tangent=args[3], check=False)
+            assert np.isnan(out[1]).all() and np.isfinite(np.delete(out, 1, axis=0)).all()
+            with pytest.raises(ValueError, match=r"^tangent\[1\] is parallel"):
+                brdf_rs.Model(model).eval(*args[:3], tangent=args[3])
+
+
+def test_eval_refuses_the_reported_tangent():
+    with pytest.raises(ValueError, match=r"^tangent is parallel to the normal n"):
+        brdf_rs.eval("ward", [0.3, 0, 1], [0, 0.2, 1], tangent=[0, 0, 1])
+    with pytest.raises(ValueError, match=r"^tangent is parallel"):
+        brdf_rs.eval("ward", [0.3, 0, 1], [0, 0.2, 1], tangent=[0, 0, 1], normalized=True)
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("model", ["ward", "ashikhmin_shirley"])
+def test_eval_accepts_a_tangent_just_beyond_the_threshold(model, dtype):
+    n = _tilted_normal()
+    for sine in (256 * EPS[dtype], 1e-3, 1.0):
+        t, _ = _tangents_near(n, sine)
+        out = brdf_rs.eval(
+            model,
+            np.asarray([0.5, 0.1, 1.0], dtype),
+            np.asarray([-0.2, 0.4, 1.0], dtype),
+            np.asarray(n, dtype),
+            tangent=np.asarray(t, dtype),
+        )
+        assert np.isfinite(out).all()
+
+
+def test_kajiya_kay_fibre_along_the_normal_is_valid():
+    # The fibre tangent is used as given, not projected: along n is a hair standing up.
+    out = brdf_rs.eval("kajiya_kay", [0.3, 0, 1], [0, 0.2, 1], tangent=[0, 0, 1])
+    assert np.isfinite(out).all()
+
+
+@pytest.mark.parametrize("model", ["ward", "ashikhmin_shirley"])
+def test_the_reference_refuses_a_tangent_parallel_to_the_normal(model):
+    for t in ([0, 0, 1], [1e-17, 0, -1]):
+        with pytest.raises(ValueError, match=r"^tangent .* is parallel to the normal n"):
+            brdf_rs.reference.eval(model, [0.3, 0, 1], [0, 0.2, 1], tangent=t)
+    assert np.isfinite(
+        brdf_rs.reference.eval(model, [0.3, 0, 1], [0, 0.2, 1], tangent=[1e-3, 0, 1])
+    ).all()
+
+
+def test_sampling_refuses_a_tangent_parallel_to_the_normal():
+    tangent = np.array([[1.0, 0, 0], [0, 0, -2.0]])
+    with pytest.raises(ValueError, match=r"^tangent\[1\] is parallel"):
+        brdf_rs.sample("ward", [0.3, 0, 1], [0.5, 0.5], tangent=tangent)
+    with pytest.raises(ValueError, match=r"^tangent\[1\] is parallel"):
+        brdf_rs.pdf("ashikhmin_shirley", [0.3, 0, 1], [0, 0.2, 1], tangent=tangent)
+
+
+def test_shade_refuses_a_tangent_parallel_to_the_normal():
+    n = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0]])
+    tangent = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 1e-9]])
+    lights = [{"type": "directional", "direction": [0, 0, -1]}]
+    with pytest.raises(ValueError, match=r"^tangent\[1\] is parallel to the normal"):
+        brdf_rs.shade({"model": "ward"}, n, [0, 0, 1], lights, tangent=tangent)
+    # kajiya_kay's fibre may lie along the normal.
+    material = {"specular": {"model": "kajiya_kay"}}
+    out = brdf_rs.shade(material, n, [0, 0, 1], lights, tangent=tangent)
+    assert np.isfinite(out).all()
+
+
+def test_scene_plane_tangent_parallel_to_its_normal_is_refused():
+    text = """
+[camera]
+type = "orthographic"
+position = [0, 0, 5]
+height = 3
+resolution = [8, 8]
+
+[materials.m]
+model = "ward"
+
+[[objects]]
+type = "plane"
+point = [0, 0, 0]
+normal = [0, 0, 1]
+tangent = [0, 0, -3]
+material = "m"
+"""
+    with pytest.raises(SceneError, match=r"objects\[0\]\.tangent: .*parallel to the plane"):
+        parse_scene(text, "plane.toml")
+    parse_scene(text.replace("[0, 0, -3]", "[1, 0, -3]"), "plane.toml")
 
 
 # ------------------------------------------------------------------------ cell ids

@@ -28,6 +28,7 @@ A scene is a TOML file (or the same structure as a dict)::
 
     [[objects]]
     type = "plane"                # point, normal (two-sided); optional fixed tangent
+                                  # (not parallel to the normal)
     point = [0, -1, 0]
     normal = [0, 1, 0]
     material = "toon"
@@ -188,6 +189,16 @@ def _vector(where: _Where, value: Any, *, nonzero: bool = False) -> list[float]:
     if nonzero and not any(value):
         raise where.expected(what, value)
     return [float(x) for x in value]
+
+
+def _parallel(t: Sequence[float], n: Sequence[float]) -> bool:
+    """Whether the sine of the angle between ``t`` and ``n`` is at most 64 float32
+    epsilons (the renderer's precision), as ``eval`` refuses a tangent for float32."""
+    a = np.asarray(t, dtype=np.float64)
+    b = np.asarray(n, dtype=np.float64)
+    a, b = a / np.max(np.abs(a)), b / np.max(np.abs(b))
+    sine = np.linalg.norm(np.cross(a, b)) / (np.linalg.norm(a) * np.linalg.norm(b))
+    return bool(sine <= 64 * np.finfo(np.float32).eps)
 
 
 def _colour(where: _Where, value: Any) -> list[float]:
@@ -403,6 +414,11 @@ def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str
         )
         if "tangent" in table:
             out["tangent"] = _vector(where / "tangent", table["tangent"], nonzero=True)
+            if _parallel(out["tangent"], out["normal"]):
+                raise (where / "tangent").error(
+                    f"{_show(table['tangent'])} is parallel to the plane's normal"
+                    f" {_show(table['normal'])}: it gives no direction in the plane"
+                )
         else:
             out["tangent"] = None
     return out
@@ -750,6 +766,28 @@ def _unit_rows(name: str, a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(unit, dtype=np.float32)
 
 
+def _projects_tangent(material: Mapping[str, Any]) -> bool:
+    """Whether a term of the material projects its tangent onto the tangent plane (the
+    anisotropic models, which take it optionally; ``kajiya_kay`` uses its fibre as is)."""
+    specs = _specs()
+    terms = [material.get("brdf"), material.get("diffuse"), material.get("specular")]
+    return any(t is not None and specs[t["model"]]["tangent_optional"] for t in terms)
+
+
+def _check_tangent_rows(t: np.ndarray, n: np.ndarray, shape: tuple[int, ...]) -> None:
+    """Refuses unit tangents (nearly) parallel to their unit normals: the sine of their
+    angle at most 64 float32 epsilons (the shading precision), as ``eval`` does."""
+    sine = np.linalg.norm(np.cross(t.astype(np.float64), n.astype(np.float64)), axis=1)
+    bad = sine <= 64 * np.finfo(np.float32).eps
+    if bad.any():
+        i = int(np.argmax(bad))
+        index = [int(k) for k in np.unravel_index(i, shape)] if shape else []
+        raise ValueError(
+            f"tangent{index} is parallel to the normal n{index} (first bad index {index}):"
+            " it gives no direction in the tangent plane"
+        )
+
+
 @overload
 def shade(
     material: Mapping[str, Any],
@@ -837,6 +875,8 @@ def shade(
             args[k] = _unit_rows(k, a)
     if args["n"] is None or args["v"] is None:
         raise TypeError("n, v: expected arrays of normals and view directions, got None")
+    if args["tangent"] is not None and _projects_tangent(core_material):
+        _check_tangent_rows(args["tangent"], args["n"], shape)
     out, counts = _core.shade_gbuffer(
         core_material,
         core_lights,

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::Plan;
 use super::rows::Rows;
-use crate::math::geometry::wide_cosine;
+use crate::math::geometry::{tangent_parallel, wide_cosine};
 use crate::math::{Real, Vector3};
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
@@ -270,6 +270,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         })
     });
     let uses_tangent = plan.kind.spec().tangent != crate::models::TangentUse::None;
+    let check_tangent = plan.checks_tangent_direction();
     let uniform = K::prepare::<F, [F]>(&plan.uniform);
     let mut scratch = Scratch {
         vectors: [[[F::ZERO; BLOCK]; 3]; 4],
@@ -326,6 +327,14 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                 &mut scratch.ok,
                 plan.options.normalized,
             );
+        }
+        if check_tangent {
+            let [_, _, n, t] = &scratch.vectors;
+            for j in 0..BLOCK {
+                let nj = F::V3::new(n[0][j], n[1][j], n[2][j]);
+                let tj = F::V3::new(t[0][j], t[1][j], t[2][j]);
+                scratch.ok[j] &= !tangent_parallel::<F>(nj, tj);
+            }
         }
         if vary {
             for p in &plan.varying {
