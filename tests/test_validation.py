@@ -308,3 +308,82 @@ def test_energy_axis_is_strictly_increasing_with_one_value_per_node(model, param
     k = int(np.argmax(e.value.max(axis=-1)))
     assert e.mu_at_max == e.mu[k]
     np.testing.assert_array_equal(e.max, e.value[k])
+
+
+# ------------------------------------------------------------------------ closed bounds
+
+
+def _valid_params(spec):
+    """A valid value for every required parameter (the list models need matching lists)."""
+    if spec["name"] == "toon_diffuse":
+        return {"thresholds": [0.0], "colors": [[0.1, 0.1, 0.1], [0.9, 0.9, 0.9]]}
+    if spec["name"] == "toon_specular":
+        return {"threshold": 0.5}
+    return {}
+
+
+def _closed_bounds():
+    for name, spec in brdf_rs.models().items():
+        for p in spec["params"]:
+            for end, value, is_open in (
+                ("min", p["min"], p["min_open"]),
+                ("max", p["max"], p["max_open"]),
+            ):
+                if not is_open and np.isfinite(value):
+                    yield pytest.param(name, p["name"], value, id=f"{name}-{p['name']}-{end}")
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize(("model", "param", "bound"), list(_closed_bounds()))
+def test_documented_closed_bounds_are_accepted_in_both_dtypes(model, param, bound, dtype):
+    spec = brdf_rs.models()[model]
+    params = _valid_params(spec)
+    kind = next(p["kind"] for p in spec["params"] if p["name"] == param)
+    rounded = float(np.asarray(bound, dtype))  # the bound as the dtype holds it
+    for value in {bound, rounded}:
+        params[param] = [value] if kind == "scalar list" else value
+        if kind == "colour list":
+            params[param] = [[value] * 3] * 2
+        directions = [np.asarray(v, dtype) for v in ([0.3, 0.1, 1.0], [-0.2, 0.4, 1.0])]
+        tangent = np.asarray([1.0, 0.0, 0.0], dtype) if spec["tangent"] else None
+        out = brdf_rs.eval(model, *directions, tangent=tangent, **params)
+        assert out.dtype == dtype and not np.isnan(out).any()
+        out = brdf_rs.Model(model, **params).eval(*directions, tangent=tangent)
+        assert out.dtype == dtype and not np.isnan(out).any()
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+def test_the_reported_sigma_bound(dtype):
+    d = [np.asarray(v, dtype) for v in ([0.3, 0, 1], [0, 0.2, 1])]
+    for model in ("oren_nayar", "oren_nayar_shading"):
+        assert np.isfinite(brdf_rs.eval(model, *d, sigma=np.pi / 2)).all()
+        assert np.isfinite(brdf_rs.eval(model, *d, sigma=np.float32(np.pi / 2))).all()
+    # Beyond the bound's rounding is still refused.
+    above = float(np.nextafter(np.float32(np.pi / 2), np.float32(2)))
+    with pytest.raises(ValueError, match="sigma"):
+        brdf_rs.eval("oren_nayar", *d, sigma=above)
+
+
+def test_a_scene_accepts_the_float32_rounding_of_a_closed_bound():
+    material = f'model = "oren_nayar"\nsigma = {float(np.float32(np.pi / 2))!r}'
+    text = f"""
+[camera]
+type = "orthographic"
+position = [0, 0, 5]
+height = 3
+resolution = [8, 8]
+
+[materials.m]
+{material}
+
+[[objects]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "m"
+
+[[lights]]
+type = "directional"
+direction = [0, 0, -1]
+"""
+    assert np.isfinite(brdf_rs.render(parse_scene(text, "bound.toml"))).all()

@@ -227,6 +227,10 @@ def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
     kind = spec["kind"]
     rng = spec["range"]
     lo, hi = spec["min"], spec["max"]
+    # Closed bounds also admit their float32 roundings, as eval does (np.float32(pi/2)).
+    with np.errstate(over="ignore"):
+        lo = lo if spec["min_open"] else min(lo, float(np.float32(lo)))
+        hi = hi if spec["max_open"] else max(hi, float(np.float32(hi)))
 
     def in_range(x: float) -> bool:
         above = x > lo if spec["min_open"] else x >= lo
