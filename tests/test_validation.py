@@ -4,7 +4,11 @@ long calls that answer Ctrl-C."""
 
 from __future__ import annotations
 
+import _thread
+import functools
 import re
+import threading
+import time
 from pathlib import Path
 
 import brdf_rs
@@ -387,3 +391,73 @@ type = "directional"
 direction = [0, 0, -1]
 """
     assert np.isfinite(brdf_rs.render(parse_scene(text, "bound.toml"))).all()
+
+
+# ------------------------------------------------------------------------ Ctrl-C
+
+
+def _interrupted_after(call, delay):
+    """Runs ``call`` with a KeyboardInterrupt sent to this (main) thread after ``delay``
+    seconds; returns the seconds until the interrupt arrived, or None if it did not."""
+    timer = threading.Timer(delay, _thread.interrupt_main)
+    start = time.perf_counter()
+    try:
+        timer.start()
+        call()
+        timer.join()
+        time.sleep(0.05)
+    except KeyboardInterrupt:
+        return time.perf_counter() - start
+    finally:
+        timer.cancel()
+    return None
+
+
+def _timed(call):
+    start = time.perf_counter()
+    call()
+    return time.perf_counter() - start
+
+
+def test_a_long_eval_answers_ctrl_c():
+    # (k, 1) × (1, m) directions broadcast into a large batch with little input memory.
+    rng = np.random.default_rng(1)
+    m = 1 << 16
+    wo = rng.normal(size=(1, m, 3)).astype(np.float32)
+    wi = np.abs(rng.normal(size=(1 << 9, 1, 3))).astype(np.float32)
+    k, full = 1 << 5, 0.0
+    while True:  # one call of at least 0.3 s (a loop of calls would stop between them)
+        out = np.empty((k, m, 3), np.float32)
+        call = functools.partial(
+            brdf_rs.eval, "ashikhmin_shirley", wi[:k], wo, nu=30, nv=300, out=out
+        )
+        full = min(_timed(call) for _ in range(2))
+        if full >= 0.3 or k >= wi.shape[0]:
+            break
+        k *= 2
+    if full < 0.3:
+        pytest.skip(f"an eval of {k * m} rows took only {full:.3f} s here")
+    elapsed = _interrupted_after(call, 0.05)
+    assert elapsed is not None
+    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+    # Results are bitwise those of calls too small to be split.
+    call()
+    for i in range(0, k, 7):
+        alone = brdf_rs.eval("ashikhmin_shirley", wi[i], wo[0], nu=30, nv=300)
+        np.testing.assert_array_equal(out[i], alone)
+
+
+def test_a_long_render_answers_ctrl_c():
+    scene = load_scene(SCENES / "gallery.toml")
+    width, height = 2048, 2048
+    while True:
+        scene = scene.with_resolution(width, height)
+        full = min(_timed(functools.partial(brdf_rs.render, scene, tonemap="none")) for _ in "ab")
+        if full >= 0.3 or width >= 16384:
+            break
+        width *= 2
+    if full < 0.3:
+        pytest.skip(f"a {width}x{height} render took only {full:.3f} s here")
+    elapsed = _interrupted_after(functools.partial(brdf_rs.render, scene, tonemap="none"), 0.05)
+    assert elapsed is not None
+    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)

@@ -201,6 +201,17 @@ impl<F: Real> Plan<'_, F> {
     /// An error naming the first bad input vector (NaN, infinite or zero-length) when
     /// `check` is on; `out` then holds NaN in the bad rows and results elsewhere.
     pub fn execute(&self, out: ArrayViewMutD<'_, F>) -> Result<(), BrdfError> {
+        self.execute_polled(out, &mut || true)
+    }
+
+    /// [`Plan::execute`], calling `poll` between parts of a large batch (see
+    /// [`engine::run_polled`]): when it returns false the work stops with
+    /// [`BrdfError::Interrupted`], `out` partly written.
+    pub fn execute_polled(
+        &self,
+        out: ArrayViewMutD<'_, F>,
+        poll: &mut dyn FnMut() -> bool,
+    ) -> Result<(), BrdfError> {
         if out.shape() != self.output_shape().as_slice() {
             return Err(BrdfError::Shape(format!(
                 "out: expected shape {}; got {}",
@@ -213,7 +224,7 @@ impl<F: Real> Plan<'_, F> {
                 "out: must be C-contiguous (a fresh numpy.empty array is)".into(),
             ));
         };
-        let any_bad = engine::run(self, out);
+        let any_bad = engine::run_polled(self, out, poll).ok_or(BrdfError::Interrupted)?;
         if any_bad && self.options.check {
             return Err(self.first_bad_vector());
         }

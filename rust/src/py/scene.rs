@@ -265,7 +265,10 @@ pub fn render_scene<'py>(
 ) -> PyResult<ImageAndStats<'py>> {
     let scene = self::scene(scene)?;
     let component = Component::from_name(only)?;
-    let (image, stats) = py.detach(|| crate::scene::render(&scene, component))?;
+    let mut signals = super::SignalPoll::new();
+    let result =
+        py.detach(|| crate::scene::render_polled(&scene, component, &mut || signals.poll()));
+    let (image, stats) = signals.finish(result)?;
     let shape = vec![scene.camera.height, scene.camera.width, 3];
     let array = numpy::ndarray::Array::from_shape_vec(shape, image)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
