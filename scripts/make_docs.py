@@ -266,7 +266,10 @@ scenes and the command line. `MODELS.md` defines every model in these terms.
   1e300) unless `normalized=True` promises that they already are.
 - Models with an anisotropic lobe (`ward`, `ashikhmin_shirley`) take an optional
   `tangent=`, projected onto the tangent plane; `kajiya_kay` requires its fibre tangent,
-  used as given.
+  used as given. A tangent given to an anisotropic model must not be parallel to the
+  normal: one whose angle to `n` has a sine of at most 64 machine epsilons of the dtype
+  (1.4e-14 for float64, 7.6e-6 for float32; the renderer's float32 for scenes and
+  `shade`) is refused, since its projection is rounding error pointing anywhere.
 
 ## Units and what `f` includes
 
@@ -297,6 +300,9 @@ Every result is RGB: a trailing axis of 3. Colour parameters (`kd`, `ks`, `Rd`, 
   from float32 kernels; anything else (ints, lists, mixed widths) → float64.
 - `out=` writes into a preallocated C-contiguous array of the result's shape and dtype.
 - float32 lobes below 2^-100 ≈ 7.9e-31 are flushed to 0.
+- A parameter's closed bound is accepted as given and as float32 rounds it, in both
+  dtypes: `sigma=np.pi/2` with float32 directions is float32(π/2), just above π/2, and
+  valid.
 
 ## Errors, threads, reproducibility
 
@@ -305,6 +311,9 @@ Every result is RGB: a trailing axis of 3. Colour parameters (`kd`, `ks`, `Rd`, 
   prints that line and exits with 2 (usage) or 1 (failure).
 - Work runs in Rust threads without the GIL: `BRDF_RS_NUM_THREADS`, else the CPU count;
   `brdf_rs.set_num_threads(n)` at run time.
+- Long calls answer Ctrl-C: `eval` (between parts of 262,144 rows), `render` (between
+  bands of about 262,144 pixels) and the albedo builds check for signals at most every
+  20–100 ms and raise `KeyboardInterrupt` (`eval` with `out=` leaves it partly written).
 - The same inputs and seed give the same bits for any thread count and any chunking of a
   table.
 - The library never prints: it logs to the `brdf_rs` logger (`logging`).

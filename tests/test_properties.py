@@ -74,6 +74,25 @@ def _params(draw, model, batch):
     return out
 
 
+def _off_the_normal(tangent, n):
+    """Replaces tangents (nearly) parallel to the normal, which ``eval`` refuses for the
+    models that project them onto the tangent plane, by a perpendicular of ``n``."""
+    t = tangent.astype(np.float64)
+    normal = np.array([0.0, 0.0, 1.0]) if n is None else n.astype(np.float64)
+    shape = np.broadcast_shapes(t.shape, normal.shape)
+    t, normal = np.broadcast_to(t, shape), np.broadcast_to(normal, shape)
+    unit = [v / np.linalg.norm(v, axis=-1, keepdims=True) for v in (t, normal)]
+    parallel = np.linalg.norm(np.cross(*unit), axis=-1) <= 1e-3
+    if not parallel.any():
+        return tangent
+    across = np.cross(normal, [1.0, 0.0, 0.0])
+    along_x = np.linalg.norm(across, axis=-1, keepdims=True) < 1e-3 * np.linalg.norm(
+        normal, axis=-1, keepdims=True
+    )
+    across = np.where(along_x, np.cross(normal, [0.0, 1.0, 0.0]), across)
+    return np.where(parallel[..., None], across, t).astype(tangent.dtype)
+
+
 @st.composite
 def calls(draw, models=MODEL_NAMES):
     model = draw(st.sampled_from(models))
@@ -83,6 +102,8 @@ def calls(draw, models=MODEL_NAMES):
     wo = draw(direction_arrays(batch, dtype))
     n = draw(st.one_of(st.none(), direction_arrays(batch, dtype)))
     tangent = draw(direction_arrays(batch, dtype)) if takes_tangent(model) else None
+    if tangent is not None and SPECS[model]["tangent_optional"]:
+        tangent = _off_the_normal(tangent, n)
     params = _params(draw, model, batch)
     if model == "toon_specular" and "threshold" not in params:
         params["threshold"] = draw(st.floats(-1, 1))

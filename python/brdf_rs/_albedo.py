@@ -65,6 +65,30 @@ def _integer(name: str, v: Any, lo: int) -> int:
     return int(v)
 
 
+def _cell_ids(cell_ids: Any) -> np.ndarray:
+    """``cell_ids`` as C-contiguous uint64: non-negative integers below 2**64, given as an
+    integer array or as floats that are exact integers (a wrapped -1 or a truncated 2.7
+    would silently key another cell's stream)."""
+    raw = np.asarray(cell_ids)
+    if raw.dtype.kind not in "iu":
+        raw = _arrays.parameters({"cell_ids": cell_ids}, np.float64)["cell_ids"]
+    if raw.dtype.kind == "u":
+        bad = np.zeros(raw.shape, dtype=bool)
+    elif raw.dtype.kind == "i":
+        bad = raw < 0
+    else:
+        with np.errstate(invalid="ignore"):
+            bad = ~(np.isfinite(raw) & (raw >= 0) & (raw < 2.0**64) & (np.floor(raw) == raw))
+    if np.any(bad):
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        where = f"[{', '.join(map(str, index))}]"
+        raise ValueError(
+            f"cell_ids{where if index else ''} = {raw[index].item()!r} is not a non-negative"
+            f" integer below 2**64" + (f" (first bad index {where})" if index else "")
+        )
+    return np.ascontiguousarray(raw, dtype=np.uint64)
+
+
 def _options(
     samples: Any,
     sampler: Any,
@@ -178,7 +202,8 @@ def albedo(
         tol: stop each cell once every channel's standard error is at most ``tol``
             (doubling its samples, up to ``max_samples``, default max(samples, 2^24)).
         progress: called as ``progress(cells_done, samples_done)`` about every 0.1 s.
-        cell_ids: uint64 ids keying each cell's stream (default: the flat cell index).
+        cell_ids: ids keying each cell's stream (default: the flat cell index):
+            non-negative integers below 2**64, as integers or integral floats.
         fold_azimuth: draw azimuths on [0, π) only, using the integrand's symmetry about
             the plane of incidence (default), where it holds: isotropic models at any
             ``phi``, anisotropic ones at ``sin φ = 0``; ``False`` covers the full circle.
@@ -193,7 +218,7 @@ def albedo(
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
     p = _arrays.parameters(_normalization.apply(model, params, normalization), np.float64)
     options = _options(samples, sampler, sequence, seed, tol, max_samples, replicates)
-    ids = None if cell_ids is None else np.ascontiguousarray(cell_ids, dtype=np.uint64)
+    ids = None if cell_ids is None else _cell_ids(cell_ids)
     value, stderr, drawn = _core.albedo(
         model,
         mu_array,
@@ -771,13 +796,16 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
     """Finds the maximum directional albedo over mu (the Summary's eq. 4 energy check).
 
     A grid of 65 incidences (including mu = 1 and a grazing 0.005) is integrated; the
-    best cell's neighbourhood is then refined on a finer grid of 17 incidences.
+    best cell's neighbourhood (from the coarse node below it to the one above) is then
+    refined on a finer grid of 17 incidences, of which those not already on the coarse
+    grid are integrated: ``mu`` is strictly increasing, one value per node.
     """
     mu = np.concatenate([[0.005], np.arange(1, 65) / 64.0])
     coarse = albedo(model, mu, samples=samples, seed=seed, **params)
     best = int(np.argmax(coarse.value.max(axis=-1)))
     lo, hi = mu[max(best - 1, 0)], mu[min(best + 1, mu.size - 1)]
     fine_mu = np.linspace(lo, hi, 17)
+    fine_mu = fine_mu[~np.isin(fine_mu, mu)]
     fine = albedo(model, fine_mu, samples=samples, seed=seed + 1, **params)
     all_mu = np.concatenate([mu, fine_mu])
     all_value = np.concatenate([coarse.value, fine.value])

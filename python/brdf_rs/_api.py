@@ -40,7 +40,9 @@ def eval(
             ``normalized=True``.
         normalized: promise that the inputs are unit vectors (skips normalization).
         check: raise ``ValueError`` naming the argument and first bad index for NaN,
-            infinite or zero-length vectors; with ``check=False`` such rows give NaN.
+            infinite or zero-length vectors, and for a tangent of ``ward`` or
+            ``ashikhmin_shirley`` parallel to the normal (the sine of their angle at most
+            64 machine epsilons of the dtype); with ``check=False`` such rows give NaN.
         out: optional C-contiguous array of the result's shape and dtype to write into.
         normalization: ``"exact"`` scales the lobe so its directional albedo (kd = 0,
             ks = 1, Fresnel factor 1) peaks at exactly 1: ``normalized_blinn_phong``

@@ -35,6 +35,12 @@ def sample(
         u: uniform random numbers in ``[0, 1)``, shape ``(..., 2)``.
         n: normals (default +z).
         tangent: tangents of anisotropic models (projected onto the tangent plane).
+
+    Raises:
+        ValueError: naming the argument and its first bad index, for a ``u`` outside
+            ``[0, 1)`` (NaN and infinities included), a NaN, infinite or zero-length
+            ``wi``, ``n`` or ``tangent`` (and ``wo`` of :func:`pdf`), or a tangent
+            parallel to the normal (as :func:`brdf_rs.eval`).
         **params: the model's parameters, broadcasting against the batch.
 
     Returns:

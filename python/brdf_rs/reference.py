@@ -550,9 +550,18 @@ def torrance_sparrow(
 
 def _tangent_frame(n: Vector, t: Sequence[float] | None) -> tuple[Vector, Vector]:
     """Returns ``(x, y)``: the tangent projected onto the tangent plane and normalized
-    (Gram-Schmidt; +x when no tangent is given), and ``y = n × x``. A tangent parallel to
-    ``n`` has no projection: then any unit vector perpendicular to ``n`` (Duff et al.)."""
-    t = (1.0, 0.0, 0.0) if t is None else _normalize(t)
+    (Gram-Schmidt; +x when no tangent is given), and ``y = n × x``. A given tangent
+    parallel to ``n`` (the sine of their angle at most 64 machine epsilons, as ``eval``)
+    is refused; the default +x parallel to ``n`` has no projection: then any unit
+    vector perpendicular to ``n`` (Duff et al.)."""
+    if t is not None:
+        t = _normalize(t)
+        if math.sqrt(_sin2(n, t)) <= 64 * sys.float_info.epsilon:
+            raise ValueError(
+                f"tangent {tuple(t)!r} is parallel to the normal n {tuple(n)!r}: it gives no"
+                " direction in the tangent plane"
+            )
+    t = (1.0, 0.0, 0.0) if t is None else t
     d = _dot(t, n)
     p = (t[0] - d * n[0], t[1] - d * n[1], t[2] - d * n[2])
     length = math.hypot(*p)

@@ -28,6 +28,7 @@ A scene is a TOML file (or the same structure as a dict)::
 
     [[objects]]
     type = "plane"                # point, normal (two-sided); optional fixed tangent
+                                  # (not parallel to the normal)
     point = [0, -1, 0]
     normal = [0, 1, 0]
     material = "toon"
@@ -197,6 +198,16 @@ def _vector(where: _Where, value: Any, *, nonzero: bool = False) -> list[float]:
     return [float(x) for x in value]
 
 
+def _parallel(t: Sequence[float], n: Sequence[float]) -> bool:
+    """Whether the sine of the angle between ``t`` and ``n`` is at most 64 float32
+    epsilons (the renderer's precision), as ``eval`` refuses a tangent for float32."""
+    a = np.asarray(t, dtype=np.float64)
+    b = np.asarray(n, dtype=np.float64)
+    a, b = a / np.max(np.abs(a)), b / np.max(np.abs(b))
+    sine = np.linalg.norm(np.cross(a, b)) / (np.linalg.norm(a) * np.linalg.norm(b))
+    return bool(sine <= 64 * np.finfo(np.float32).eps)
+
+
 def _colour(where: _Where, value: Any) -> list[float]:
     what = "a colour: a number >= 0 or an RGB triple [r, g, b] of numbers >= 0"
     value = _triple(value)
@@ -223,6 +234,10 @@ def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
     kind = spec["kind"]
     rng = spec["range"]
     lo, hi = spec["min"], spec["max"]
+    # Closed bounds also admit their float32 roundings, as eval does (np.float32(pi/2)).
+    with np.errstate(over="ignore"):
+        lo = lo if spec["min_open"] else min(lo, float(np.float32(lo)))
+        hi = hi if spec["max_open"] else max(hi, float(np.float32(hi)))
 
     def in_range(x: float) -> bool:
         above = x > lo if spec["min_open"] else x >= lo
@@ -410,6 +425,11 @@ def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str
         )
         if "tangent" in table:
             out["tangent"] = _vector(where / "tangent", table["tangent"], nonzero=True)
+            if _parallel(out["tangent"], out["normal"]):
+                raise (where / "tangent").error(
+                    f"{_show(table['tangent'])} is parallel to the plane's normal"
+                    f" {_show(table['normal'])}: it gives no direction in the plane"
+                )
         else:
             out["tangent"] = None
     return out
@@ -661,7 +681,8 @@ def render(
         only: ``"diffuse"`` or ``"specular"`` renders that component alone (the other's
             kernels never run); a family-A model's diffuse term is its ``kd`` term.
         tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
-        exposure: stops (default: the scene's, or 0 with ``tonemap="none"``).
+        exposure: stops, any finite number (default: the scene's, or 0 with
+            ``tonemap="none"``); as in :func:`tonemap`, 0 stays 0 and nothing is NaN.
         stats: also return a dict counting the work done: ``pixels``, ``ray_tests``,
             ``hits``, ``lights`` (and ``lights_dropped``: black ones),
             ``materials_prepared``, pixel-light ``pairs`` with those
@@ -697,7 +718,10 @@ def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.nda
     """Returns ``image × 2^exposure`` through a tone map (a new float32 array).
 
     ``"clamp"``: min(max(x, 0), 1); ``"reinhard"``: x/(1 + x); ``"aces"``: Narkowicz's
-    fit of the ACES filmic curve; ``"none"``: exposure only.
+    fit of the ACES filmic curve; ``"none"``: exposure only. Any finite ``exposure`` is
+    valid: the product is rounded to float32 as computed exactly, so 0 stays 0 however
+    large the exposure, a product beyond float32's range is ±inf (1 after a tone map),
+    and finite input never gives NaN.
     """
     out = np.array(image, dtype=np.float32, order="C", copy=True)
     return _apply_tonemap(out, kind, exposure)
@@ -751,6 +775,28 @@ def _unit_rows(name: str, a: np.ndarray) -> np.ndarray:
         scaled = flat / scale
         unit = scaled / np.linalg.norm(scaled, axis=1, keepdims=True)
     return np.ascontiguousarray(unit, dtype=np.float32)
+
+
+def _projects_tangent(material: Mapping[str, Any]) -> bool:
+    """Whether a term of the material projects its tangent onto the tangent plane (the
+    anisotropic models, which take it optionally; ``kajiya_kay`` uses its fibre as is)."""
+    specs = _specs()
+    terms = [material.get("brdf"), material.get("diffuse"), material.get("specular")]
+    return any(t is not None and specs[t["model"]]["tangent_optional"] for t in terms)
+
+
+def _check_tangent_rows(t: np.ndarray, n: np.ndarray, shape: tuple[int, ...]) -> None:
+    """Refuses unit tangents (nearly) parallel to their unit normals: the sine of their
+    angle at most 64 float32 epsilons (the shading precision), as ``eval`` does."""
+    sine = np.linalg.norm(np.cross(t.astype(np.float64), n.astype(np.float64)), axis=1)
+    bad = sine <= 64 * np.finfo(np.float32).eps
+    if bad.any():
+        i = int(np.argmax(bad))
+        index = [int(k) for k in np.unravel_index(i, shape)] if shape else []
+        raise ValueError(
+            f"tangent{index} is parallel to the normal n{index} (first bad index {index}):"
+            " it gives no direction in the tangent plane"
+        )
 
 
 @overload
@@ -840,6 +886,8 @@ def shade(
             args[k] = _unit_rows(k, a)
     if args["n"] is None or args["v"] is None:
         raise TypeError("n, v: expected arrays of normals and view directions, got None")
+    if args["tangent"] is not None and _projects_tangent(core_material):
+        _check_tangent_rows(args["tangent"], args["n"], shape)
     out, counts = _core.shade_gbuffer(
         core_material,
         core_lights,

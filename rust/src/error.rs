@@ -59,6 +59,8 @@ pub enum BrdfError {
     InvalidArgument(String),
     /// An allocation that failed (message says what and how large).
     OutOfMemory(String),
+    /// The caller asked the work to stop (Ctrl-C); the binding raises its own exception.
+    Interrupted,
 }
 
 impl BrdfError {
@@ -182,6 +184,7 @@ impl fmt::Display for BrdfError {
             BrdfError::Shape(msg)
             | BrdfError::InvalidArgument(msg)
             | BrdfError::OutOfMemory(msg) => f.write_str(msg),
+            BrdfError::Interrupted => f.write_str("interrupted"),
         }
     }
 }

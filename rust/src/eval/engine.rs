@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::Plan;
 use super::rows::Rows;
-use crate::math::geometry::wide_cosine;
+use crate::math::geometry::{tangent_parallel, wide_cosine};
 use crate::math::{Real, Vector3};
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
@@ -270,6 +270,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         })
     });
     let uses_tangent = plan.kind.spec().tangent != crate::models::TangentUse::None;
+    let check_tangent = plan.checks_tangent_direction();
     let uniform = K::prepare::<F, [F]>(&plan.uniform);
     let mut scratch = Scratch {
         vectors: [[[F::ZERO; BLOCK]; 3]; 4],
@@ -326,6 +327,14 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                 &mut scratch.ok,
                 plan.options.normalized,
             );
+        }
+        if check_tangent {
+            let [_, _, n, t] = &scratch.vectors;
+            for j in 0..BLOCK {
+                let nj = F::V3::new(n[0][j], n[1][j], n[2][j]);
+                let tj = F::V3::new(t[0][j], t[1][j], t[2][j]);
+                scratch.ok[j] &= !tangent_parallel::<F>(nj, tj);
+            }
         }
         if vary {
             for p in &plan.varying {
@@ -550,11 +559,26 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
     }
 }
 
+/// Rows between two calls of the `poll` of [`run_polled`] (a multiple of the task size, so
+/// that tasks, and with them every row's instructions, are those of one undivided run).
+pub const POLL_ROWS: usize = 128 * TASK_BLOCKS * BLOCK;
+
 /// Runs the plan into `out` (C order, `rows × 3`), in parallel for large batches.
 /// Returns whether any row had an unusable input vector.
 pub fn run<F: Real>(plan: &Plan<'_, F>, out: &mut [F]) -> bool {
+    run_polled(plan, out, &mut || true).unwrap_or(true)
+}
+
+/// [`run`], calling `poll` after every [`POLL_ROWS`] rows (never for a smaller batch) and
+/// stopping early, with `None`, when it returns false; the rows not reached are left as
+/// they were. The rows are computed as by [`run`], bit for bit.
+pub fn run_polled<F: Real>(
+    plan: &Plan<'_, F>,
+    out: &mut [F],
+    poll: &mut dyn FnMut() -> bool,
+) -> Option<bool> {
     if plan.rows == 0 {
-        return false;
+        return Some(false);
     }
     let isa = isa();
     let z = [F::ZERO, F::ZERO, F::ONE];
@@ -571,16 +595,26 @@ pub fn run<F: Real>(plan: &Plan<'_, F>, out: &mut [F]) -> bool {
         _float: PhantomData,
     });
     let task_rows = TASK_BLOCKS * BLOCK;
-    // SAFETY: `range` was compiled for `isa`, which `isa()` checked this CPU supports.
-    if plan.rows <= 2 * task_rows || parallel::num_threads() == 1 {
-        return unsafe { range(plan, 0, out) };
+    let serial = plan.rows <= 2 * task_rows || parallel::num_threads() == 1;
+    let mut any_bad = false;
+    for (k, part) in out.chunks_mut(3 * POLL_ROWS).enumerate() {
+        if k > 0 && !poll() {
+            return None;
+        }
+        let first = k * POLL_ROWS;
+        // SAFETY: `range` was compiled for `isa`, which `isa()` checked this CPU supports.
+        any_bad |= if serial {
+            unsafe { range(plan, first, part) }
+        } else {
+            parallel::install(|| {
+                part.par_chunks_mut(3 * task_rows)
+                    .enumerate()
+                    .map(|(i, chunk)| unsafe { range(plan, first + i * task_rows, chunk) })
+                    .reduce(|| false, |a, b| a || b)
+            })
+        };
     }
-    parallel::install(|| {
-        out.par_chunks_mut(3 * task_rows)
-            .enumerate()
-            .map(|(i, chunk)| unsafe { range(plan, i * task_rows, chunk) })
-            .reduce(|| false, |a, b| a || b)
-    })
+    Some(any_bad)
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ pub mod rows;
 use ndarray::{ArrayViewD, ArrayViewMutD};
 
 use crate::error::{BrdfError, format_shape};
+use crate::math::geometry::tangent_parallel;
 use crate::math::{Real, Vector3};
 use crate::models::{ModelKind, ModelSpec, TangentUse};
 use params::{BatchParam, GivenParam, VaryingParam};
@@ -50,6 +51,23 @@ impl Default for EvalOptions {
             check: true,
             check_params: true,
         }
+    }
+}
+
+/// The problem of a tangent that [`tangent_parallel`] refuses.
+pub const PARALLEL_TANGENT: &str = "parallel to the normal n (the sine of their angle is at most 64 machine epsilons of \
+     the dtype), so it gives no direction in the tangent plane";
+
+/// Returns what is wrong with an input vector, if anything: NaN, infinite or zero-length.
+pub fn vector_problem<F: Real>(row: &[F; 3]) -> Option<&'static str> {
+    if F::usable(F::V3::new(row[0], row[1], row[2])) {
+        None
+    } else if row.iter().any(|x| x.is_nan()) {
+        Some("NaN")
+    } else if row.iter().any(|x| !x.is_finite()) {
+        Some("infinite")
+    } else {
+        Some("a zero-length vector")
     }
 }
 
@@ -183,6 +201,17 @@ impl<F: Real> Plan<'_, F> {
     /// An error naming the first bad input vector (NaN, infinite or zero-length) when
     /// `check` is on; `out` then holds NaN in the bad rows and results elsewhere.
     pub fn execute(&self, out: ArrayViewMutD<'_, F>) -> Result<(), BrdfError> {
+        self.execute_polled(out, &mut || true)
+    }
+
+    /// [`Plan::execute`], calling `poll` between parts of a large batch (see
+    /// [`engine::run_polled`]): when it returns false the work stops with
+    /// [`BrdfError::Interrupted`], `out` partly written.
+    pub fn execute_polled(
+        &self,
+        out: ArrayViewMutD<'_, F>,
+        poll: &mut dyn FnMut() -> bool,
+    ) -> Result<(), BrdfError> {
         if out.shape() != self.output_shape().as_slice() {
             return Err(BrdfError::Shape(format!(
                 "out: expected shape {}; got {}",
@@ -195,25 +224,48 @@ impl<F: Real> Plan<'_, F> {
                 "out: must be C-contiguous (a fresh numpy.empty array is)".into(),
             ));
         };
-        let any_bad = engine::run(self, out);
+        let any_bad = engine::run_polled(self, out, poll).ok_or(BrdfError::Interrupted)?;
         if any_bad && self.options.check {
             return Err(self.first_bad_vector());
         }
         Ok(())
     }
 
+    /// Whether a given tangent must not be parallel to the normal: the models that
+    /// project it onto the tangent plane (those taking it optionally: `ward`,
+    /// `ashikhmin_shirley`) have no frame there; `kajiya_kay` uses its fibre as given.
+    pub fn checks_tangent_direction(&self) -> bool {
+        self.originals[3].is_some() && self.kind.spec().tangent == TangentUse::Optional
+    }
+
     /// Finds the first bad input vector, in row order then argument order.
     fn first_bad_vector(&self) -> BrdfError {
         let mut row_buf = [F::ZERO; 3];
+        let check_tangent = self.checks_tangent_direction();
         for row in 0..self.rows {
             for (i, original) in self.originals.iter().enumerate() {
                 let Some(view) = original else { continue };
                 engine::read_row(&self.vectors[i], 3, &self.batch, row, &mut row_buf);
                 let v = F::V3::new(row_buf[0], row_buf[1], row_buf[2]);
-                if F::usable(v) {
+                let parallel = i == 3 && check_tangent && F::usable(v) && {
+                    let mut n = [F::ZERO; 3];
+                    engine::read_row(&self.vectors[2], 3, &self.batch, row, &mut n);
+                    let n = F::V3::new(n[0], n[1], n[2]);
+                    let (unit_n, _) = F::normalize(n);
+                    let (unit_t, _) = F::normalize(v);
+                    let (n, t) = if self.options.normalized {
+                        (n, v)
+                    } else {
+                        (unit_n, unit_t)
+                    };
+                    tangent_parallel::<F>(n, t)
+                };
+                if F::usable(v) && !parallel {
                     continue;
                 }
-                let problem = if row_buf.iter().any(|x| x.is_nan()) {
+                let problem = if parallel {
+                    PARALLEL_TANGENT
+                } else if row_buf.iter().any(|x| x.is_nan()) {
                     "NaN"
                 } else if row_buf.iter().any(|x| !x.is_finite()) {
                     "infinite"

@@ -193,6 +193,25 @@ pub fn sine_from_cosine<F: Real>(c: F) -> F {
     max((F::ONE - c) * (F::ONE + c), F::ZERO).sqrt()
 }
 
+/// How close to the normal a given tangent may be, in units of the float type's machine
+/// epsilon: a tangent with `|t̂ × n̂|` (the sine of its angle to the normal) at most this
+/// many epsilons is refused, since its projection onto the tangent plane, a few
+/// roundings long, points wherever those roundings do.
+pub const PARALLEL_TANGENT_EPSILONS: f64 = 64.0;
+
+/// Whether `t` is parallel to `n` to within [`PARALLEL_TANGENT_EPSILONS`]:
+/// `|n × t| <= k·ε·|n|·|t|` (exactly parallel, opposite or zero included). NaN gives false.
+#[inline(always)]
+pub fn tangent_parallel<F: Real>(n: F::V3, t: F::V3) -> bool {
+    let eps = if std::mem::size_of::<F>() == 4 {
+        f32::EPSILON as f64
+    } else {
+        f64::EPSILON
+    };
+    let k = F::from_f64(PARALLEL_TANGENT_EPSILONS * eps);
+    n.cross(t).length_squared() <= k * k * n.length_squared() * t.length_squared()
+}
+
 /// Returns the unit tangent `x` (tangent projected onto the plane normal to `n` and
 /// normalized: Gram-Schmidt) and `y = n × x`. A tangent parallel to `n` has no
 /// projection; then any unit vector perpendicular to `n` is used.

@@ -26,6 +26,9 @@ mod scene;
 
 impl From<BrdfError> for PyErr {
     fn from(e: BrdfError) -> PyErr {
+        if e == BrdfError::Interrupted {
+            return pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string());
+        }
         match e.class() {
             ErrorClass::Type => PyTypeError::new_err(e.to_string()),
             ErrorClass::Value => PyValueError::new_err(e.to_string()),
@@ -35,6 +38,50 @@ impl From<BrdfError> for PyErr {
 }
 
 type Arr<'py, F> = PyReadonlyArrayDyn<'py, F>;
+
+/// Checks for Ctrl-C from inside work that runs without the GIL, as the albedo builds do
+/// (`Python::check_signals`), but from the calling thread between parts of the work:
+/// [`SignalPoll::poll`] takes the GIL back at most every [`SignalPoll::INTERVAL`], so a
+/// call shorter than that never does. A raised exception (the handler's
+/// `KeyboardInterrupt`) is kept for [`SignalPoll::finish`] to return.
+pub(crate) struct SignalPoll {
+    last: std::time::Instant,
+    raised: Option<PyErr>,
+}
+
+impl SignalPoll {
+    /// The most time between two checks.
+    const INTERVAL: Duration = Duration::from_millis(20);
+
+    pub(crate) fn new() -> SignalPoll {
+        SignalPoll {
+            last: std::time::Instant::now(),
+            raised: None,
+        }
+    }
+
+    /// Returns false (stop) once a signal handler has raised.
+    pub(crate) fn poll(&mut self) -> bool {
+        if self.last.elapsed() < Self::INTERVAL {
+            return true;
+        }
+        if let Err(e) = Python::attach(|py| py.check_signals()) {
+            self.raised = Some(e);
+            return false;
+        }
+        self.last = std::time::Instant::now();
+        true
+    }
+
+    /// The result of work polled by `self`: the handler's exception if the work was
+    /// interrupted, else the work's own result.
+    pub(crate) fn finish<T>(self, result: Result<T, BrdfError>) -> PyResult<T> {
+        match (result, self.raised) {
+            (Err(BrdfError::Interrupted), Some(e)) => Err(e),
+            (result, _) => Ok(result?),
+        }
+    }
+}
 
 /// Extracts the `{name: array}` parameter dict as read-only arrays.
 fn param_arrays<'py, F: Real + Element>(
@@ -95,7 +142,9 @@ fn eval_impl<'py, F: Real + Element>(
             ))
         })?;
         let view = guard.as_array_mut();
-        py.detach(|| plan.execute(view))?;
+        let mut signals = SignalPoll::new();
+        let result = py.detach(|| plan.execute_polled(view, &mut || signals.poll()));
+        signals.finish(result)?;
     }
     Ok(out)
 }

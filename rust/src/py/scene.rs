@@ -265,7 +265,10 @@ pub fn render_scene<'py>(
 ) -> PyResult<ImageAndStats<'py>> {
     let scene = self::scene(scene)?;
     let component = Component::from_name(only)?;
-    let (image, stats) = py.detach(|| crate::scene::render(&scene, component))?;
+    let mut signals = super::SignalPoll::new();
+    let result =
+        py.detach(|| crate::scene::render_polled(&scene, component, &mut || signals.poll()));
+    let (image, stats) = signals.finish(result)?;
     let shape = vec![scene.camera.height, scene.camera.width, 3];
     let array = numpy::ndarray::Array::from_shape_vec(shape, image)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
@@ -343,7 +346,7 @@ pub fn tonemap_inplace<'py>(
     let values = image
         .as_slice_mut()
         .map_err(|_| PyValueError::new_err("image: expected a C-contiguous float32 array"))?;
-    py.detach(|| tonemap::apply(values, kind, exposure as f32))?;
+    py.detach(|| tonemap::apply(values, kind, exposure))?;
     Ok(())
 }
 

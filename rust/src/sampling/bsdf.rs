@@ -176,9 +176,11 @@ pub mod batch {
     use crate::eval::engine::read_row;
     use crate::eval::params::ParamRows;
     use crate::eval::rows::Rows;
+    use crate::eval::rows::own_index;
+    use crate::eval::{PARALLEL_TANGENT, vector_problem};
     use crate::integrate::SamplerChoice;
     use crate::math::Real;
-    use crate::math::geometry::tangent_frame;
+    use crate::math::geometry::{tangent_frame, tangent_parallel};
     use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind, TangentUse};
     use crate::parallel;
     use crate::sampling::Frame;
@@ -265,6 +267,8 @@ pub mod batch {
             let second = Rows::new(inputs.second, true, second_len, &batch);
             let n = inputs.n.map(|v| Rows::new(v, true, 3, &batch));
             let tangent = inputs.tangent.map(|v| Rows::new(v, true, 3, &batch));
+            let sources = [Some(&wi), Some(&second), n.as_ref(), tangent.as_ref()];
+            check_inputs::<K>(&named, &batch, sources, sampling)?;
             let mut out = Output {
                 batch,
                 wo: try_filled_vec(3 * count, "sampled directions")?,
@@ -364,6 +368,72 @@ pub mod batch {
             });
             Ok(out)
         }
+    }
+
+    /// Refuses, naming the argument and its first bad index (rows in order, then the
+    /// arguments in order): a `wi`, `wo`, `n` or `tangent` that is NaN, infinite or of zero
+    /// length, a `u` outside `[0, 1)` (NaN and infinities included), and a tangent
+    /// parallel to `n` for the models that project it onto the tangent plane.
+    fn check_inputs<K: Kernel>(
+        named: &[(&str, Vec<usize>)],
+        batch: &[usize],
+        rows: [Option<&Rows<'_, f64>>; 4],
+        sampling: bool,
+    ) -> Result<(), BrdfError> {
+        let count: usize = batch.iter().product();
+        let projected = K::spec().tangent == TangentUse::Optional;
+        let own = |name: &str| {
+            named
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, s)| s.as_slice())
+                .unwrap_or(&[])
+        };
+        let names = ["wi", if sampling { "u" } else { "wo" }, "n", "tangent"];
+        let mut r = [[0.0; 3]; 4];
+        for i in 0..count {
+            for (k, source) in rows.iter().enumerate() {
+                let Some(source) = source else { continue };
+                let comps = if k == 1 && sampling { 2 } else { 3 };
+                read_row(source, comps, batch, i, &mut r[k]);
+                let problem = if k == 1 && sampling {
+                    let u = &r[1][..2];
+                    if u.iter().any(|x| x.is_nan()) {
+                        Some("NaN")
+                    } else if u.iter().any(|x| !x.is_finite()) {
+                        Some("infinite")
+                    } else if u.iter().any(|x| !(0.0..1.0).contains(x)) {
+                        Some("outside [0, 1)")
+                    } else {
+                        None
+                    }
+                } else {
+                    vector_problem(&r[k])
+                };
+                let problem = problem.or_else(|| {
+                    let n = if rows[2].is_some() {
+                        r[2]
+                    } else {
+                        [0.0, 0.0, 1.0]
+                    };
+                    let parallel = k == 3
+                        && projected
+                        && tangent_parallel::<f64>(
+                            f64::normalize(DVec3::from_array(n)).0,
+                            f64::normalize(DVec3::from_array(r[3])).0,
+                        );
+                    parallel.then_some(PARALLEL_TANGENT)
+                });
+                if let Some(problem) = problem {
+                    return Err(BrdfError::BadVector {
+                        argument: names[k],
+                        index: own_index(i, batch, own(names[k])),
+                        problem,
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Draws one `wo` per element (`u` of shape `(..., 2)` in `[0, 1)²`); returns `wo`,

@@ -25,6 +25,6 @@ pub mod tonemap;
 pub use camera::{Camera, Projection};
 pub use geometry::{Object, Shape, TangentField};
 pub use lights::Light;
-pub use render::{GBuffer, PartStats, RenderStats, Scene, render, shade};
+pub use render::{GBuffer, PartStats, RenderStats, Scene, render, render_polled, shade};
 pub use shading::{Component, MaterialDesc, Role, Term};
 pub use tonemap::ToneMap;

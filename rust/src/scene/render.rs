@@ -633,6 +633,24 @@ fn live_lights(lights: &[Light], stats: &mut RenderStats) -> Vec<Light> {
 /// An object naming a material the scene does not have, or a material whose models are
 /// of the wrong family.
 pub fn render(scene: &Scene, component: Component) -> Result<(Vec<f32>, RenderStats), BrdfError> {
+    render_polled(scene, component, &mut || true)
+}
+
+/// Pixels rendered between two calls of the `poll` of [`render_polled`] (whole rows: at
+/// least one).
+pub const POLL_PIXELS: usize = 1 << 18;
+
+/// [`render`], calling `poll` between bands of about [`POLL_PIXELS`] pixels (whole rows)
+/// and stopping with [`BrdfError::Interrupted`] when it returns false. Every pixel is
+/// computed as by [`render`], bit for bit.
+///
+/// # Errors
+/// As [`render`]; [`BrdfError::Interrupted`].
+pub fn render_polled(
+    scene: &Scene,
+    component: Component,
+    poll: &mut dyn FnMut() -> bool,
+) -> Result<(Vec<f32>, RenderStats), BrdfError> {
     let mut stats = RenderStats::default();
     let mut used = vec![false; scene.materials.len()];
     for (i, o) in scene.objects.iter().enumerate() {
@@ -671,26 +689,33 @@ pub fn render(scene: &Scene, component: Component) -> Result<(Vec<f32>, RenderSt
             unsafe { row_fn(&frame, first + k, row, s) };
         }
     };
-    let totals = if parallel::num_threads() == 1 || height == 1 {
-        let mut s = Scratch::new(&template, n_materials);
-        run(&mut image, 0, &mut s);
-        vec![s.stats]
-    } else {
-        parallel::install(|| {
-            image
-                .par_chunks_mut(3 * width)
-                .enumerate()
-                .fold(
-                    || Scratch::new(&template, n_materials),
-                    |mut s, (y, row)| {
-                        run(row, y, &mut s);
-                        s
-                    },
-                )
-                .map(|s| s.stats)
-                .collect::<Vec<_>>()
-        })
-    };
+    let band_rows = (POLL_PIXELS / width.max(1)).max(1);
+    let mut totals = Vec::new();
+    for (b, band) in image.chunks_mut(3 * width * band_rows).enumerate() {
+        if b > 0 && !poll() {
+            return Err(BrdfError::Interrupted);
+        }
+        let first = b * band_rows;
+        if parallel::num_threads() == 1 || height == 1 {
+            let mut s = Scratch::new(&template, n_materials);
+            run(band, first, &mut s);
+            totals.push(s.stats);
+        } else {
+            totals.extend(parallel::install(|| {
+                band.par_chunks_mut(3 * width)
+                    .enumerate()
+                    .fold(
+                        || Scratch::new(&template, n_materials),
+                        |mut s, (y, row)| {
+                            run(row, first + y, &mut s);
+                            s
+                        },
+                    )
+                    .map(|s| s.stats)
+                    .collect::<Vec<_>>()
+            }));
+        }
+    }
     for t in &totals {
         stats.add(t);
     }

@@ -64,17 +64,26 @@ impl ToneMap {
 
 const CHUNK: usize = 1 << 16;
 
+/// Exposures beyond this many stops change no result: `x·2^±400` is beyond `f32`'s range
+/// (2^-149 to 2^128) for every nonzero `f32` `x`, as it is at any larger magnitude.
+const EXPOSURE_LIMIT: f64 = 400.0;
+
 /// Applies `2^exposure` and the tone map to every value, in place.
-pub fn apply(values: &mut [f32], tonemap: ToneMap, exposure: f32) -> Result<(), BrdfError> {
+///
+/// Any finite `exposure` is valid: each value is scaled in `f64` (where `2^exposure`,
+/// limited to ±[`EXPOSURE_LIMIT`] stops, is finite and nonzero), then rounded to `f32`.
+/// So the result is the rounding of `x·2^exposure`: 0 stays 0 (never `0·inf`), a value too
+/// large for `f32` becomes ±inf (1 after a tone map), one too small 0.
+pub fn apply(values: &mut [f32], tonemap: ToneMap, exposure: f64) -> Result<(), BrdfError> {
     if !exposure.is_finite() {
         return Err(BrdfError::InvalidArgument(format!(
             "exposure: expected a finite number of stops; got {exposure}"
         )));
     }
-    let scale = exposure.exp2();
+    let scale = exposure.clamp(-EXPOSURE_LIMIT, EXPOSURE_LIMIT).exp2();
     let work = |chunk: &mut [f32]| {
         for x in chunk {
-            *x = tonemap.map(*x * scale);
+            *x = tonemap.map((f64::from(*x) * scale) as f32);
         }
     };
     if values.len() <= CHUNK || parallel::num_threads() == 1 {
@@ -133,6 +142,20 @@ mod tests {
             assert_eq!(tm.map(f32::NAN), 0.0);
             assert_eq!(tm.map(f32::INFINITY), 1.0);
             assert_eq!(tm.map(-3.0), 0.0);
+        }
+        // Any finite exposure: 0 stays 0, overflow saturates, never NaN.
+        for exposure in [129.0, 1e300, -1e300, 400.5, -149.5] {
+            for tm in [
+                ToneMap::None,
+                ToneMap::Clamp,
+                ToneMap::Reinhard,
+                ToneMap::Aces,
+            ] {
+                let mut v = [0.0, -0.0, 1.0, 1e-45, f32::MAX];
+                apply(&mut v, tm, exposure).unwrap();
+                assert!(v.iter().all(|x| !x.is_nan()), "{tm:?} {exposure} {v:?}");
+                assert_eq!(v[0], 0.0);
+            }
         }
         assert_eq!(ToneMap::Reinhard.map(1.0), 0.5);
         assert!((ToneMap::Aces.map(1.0) - 2.54 / 3.16).abs() < 1e-6);
