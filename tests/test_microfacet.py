@@ -132,13 +132,12 @@ def test_energy_compensation_table_and_its_average():
 @pytest.mark.parametrize("alpha", [0.05, 0.37, 1.0])
 def test_multiple_scattering_lobe_restores_the_white_furnace(model, alpha):
     """ggx + ggx_ms with F = 1 reflects everything, up to the embedded table's
-    interpolation error (33 x 33 nodes: measured below 0.7%, 0.3% away from grazing)."""
+    interpolation error (measured below 3e-4 by scripts/furnace_check.py)."""
     mu = np.array([0.05, 0.3, 0.7, 1.0])
     single = brdf_rs.albedo(model, mu, kd=0, ks=1, alpha=alpha, samples=1 << 14)
     multiple = brdf_rs.albedo(f"{model}_ms", mu, ks=1, alpha=alpha)
     total = single.value[:, 0] + multiple.value[:, 0]
-    assert np.all(np.abs(total[1:] - 1) < 4e-3), total
-    assert abs(total[0] - 1) < 8e-3, total
+    assert np.all(np.abs(total - 1) < 5e-4), total
     # The lobe's albedo is exact (no sampling).
     assert (multiple.samples == 0).all()
 

@@ -5,8 +5,11 @@
 //! GGX's directional albedo with F = 1, `E_avg = 2 ∫ E(mu) mu dmu`, and for a Schlick
 //! F0 = `ks` the colour factor `F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg))`,
 //! `F_avg = F0 + (1 − F0)/21` (1 for F = 1). `ggx + ggx_ms` with `ks = 1` has albedo 1 at
-//! every incidence (the white furnace). E and E_avg are interpolated from a 33 × 33
-//! table computed by brdf-rs itself (`scripts/gen_tables.py`); `alpha` in [1e-3, 1].
+//! every incidence (the white furnace), up to the table's interpolation error. The loss
+//! `1 − E` and `1 − E_avg` are interpolated from a table computed by brdf-rs itself
+//! (`scripts/gen_tables.py`; layout and accuracy in [`super::tables::EnergyTable`]):
+//! never negative, and the lobe's albedo is exactly `(1 − E(mu))·F_ms` of the
+//! interpolated `E`. `alpha` in [1e-3, 1].
 
 use super::albedo::{Integral, Term};
 use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
@@ -51,7 +54,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 /// Prepared constants of a multiple-scattering lobe on a table.
 #[derive(Clone, Copy)]
 pub struct Prepared<F> {
-    alpha: super::tables::Node<F>,
+    alpha: super::tables::AlphaNode<F>,
     /// `F_ms / (π (1 − E_avg))` per channel.
     scale: [F; 3],
 }

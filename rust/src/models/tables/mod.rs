@@ -4,24 +4,44 @@
 pub mod beckmann_e;
 pub mod ggx_e;
 
-use crate::math::{Real, clamp};
+use crate::math::{Real, clamp, max};
 
-/// A single-scattering energy table `E(mu, alpha)` with its average `E_avg(alpha)`, on
-/// nodes uniform in mu (`j/32`) and log-uniform in alpha (`[1e-3, 1]`).
+/// Incidence nodes of the energy tables (uniform in `x = (sqrt(t) + t)/2`).
+const NT: usize = ggx_e::T.len();
+/// Roughness nodes of the energy tables (log-uniform in `[1e-3, 1]`).
+const NA: usize = ggx_e::ALPHA.len();
+
+/// A single-scattering energy table: the loss `L = 1 − E(mu, alpha)` with its average
+/// `L_avg(alpha) = 2 ∫ L mu dmu`.
+///
+/// The incidence axis is `t = mu/(mu + alpha·sqrt(1 − mu²))` (Smith's `a = mu/(alpha
+/// sinθ)` as `a/(1 + a)`): the loss of a smooth surface lives in a layer of width ~alpha
+/// at grazing incidence, which a fixed `mu` grid cannot resolve at small alpha, while in
+/// `t` it has the same shape at every alpha. The nodes are uniform in `x = (sqrt(t) +
+/// t)/2`, which refines them towards `t = 0`, where the loss of rough lobes grows like
+/// `mu^0.85` from 0 (`scripts/furnace_check.py` measures the result). The roughness axis is
+/// log-uniform, blended by cubic (Catmull-Rom) weights over four node columns (linear
+/// interpolation left 9e-4 of furnace error near Beckmann's alpha = 0.5 at normal
+/// incidence, where the loss rises steeply). Each alpha column is read at its own node's
+/// `t` (not at the query's alpha), so the interpolant is, for every alpha, a fixed blend
+/// of node columns' functions of `mu`, and the stored averages (of those functions,
+/// `scripts/gen_tables.py`) blend with the same weights: the lobe's albedo is exactly
+/// `L(mu)·F_ms`. The losses are non-negative (clamped when generated) and so is every
+/// interpolated value (clamped at 0 where the cubic would dip below).
 pub struct EnergyTable {
-    pub e: &'static [[f64; 33]; 33],
-    pub e_avg: &'static [f64; 33],
+    pub loss: &'static [[f64; NA]; NT],
+    pub loss_avg: &'static [f64; NA],
 }
 
 /// The GGX table (F = 1).
-pub const GGX: EnergyTable = EnergyTable {
-    e: &ggx_e::GGX_E,
-    e_avg: &ggx_e::GGX_E_AVG,
+pub static GGX: EnergyTable = EnergyTable {
+    loss: &ggx_e::GGX_LOSS,
+    loss_avg: &ggx_e::GGX_LOSS_AVG,
 };
 /// The Beckmann table (F = 1).
-pub const BECKMANN: EnergyTable = EnergyTable {
-    e: &beckmann_e::BECKMANN_E,
-    e_avg: &beckmann_e::BECKMANN_E_AVG,
+pub static BECKMANN: EnergyTable = EnergyTable {
+    loss: &beckmann_e::BECKMANN_LOSS,
+    loss_avg: &beckmann_e::BECKMANN_LOSS_AVG,
 };
 
 /// A position between two nodes: the lower index and the weight of the upper one.
@@ -31,12 +51,12 @@ pub struct Node<F> {
     pub weight: F,
 }
 
-/// Returns the node interval of `x` on `[0, 32]` (clamped).
+/// Returns the node interval of `x` on `[0, last]` (clamped).
 #[inline(always)]
-fn node<F: Real>(x: F) -> Node<F> {
-    let x = clamp(x, F::ZERO, F::from_f64(32.0));
-    let lower = clamp(x, F::ZERO, F::from_f64(31.0));
-    // Truncation of a value in [0, 31]: the integer part.
+fn node<F: Real>(x: F, last: usize) -> Node<F> {
+    let x = clamp(x, F::ZERO, F::from_f64(last as f64));
+    let lower = clamp(x, F::ZERO, F::from_f64((last - 1) as f64));
+    // Truncation of a value in [0, last − 1]: the integer part.
     let index = lower.to_f64() as usize;
     Node {
         index,
@@ -44,36 +64,95 @@ fn node<F: Real>(x: F) -> Node<F> {
     }
 }
 
+/// A roughness between the table's nodes: four node columns and their cubic
+/// (Catmull-Rom) weights in log alpha, which sum to 1 (at the ends of the range the
+/// outer node is extrapolated linearly, and its column gets weight 0).
+#[derive(Clone, Copy, Debug)]
+pub struct AlphaNode<F> {
+    pub columns: [usize; 4],
+    pub weights: [F; 4],
+}
+
 impl EnergyTable {
     /// Returns the alpha node of `alpha` (log-uniform; clamped to [1e-3, 1]).
     #[inline(always)]
-    pub fn alpha_node<F: Real>(&self, alpha: F) -> Node<F> {
-        // log(alpha / 1e-3) / log(1e3) · 32
-        let scale = F::from_f64(32.0 / 1e3f64.ln());
-        node((alpha * F::from_f64(1e3)).ln() * scale)
+    pub fn alpha_node<F: Real>(&self, alpha: F) -> AlphaNode<F> {
+        // log(alpha / 1e-3) / log(1e3) · (NA − 1)
+        let scale = F::from_f64((NA - 1) as f64 / 1e3f64.ln());
+        let a = node((alpha * F::from_f64(1e3)).ln() * scale, NA - 1);
+        let j = a.index;
+        let w = a.weight;
+        let (w2, w3) = (w * w, w * w * w);
+        let half = F::from_f64(0.5);
+        let (two, three, four, five) = (
+            F::from_f64(2.0),
+            F::from_f64(3.0),
+            F::from_f64(4.0),
+            F::from_f64(5.0),
+        );
+        let mut weights = [
+            half * (two * w2 - w3 - w),
+            half * (three * w3 - five * w2 + two),
+            half * (four * w2 - three * w3 + w),
+            half * (w3 - w2),
+        ];
+        // At the ends of the range the missing outer node is the linear extrapolation of
+        // the two inner ones (L₋₁ = 2L₀ − L₁), folded into their weights.
+        if j == 0 {
+            let c = weights[0];
+            weights = [F::ZERO, weights[1] + two * c, weights[2] - c, weights[3]];
+        }
+        if j + 2 > NA - 1 {
+            let c = weights[3];
+            weights = [weights[0], weights[1] - c, weights[2] + two * c, F::ZERO];
+        }
+        AlphaNode {
+            columns: [j.saturating_sub(1), j, j + 1, (j + 2).min(NA - 1)],
+            weights,
+        }
     }
 
-    /// Returns the energy loss `1 − E(mu, alpha)` (bilinear in mu and log alpha). The
-    /// nodes' losses are formed in f64 before any rounding to `F`: near alpha = 0, where
-    /// E → 1, a float32 kernel keeps the loss to full relative precision instead of
-    /// cancelling `1 − E` in float32.
+    /// Returns the loss of node column `j` at `mu` (`sin = sqrt(1 − mu²)`), linear in
+    /// the node coordinate between the incidence nodes.
     #[inline(always)]
-    pub fn loss<F: Real>(&self, mu: F, a: Node<F>) -> F {
-        let m = node(mu * F::from_f64(32.0));
-        let row = |i: usize| {
-            let lo = F::from_f64(1.0 - self.e[i][a.index]);
-            let hi = F::from_f64(1.0 - self.e[i][(a.index + 1).min(32)]);
-            lo + (hi - lo) * a.weight
+    fn column<F: Real>(&self, j: usize, mu: F, sin: F) -> F {
+        let alpha = F::from_f64(ggx_e::ALPHA[j]);
+        // mu = 0 gives t = 0 and mu = 1 gives t = 1; below the surface (and NaN), 0.
+        let t = if mu > F::ZERO {
+            mu / (mu + alpha * sin)
+        } else {
+            F::ZERO
         };
-        let (lo, hi) = (row(m.index), row((m.index + 1).min(32)));
+        // The node coordinate x = (sqrt(t) + t)/2, uniform over the nodes.
+        let x = (t.sqrt() + t) * F::from_f64(0.5 * (NT - 1) as f64);
+        let m = node(x, NT - 1);
+        let lo = F::from_f64(self.loss[m.index][j]);
+        let hi = F::from_f64(self.loss[m.index + 1][j]);
         lo + (hi - lo) * m.weight
     }
 
-    /// Returns `1 − E_avg(alpha)`, the average loss.
+    /// Returns the energy loss `1 − E(mu, alpha)`: each of the four alpha node columns
+    /// read at its own `t`, blended with the cubic weights. Never negative: the blend
+    /// is clamped at 0 (where it would dip below, the loss is within the table's noise
+    /// of 0).
     #[inline(always)]
-    pub fn avg_loss<F: Real>(&self, a: Node<F>) -> F {
-        let lo = F::from_f64(1.0 - self.e_avg[a.index]);
-        let hi = F::from_f64(1.0 - self.e_avg[(a.index + 1).min(32)]);
-        lo + (hi - lo) * a.weight
+    pub fn loss<F: Real>(&self, mu: F, a: AlphaNode<F>) -> F {
+        let sin = max((F::ONE - mu) * (F::ONE + mu), F::ZERO).sqrt();
+        let mut sum = F::ZERO;
+        for (&j, &w) in a.columns.iter().zip(&a.weights) {
+            sum = sum + self.column(j, mu, sin) * w;
+        }
+        max(sum, F::ZERO)
+    }
+
+    /// Returns `1 − E_avg(alpha)`, the average loss: the stored averages blended with the
+    /// same weights as the columns, so that it is the average of [`Self::loss`].
+    #[inline(always)]
+    pub fn avg_loss<F: Real>(&self, a: AlphaNode<F>) -> F {
+        let mut sum = F::ZERO;
+        for (&j, &w) in a.columns.iter().zip(&a.weights) {
+            sum = sum + F::from_f64(self.loss_avg[j]) * w;
+        }
+        sum
     }
 }
