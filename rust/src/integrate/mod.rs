@@ -21,6 +21,11 @@
 //! variance there (12× the per-sample spread of `brdf_rs.sample`'s weights for GGX at
 //! alpha 0.05, mu 0.9, before this was split).
 //!
+//! Without the substitution the closed-form weights are `F·G2/G1`, in `[0, 1]`, mostly
+//! near 1 for a smooth lobe with a rare region near 0: their per-point variance counts a
+//! pseudo-point at each bound, so that a cell whose few points missed that region still
+//! reports an honest error bar (`scripts/stderr_calibration.py` measures it).
+//!
 //! A lobe whose importance sampler gives a nonzero weight to fewer than one point in
 //! [`MIN_HIT_RATE`] of the first round (a very rough lobe: its half vectors send nearly
 //! every point below the horizon) is estimated again with cosine sampling, so that no
@@ -246,6 +251,10 @@ struct Lobe<P> {
     ggx: Option<ggx::VisibleLobe>,
     /// Beckmann's lobe from its visible normals, likewise.
     beckmann: Option<beckmann::VisibleLobe>,
+    /// The weights are known to lie in `[0, 1]` (a closed-form lobe without the QMC
+    /// substitution: `F·G2/G1`): the per-point variance then counts one pseudo-point at
+    /// each bound ([`LobeSums::rgb`]).
+    bounded: bool,
 }
 
 /// Returns `(sin φ, cos φ)`, exact at the multiples of π/2 (as `φ` rounds them), so
@@ -333,6 +342,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         colour: term.colour,
                         prepared: K::prepare::<f64, [f64]>(&basis[..]),
                         warp,
+                        bounded: ggx.is_some() && !sobol,
                         ggx,
                         beckmann: None,
                     });
@@ -358,6 +368,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         prepared: K::prepare::<f64, [f64]>(&basis[..]),
                         warp,
                         ggx: None,
+                        bounded: beckmann.is_some() && !sobol,
                         beckmann,
                     });
                 }
@@ -394,6 +405,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         warp,
                         ggx: None,
                         beckmann: None,
+                        bounded: false,
                     });
                 }
             }
@@ -434,6 +446,7 @@ impl<K: Kernel> CellIntegrand<K> {
                 lobe.warp = Warp::CosineHemisphere;
                 lobe.ggx = None;
                 lobe.beckmann = None;
+                lobe.bounded = false;
                 changed = true;
             }
         }
@@ -597,9 +610,30 @@ impl LobeSums {
                 }
             }
         }
+        // Bounded lobes add one pseudo-point at each bound, 0 and 1, to the squared
+        // deviations (as Agresti and Coull's interval does for a proportion): weights
+        // that are nearly all 1 with a rare region of 0 (the rim of a smooth lobe's
+        // visible normals, hit once in 1/alpha² points) would otherwise give a cell that
+        // saw no such point a variance near 0.
+        let pseudo: [f64; 3] = std::array::from_fn(|c| {
+            let mut extra = 0.0;
+            for (k, lk) in lobes.iter().enumerate() {
+                if lk.bounded {
+                    let m = self.shift[k] + Self::total(&self.sum[k]) / n;
+                    let w = lk.colour[c] / scale[c];
+                    extra += w * w * (m * m + (1.0 - m) * (1.0 - m));
+                }
+            }
+            extra
+        });
         let se = std::array::from_fn(|c| {
             let m = scaled_mean[c];
-            let var = (second[c] - m * m).max(0.0) * n / (n - 1.0);
+            let squares = (second[c] - m * m).max(0.0) * n;
+            let var = if pseudo[c] > 0.0 {
+                (squares + pseudo[c]) / (n + 1.0)
+            } else {
+                squares / (n - 1.0)
+            };
             (var / n).sqrt() * scale[c]
         });
         (std::array::from_fn(|c| shift[c] + mean[c]), se)
