@@ -107,7 +107,9 @@ def main() -> None:
     width = 0.8 / len(labels)
     for i, label in enumerate(labels):
         values = [
-            next(r["m_per_s"] for r in rows if (r["model"], r["dtype"]) == k and r["layout"] == label)
+            next(
+                r["m_per_s"] for r in rows if (r["model"], r["dtype"]) == k and r["layout"] == label
+            )
             for k in keys
         ]
         ax.bar(np.arange(len(keys)) + i * width, values, width, label=label)

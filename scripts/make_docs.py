@@ -279,7 +279,8 @@ scenes and the command line. `MODELS.md` defines every model in these terms.
 - **Family B** models return the scan-line shading term `s(l, v)` of the shading
   assignment, which **includes** the light's cosine (`l = wi`, `v = wo`).
 - Directional albedo: `R(μ) = ∫ f(wi, wo)·cos θo dωo` over the hemisphere, μ = cos θi
-  (family A only). A table's `stderr` is an honest standard error of each cell.
+  (family A only). A table's `stderr` is the standard error of each cell; how far it can
+  be trusted, and its one known limit, is in [error_bars.md](error_bars.md).
 - Angles on the command line and in `brdf_rs.plot` are in degrees; everything else takes
   cosines or vectors, except the azimuth `phi` of `brdf_rs.albedo` and
   `brdf_rs.albedo_table`: radians, measured from the tangent counterclockwise about `n`,
@@ -330,6 +331,8 @@ def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
         "",
         "- [Conventions](conventions.md): directions, units, what `f` includes, RGB, dtypes.",
         "- [Example scenes](scenes.md): scan-line rendering with the models as materials.",
+        "- [Error bars](error_bars.md): what an albedo's `stderr` means, how it is measured,"
+        " and its known limit.",
     ]
     if has_benchmarks:
         lines.append("- [Benchmarks](benchmarks.md): throughput, convergence, rendering, Dask.")
