@@ -77,9 +77,9 @@ def test_every_parameter_path_names_a_huge_integer():
 @pytest.mark.parametrize(
     ("option", "value", "error", "pattern"),
     [
-        ("replicates", 2**32, ValueError, r"^replicates: expected an integer from 2 to 4294967295"),
+        ("replicates", 2**32, ValueError, r"^replicates: expected an integer from 2 to 4096, got"),
         ("replicates", 1, ValueError, r"^replicates: expected an integer from 2 to"),
-        ("samples", 2**64, ValueError, r"^samples: expected an integer from 1 to 1844674407"),
+        ("samples", 2**64, ValueError, r"^samples: expected an integer from 1 to 2\*\*40, got"),
         ("samples", np.uint64(0), ValueError, r"^samples: expected an integer from 1 to"),
         ("samples", 1.5, TypeError, r"^samples: expected an integer"),
         ("samples", True, TypeError, r"^samples: expected an integer"),
@@ -87,7 +87,7 @@ def test_every_parameter_path_names_a_huge_integer():
         ("seed", -1, ValueError, r"^seed: expected an integer from 0 to"),
         ("seed", 2**64, ValueError, r"^seed: expected an integer from 0 to"),
         ("seed", "1", TypeError, r"^seed: expected an integer"),
-        ("max_samples", 2**70, ValueError, r"^max_samples: expected an integer from 1"),
+        ("max_samples", 2**70, ValueError, r"^max_samples: expected an integer from 1 to 2\*\*40"),
         ("tol", "a", TypeError, r"^tol: expected a positive number"),
         ("tol", float("nan"), ValueError, r"^tol: expected a positive number"),
         ("sampler", 3, TypeError, r'^sampler: expected "auto", "importance"'),

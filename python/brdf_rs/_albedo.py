@@ -51,8 +51,9 @@ class Albedo:
     samples: np.ndarray
 
 
-#: The integrator's limits: replicates is a 32-bit count, the others 64-bit.
-_U32_MAX = 2**32 - 1
+#: The integrator's limits (the core checks them again): samples per cell, scrambles.
+_MAX_SAMPLES = 2**40
+_MAX_REPLICATES = 4096
 _U64_MAX = _arrays.U64_MAX
 SAMPLERS = ("auto", "importance", "cosine", "uniform")
 SEQUENCES = ("sobol", "random")
@@ -69,13 +70,13 @@ def _options(
 ) -> dict[str, Any]:
     integer = _arrays.integer
     options: dict[str, Any] = {
-        "samples": integer("samples", samples, 1, _U64_MAX),
+        "samples": integer("samples", samples, 1, _MAX_SAMPLES, "2**40"),
         "sampler": _arrays.choice("sampler", sampler, SAMPLERS),
         "sequence": _arrays.choice("sequence", sequence, SEQUENCES),
         "seed": integer("seed", seed, 0, _U64_MAX),
         "tol": None,
         "max_samples": None,
-        "replicates": integer("replicates", replicates, 2, _U32_MAX),
+        "replicates": integer("replicates", replicates, 2, _MAX_REPLICATES),
     }
     if tol is not None:
         tol = _arrays.real("tol", tol, "a positive number (a standard error)")
@@ -83,7 +84,7 @@ def _options(
             raise ValueError(f"tol: must be a positive number; got {tol}")
         options["tol"] = tol
     if max_samples is not None:
-        options["max_samples"] = integer("max_samples", max_samples, 1, _U64_MAX)
+        options["max_samples"] = integer("max_samples", max_samples, 1, _MAX_SAMPLES, "2**40")
     return options
 
 

@@ -76,7 +76,7 @@ def _check_out(out: object, dtype: type[np.floating]) -> None:
     if out.dtype != dtype:
         raise TypeError(
             f"out: expected dtype {np.dtype(dtype).name} in native byte order (the result's:"
-            f" float32 only when every direction is float32), got {out.dtype.str}"
+            f" float32 only when every direction is float32), got {out.dtype}"
         )
 
 

@@ -118,17 +118,20 @@ def real(name: str, value: Any, what: str = "a number") -> float:
 U64_MAX = 2**64 - 1
 
 
-def integer(name: str, value: Any, lo: int, hi: int = U64_MAX) -> int:
-    """An integer option from ``lo`` to ``hi`` (an integral float such as 1e6 is accepted)."""
+def integer(name: str, value: Any, lo: int, hi: int = U64_MAX, hi_text: str = "") -> int:
+    """An integer option from ``lo`` to ``hi`` (an integral float such as 1e6 is accepted);
+    ``hi_text`` spells ``hi`` in messages (``"2**40"``)."""
     if isinstance(value, (float, np.floating)) and np.isfinite(value) and float(value).is_integer():
         value = int(value)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise TypeError(
-            f"{name}: expected an integer from {lo} to {hi}, got"
+            f"{name}: expected an integer from {lo} to {hi_text or hi}, got"
             f" {type(value).__name__} {_show(value)}"
         )
     if not lo <= value <= hi:
-        raise ValueError(f"{name}: expected an integer from {lo} to {hi}, got {_show(value)}")
+        raise ValueError(
+            f"{name}: expected an integer from {lo} to {hi_text or hi}, got {_show(value)}"
+        )
     return int(value)
 
 
