@@ -297,8 +297,10 @@ Every result is RGB: a trailing axis of 3. Colour parameters (`kd`, `ks`, `Rd`, 
 - `wi`, `wo`, `n`, `tangent` and every parameter broadcast together by NumPy's rules; any
   memory layout is read in place. Parameters may be arrays over the batch (spatially
   varying materials), colours with a trailing axis of 3.
-- float64 in → float64 out; **float32** in (every direction array float32) → float32 out
-  from float32 kernels; anything else (ints, lists, mixed widths) → float64.
+- float64 in → float64 out; **float32** in (every direction array float32, in either byte
+  order) → float32 out from float32 kernels; anything else (ints, lists, mixed widths) →
+  float64. `sample`, `pdf` and the albedo functions compute in float64 whatever the input;
+  `render`, `shade` and `tonemap` return float32.
 - `out=` writes into a preallocated C-contiguous array of the result's shape and dtype.
 - float32 lobes below 2^-100 ≈ 7.9e-31 are flushed to 0.
 - A parameter's closed bound is accepted as given and as float32 rounds it, in both

@@ -292,7 +292,7 @@ def test_results_are_bitwise_identical_for_any_thread_count(rng):
             np.testing.assert_array_equal(later, first)
     finally:
         brdf_rs.set_num_threads(before)
-    with pytest.raises(ValueError, match="n: expected a positive integer"):
+    with pytest.raises(ValueError, match="n: expected an integer from 1 to 65535"):
         brdf_rs.set_num_threads(0)
 
 

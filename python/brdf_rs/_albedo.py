@@ -52,17 +52,12 @@ class Albedo:
     samples: np.ndarray
 
 
-def _integer(name: str, v: Any, lo: int) -> int:
-    """An integer option (an integral float such as 1e6 is accepted)."""
-    if isinstance(v, float) and v.is_integer():
-        v = int(v)
-    if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-        raise TypeError(f"{name}: expected an integer, got {v!r}")
-    if v < lo:
-        raise ValueError(f"{name}: must be at least {lo}; got {v}")
-    if v >= 2**64:
-        raise ValueError(f"{name}: must be below 2**64; got {v}")
-    return int(v)
+#: The integrator's limits (the core checks them again): samples per cell, scrambles.
+_MAX_SAMPLES = 2**40
+_MAX_REPLICATES = 4096
+_U64_MAX = _arrays.U64_MAX
+SAMPLERS = ("auto", "importance", "cosine", "uniform")
+SEQUENCES = ("sobol", "random")
 
 
 def _cell_ids(cell_ids: Any) -> np.ndarray:
@@ -98,23 +93,23 @@ def _options(
     max_samples: Any,
     replicates: Any,
 ) -> dict[str, Any]:
-    integer = _integer
+    integer = _arrays.integer
     options: dict[str, Any] = {
-        "samples": integer("samples", samples, 1),
-        "sampler": str(sampler),
-        "sequence": str(sequence),
-        "seed": integer("seed", seed, 0),
+        "samples": integer("samples", samples, 1, _MAX_SAMPLES, "2**40"),
+        "sampler": _arrays.choice("sampler", sampler, SAMPLERS),
+        "sequence": _arrays.choice("sequence", sequence, SEQUENCES),
+        "seed": integer("seed", seed, 0, _U64_MAX),
         "tol": None,
         "max_samples": None,
-        "replicates": integer("replicates", replicates, 2),
+        "replicates": integer("replicates", replicates, 2, _MAX_REPLICATES),
     }
     if tol is not None:
-        tol = float(tol)
-        if not (tol > 0 and np.isfinite(tol)):
+        tol = _arrays.real("tol", tol, "a positive number (a standard error)")
+        if not tol > 0:
             raise ValueError(f"tol: must be a positive number; got {tol}")
         options["tol"] = tol
     if max_samples is not None:
-        options["max_samples"] = integer("max_samples", max_samples, 1)
+        options["max_samples"] = integer("max_samples", max_samples, 1, _MAX_SAMPLES, "2**40")
     return options
 
 
@@ -135,14 +130,9 @@ def _azimuth(phi: Any) -> tuple[np.ndarray | None, bool]:
         if phi == "average":
             return None, True
         raise ValueError(f'phi: expected radians (a number or an array) or "average"; got {phi!r}')
-    if phi is None or isinstance(phi, bool):
+    if phi is None or isinstance(phi, (bool, np.bool_)):
         raise TypeError(f'phi: expected radians (a number or an array) or "average"; got {phi!r}')
-    try:
-        a = np.asarray(phi, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(
-            f'phi: expected radians (a number or an array) or "average"; got {phi!r}'
-        ) from None
+    a = np.asarray(_arrays._as_numeric("phi", phi), dtype=np.float64)
     if not np.all(np.isfinite(a)):
         bad = np.flatnonzero(~np.isfinite(a.ravel()))[0]
         raise ValueError(f"phi: must be finite (radians); got {a.ravel()[bad]} at flat index {bad}")
@@ -214,9 +204,11 @@ def albedo(
     Returns:
         :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
     """
+    _arrays.model_name(model)
     phi_array, average = _azimuth(phi)
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
-    p = _arrays.parameters(_normalization.apply(model, params, normalization), np.float64)
+    numeric = _arrays.numeric(params)
+    p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
     options = _options(samples, sampler, sequence, seed, tol, max_samples, replicates)
     ids = None if cell_ids is None else _cell_ids(cell_ids)
     value, stderr, drawn = _core.albedo(
@@ -623,30 +615,127 @@ def _azimuth_cells(model: str, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     return np.full_like(phi, phi[0]), np.zeros(phi.size, dtype=np.intp)
 
 
+#: Keywords of :func:`albedo` that :func:`albedo_table` passes on with the fixed values.
+_TABLE_OPTIONS = ("normalization", "fold_azimuth")
+
+
 def _table_axes(
     model: str, axes: Mapping[str, Any], fixed: Mapping[str, Any]
 ) -> tuple[tuple[str, ...], dict[str, np.ndarray], frozenset[str]]:
-    """Checks a table's axes: returns their names (in order), their 1-D float64
-    coordinates and the names of the colour axes (which hold greys)."""
+    """Checks a table's inputs before any work: the model, the axes' names and values,
+    the fixed values. Returns the axes' names (in order), their 1-D float64 coordinates
+    and the names of the colour axes (which hold greys)."""
+    _arrays.model_name(model)
+    specs = _core_models()
+    if model not in specs:
+        _core.check_params(model, {})  # the core's message: known models, a suggestion
+    if specs[model]["family"] != "A":
+        raise ValueError(
+            f"{model}: a family-{specs[model]['family']} shading term has no albedo; an albedo"
+            " table needs a family-A model (brdf_rs.models() lists them)"
+        )
+    if not isinstance(axes, Mapping):
+        raise TypeError(
+            "axes: expected a mapping {name: coordinates}, e.g. {'mu': np.linspace(0, 1, 64)};"
+            f" got {type(axes).__name__}"
+        )
     if not axes:
         raise ValueError("axes: give at least one axis, e.g. {'mu': np.linspace(0, 1, 64)}")
+    param_specs = {p["name"]: p for p in specs[model]["params"]}
+    known = ("mu", "phi", *param_specs)
+    for name in axes:
+        if name not in known:
+            raise ValueError(
+                f"axes[{name!r}]: unknown axis; {model} tabulates over {', '.join(known)}"
+            )
+    for name in fixed:
+        if name not in known and name not in _TABLE_OPTIONS:
+            raise TypeError(
+                f"{name}: unknown keyword; {model} takes the parameters"
+                f" {', '.join(param_specs)}, mu, phi and {', '.join(_TABLE_OPTIONS)}"
+            )
+        if name in axes:
+            raise ValueError(f"{name}: given both as an axis and as a fixed value")
+    if "mu" not in axes and "mu" not in fixed:
+        raise ValueError("axes: needs a 'mu' axis (or a fixed mu=...)")
+    _check_fixed(model, param_specs, fixed)
     names = tuple(axes)
     coords = {}
     for name in names:
-        a = np.asarray(_arrays.parameters({name: axes[name]}, np.float64)[name])
+        label = f"axes[{name!r}]"
+        a = np.asarray(_arrays.parameters({label: axes[name]}, np.float64)[label])
         if a.ndim != 1 or a.size == 0:
             raise ValueError(
-                f"axes[{name!r}]: expected a non-empty 1-D list of values; got shape {a.shape}"
+                f"{label}: expected a non-empty 1-D list of values; got shape {a.shape}"
             )
+        _check_axis_values(model, label, name, a, fixed)
         coords[name] = a
-    for name in fixed:
-        if name in coords:
-            raise ValueError(f"{name}: given both as an axis and as a fixed value")
-    if "mu" not in coords and "mu" not in fixed:
-        raise ValueError("axes: needs a 'mu' axis (or a fixed mu=...)")
-    specs = _core_models()
-    kinds = {p["name"]: p["kind"] for p in specs[model]["params"]} if model in specs else {}
+    kinds = {n: p["kind"] for n, p in param_specs.items()}
     return names, coords, frozenset(n for n in names if kinds.get(n) == "colour")
+
+
+def _check_fixed(model: str, param_specs: Mapping[str, Any], fixed: Mapping[str, Any]) -> None:
+    """Values held fixed over a table are single values: a number (a colour: or an RGB
+    triple; a list parameter: its list); ``mu`` a cosine in [0, 1]."""
+    for name, value in fixed.items():
+        if name in _TABLE_OPTIONS or (name == "phi" and isinstance(value, str)):
+            continue
+        a = _arrays._as_numeric(name, value)
+        kind = "scalar" if name in ("mu", "phi") else param_specs[name]["kind"]
+        single = a.ndim == 0 or (kind == "colour" and a.shape == (3,)) or "list" in kind
+        if not single:
+            what = "a number or an RGB triple" if kind == "colour" else "a number"
+            raise ValueError(
+                f"{name}: a value held fixed over the table is one value ({what}); got shape"
+                f" {a.shape}. To tabulate over it, give it as an axis: axes={{..., {name!r}:"
+                " [...]}"
+            )
+        if name == "mu" and not 0 <= float(a) <= 1:
+            raise ValueError(f"mu = {float(a)} is out of range: must be in [0, 1]")
+    params = {k: v for k, v in fixed.items() if k not in ("mu", "phi", *_TABLE_OPTIONS)}
+    _core.check_params(model, _arrays.parameters(params, np.float64))
+
+
+def _check_axis_values(
+    model: str, label: str, name: str, a: np.ndarray, fixed: Mapping[str, Any]
+) -> None:
+    """Checks an axis's values one by one, so an error names the axis's own index."""
+    if name == "phi":
+        bad = ~np.isfinite(a)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(f"{label}[{i}] = {a[i]} is not finite (radians)")
+        return
+    if name == "mu":
+        bad = ~((a >= 0) & (a <= 1))
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(
+                f"{label}[{i}] = {a[i]} is out of range: must be in [0, 1] (the cosine of the"
+                " incidence angle)"
+            )
+        return
+    params = {k: v for k, v in fixed.items() if k not in ("mu", "phi", *_TABLE_OPTIONS)}
+    base = _arrays.parameters(params, np.float64)
+    try:
+        _core.check_params(model, {**base, name: a[:, None] if a.ndim == 1 else a})
+    except ValueError:
+        for i, x in enumerate(a):
+            try:
+                _core.check_params(model, {**base, name: np.asarray(x)})
+            except ValueError as exc:
+                raise ValueError(f"{label}[{i}]: {exc}") from None
+        raise
+
+
+def _axis_values(model: str, label: str, name: str, values: Any) -> np.ndarray:
+    """A 1-D axis of :func:`dfg_table` or :func:`energy_compensation_table`, checked
+    value by value (``name``: the parameter it holds, or ``mu``)."""
+    a = np.asarray(_arrays.parameters({label: values}, np.float64)[label])
+    if a.ndim != 1 or a.size == 0:
+        raise ValueError(f"{label}: expected a non-empty 1-D list of values; got shape {a.shape}")
+    _check_axis_values(model, label, name, a, {})
+    return a
 
 
 def _grid_inputs(
@@ -722,14 +811,13 @@ def dfg_table(
     Returns a :class:`Table` with axes ``mu``, roughness; ``value[..., 0]`` = A,
     ``value[..., 1]`` = B, ``value[..., 2]`` = 0.
     """
+    _arrays.model_name(model)
     if model not in _DFG_ROUGHNESS:
         known = ", ".join(_DFG_ROUGHNESS)
         raise ValueError(f"{model}: a split-sum table needs a Schlick-Fresnel model: {known}")
     rough = _DFG_ROUGHNESS[model]
-    mu = np.asarray(mu, dtype=np.float64)
-    r = np.asarray(roughness, dtype=np.float64)
-    if mu.ndim != 1 or r.ndim != 1:
-        raise ValueError("mu, roughness: expected 1-D lists of values")
+    mu = _axis_values(model, "mu", "mu", mu)
+    r = _axis_values(model, "roughness", rough, roughness)
     ids = np.arange(mu.size * r.size, dtype=np.uint64).reshape(mu.size, r.size)
     mus = mu[:, None]
     roughness_axis: dict[str, Any] = {rough: r[None, :]}
@@ -800,6 +888,9 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
     refined on a finer grid of 17 incidences, of which those not already on the coarse
     grid are integrated: ``mu`` is strictly increasing, one value per node.
     """
+    _arrays.model_name(model)
+    # The refinement uses seed + 1.
+    seed = _arrays.integer("seed", seed, 0, _U64_MAX - 1)
     mu = np.concatenate([[0.005], np.arange(1, 65) / 64.0])
     coarse = albedo(model, mu, samples=samples, seed=seed, **params)
     best = int(np.argmax(coarse.value.max(axis=-1)))
@@ -867,12 +958,11 @@ def energy_compensation_table(
     **options: Any,
 ) -> EnergyCompensation:
     """Builds E(mu, alpha) and E_avg(alpha) for ``ggx`` or ``beckmann`` with F = 1."""
+    _arrays.model_name(model)
     if model not in _COMPENSATED:
         raise ValueError(f"{model}: energy compensation tables exist for {', '.join(_COMPENSATED)}")
-    mu = np.asarray(mu, dtype=np.float64)
-    alpha = np.asarray(alpha, dtype=np.float64)
-    if mu.ndim != 1 or alpha.ndim != 1 or mu.size == 0 or alpha.size == 0:
-        raise ValueError("mu, alpha: expected non-empty 1-D lists of values")
+    mu = _axis_values(model, "mu", "mu", mu)
+    alpha = _axis_values(model, "alpha", "alpha", alpha)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}
     grid = albedo(model, mu[:, None], alpha=alpha[None, :], **common)
     # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).

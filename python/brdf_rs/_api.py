@@ -59,9 +59,11 @@ def eval(
         An array of shape ``broadcast(...) + (3,)`` (RGB): float32 if every direction
         input is float32 (computed by float32 kernels), float64 otherwise.
     """
+    _arrays.model_name(model)
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     _check_out(out, dtype)
-    p = _arrays.parameters(_normalization.apply(model, params, normalization), dtype)
+    numeric = _arrays.numeric(params)
+    p = _arrays.parameters(_normalization.apply(model, numeric, normalization), dtype)
     wi_, wo_ = _arrays.given(v, "wi"), _arrays.given(v, "wo")
     kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
     return kernel(model, wi_, wo_, v["n"], v["tangent"], p, normalized, check, True, out)
@@ -75,8 +77,8 @@ def _check_out(out: object, dtype: type[np.floating]) -> None:
         raise TypeError(f"out: expected a NumPy array, got {type(out).__name__}")
     if out.dtype != dtype:
         raise TypeError(
-            f"out: expected dtype {np.dtype(dtype).name} (the result's: float32 only when every"
-            f" direction is float32), got {out.dtype}"
+            f"out: expected dtype {np.dtype(dtype).name} in native byte order (the result's:"
+            f" float32 only when every direction is float32), got {out.dtype}"
         )
 
 
@@ -93,6 +95,7 @@ class Model:
     def __init__(self, name: str, *, normalization: str = "approximate", **params: Any) -> None:
         """``normalization`` as in :func:`brdf_rs.eval` (``"exact"`` rescales ``ks`` once,
         here); ``params`` the model's parameters."""
+        _arrays.model_name(name)
         given = _arrays.parameters(params, np.float64)
         _core.check_params(name, given)
         applied = _normalization.apply(name, given, normalization)
@@ -172,10 +175,12 @@ def models() -> dict[str, dict[str, Any]]:
 
 
 def set_num_threads(n: int) -> None:
-    """Sets the number of worker threads (default: ``BRDF_RS_NUM_THREADS``, else CPUs)."""
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ValueError(f"n: expected a positive integer thread count, got {n!r}")
-    _core.set_num_threads(int(n))
+    """Sets the number of worker threads (default: ``BRDF_RS_NUM_THREADS``, else CPUs).
+
+    ``n`` is an integer from 1 to 65535 (the thread pool's limit)."""
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)):
+        raise TypeError(f"n: expected an integer thread count, got {type(n).__name__} {n!r}")
+    _core.set_num_threads(_arrays.integer("n", n, 1, _core.max_num_threads()))
 
 
 def num_threads() -> int:

@@ -4,10 +4,14 @@ The core reads float64 or float32 arrays of any shape and memory layout in place
 checks shapes, broadcasting and values itself. This module only decides the dtype and
 converts what is not already a float array of that dtype (ints, lists, big-endian
 floats, mixed widths). Float arrays of the chosen dtype pass through without a copy.
+
+It also holds the checks every public function shares for arguments that are not arrays
+(a model name, an integer option, a number): each error names the argument.
 """
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 import numpy as np
@@ -15,8 +19,28 @@ import numpy as np
 _NUMERIC_KINDS = frozenset("fiu")
 
 
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+#: The largest finite float64, for messages.
+FLOAT64_MAX = float(np.finfo(np.float64).max)
+
+
+def _first_unconvertible(array: np.ndarray) -> tuple[tuple[int, ...], Any]:
+    """The index and value of the first element of an object array that is not a float64."""
+    for index in np.ndindex(array.shape):
+        try:
+            float(array[index])
+        except (TypeError, ValueError, OverflowError):
+            return index, array[index]
+    return (), array  # pragma: no cover - only called after a conversion failed
+
+
 def _as_numeric(name: str, value: Any) -> np.ndarray:
-    """Returns ``value`` as a NumPy array of real numbers, or raises ``TypeError``."""
+    """Returns ``value`` as a NumPy array of real numbers, or raises ``TypeError`` (not
+    numbers) or ``ValueError`` (a number beyond float64's range), naming ``name``."""
     try:
         array = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
@@ -31,24 +55,105 @@ def _as_numeric(name: str, value: Any) -> np.ndarray:
     if kind == "O":
         try:
             return np.asarray(value, dtype=np.float64)
-        except (TypeError, ValueError) as exc:
-            raise TypeError(f"{name}: expected an array of numbers ({exc})") from None
+        except (TypeError, ValueError, OverflowError) as exc:
+            index, bad = _first_unconvertible(array)
+            where = f"{name}{list(index)}" if index else name
+            if isinstance(bad, bool) or isinstance(bad, np.bool_):
+                raise TypeError(f"{where}: expected a real number, got {bad!r}") from None
+            if isinstance(bad, int) or isinstance(exc, OverflowError):
+                raise ValueError(
+                    f"{where} = {_show(bad)} is out of range: beyond float64's {FLOAT64_MAX:.4g}"
+                ) from None
+            raise TypeError(
+                f"{where}: expected a real number, got {type(bad).__name__} {_show(bad)}"
+            ) from None
     raise TypeError(f"{name}: expected real numbers, got dtype {array.dtype}")
 
 
+def model_name(model: Any) -> str:
+    """Checks that ``model`` is a model name (a string; the core checks that it exists)."""
+    if not isinstance(model, str):
+        raise TypeError(
+            f"model: expected a model name (a string such as 'ggx'; brdf_rs.models() lists"
+            f" them), got {type(model).__name__} {_show(model)}"
+        )
+    return model
+
+
+def choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
+    """Checks a string option: one of ``choices`` (``TypeError`` if not a string)."""
+    quoted = [f'"{c}"' for c in choices]
+    options = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
+    if not isinstance(value, str):
+        raise TypeError(f"{name}: expected {options}; got {type(value).__name__} {_show(value)}")
+    if value not in choices:
+        shown = value if len(value) <= 60 else value[:57] + "..."
+        raise ValueError(f"{name}: expected {options}; got {json.dumps(shown)}")
+    return value
+
+
+def is_real(value: Any) -> bool:
+    """Whether ``value`` is one real number: a Python or NumPy int or float (not a bool)."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
+        value, (bool, np.bool_)
+    )
+
+
+def real(name: str, value: Any, what: str = "a number") -> float:
+    """One finite real number as a float, or an error naming ``name`` and ``what``."""
+    if not is_real(value):
+        raise TypeError(f"{name}: expected {what}, got {type(value).__name__} {_show(value)}")
+    try:
+        x = float(value)
+    except OverflowError:
+        raise ValueError(
+            f"{name}: expected {what}, got {_show(value)} (beyond float64's {FLOAT64_MAX:.4g})"
+        ) from None
+    if not np.isfinite(x):
+        raise ValueError(f"{name}: expected {what} (finite), got {x}")
+    return x
+
+
+#: The largest value of an unsigned 64-bit integer (seeds, sample counts, cell ids).
+U64_MAX = 2**64 - 1
+
+
+def integer(name: str, value: Any, lo: int, hi: int = U64_MAX, hi_text: str = "") -> int:
+    """An integer option from ``lo`` to ``hi`` (an integral float such as 1e6 is accepted);
+    ``hi_text`` spells ``hi`` in messages (``"2**40"``)."""
+    if isinstance(value, (float, np.floating)) and np.isfinite(value) and float(value).is_integer():
+        value = int(value)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(
+            f"{name}: expected an integer from {lo} to {hi_text or hi}, got"
+            f" {type(value).__name__} {_show(value)}"
+        )
+    if not lo <= value <= hi:
+        raise ValueError(
+            f"{name}: expected an integer from {lo} to {hi_text or hi}, got {_show(value)}"
+        )
+    return int(value)
+
+
 def compute_dtype(arrays: dict[str, np.ndarray]) -> type[np.floating]:
-    """Returns float32 if every direction array is float32, else float64."""
-    if arrays and all(a.dtype == np.float32 for a in arrays.values()):
+    """Returns float32 if every direction array is float32 (in either byte order), else
+    float64."""
+    if arrays and all(_is_float32(a.dtype) for a in arrays.values()):
         return np.float32
     return np.float64
 
 
+def _is_float32(dtype: np.dtype) -> bool:
+    """Whether ``dtype`` is a 32-bit float, whatever its byte order (``>f4`` too)."""
+    return dtype.kind == "f" and dtype.itemsize == 4
+
+
 def directions(**given: Any) -> tuple[type[np.floating], dict[str, np.ndarray | None]]:
     """Converts the direction arguments; returns the compute dtype and the arrays."""
-    numeric = {k: _as_numeric(k, v) for k, v in given.items() if v is not None}
-    dtype = compute_dtype(numeric)
+    arrays = {k: _as_numeric(k, v) for k, v in given.items() if v is not None}
+    dtype = compute_dtype(arrays)
     out: dict[str, np.ndarray | None] = dict.fromkeys(given)
-    for k, a in numeric.items():
+    for k, a in arrays.items():
         out[k] = np.asarray(a, dtype=dtype)
     return dtype, out
 
@@ -59,6 +164,11 @@ def given(arrays: dict[str, np.ndarray | None], name: str) -> np.ndarray:
     if a is None:
         raise TypeError(f"{name}: expected an array of directions, got None")
     return a
+
+
+def numeric(params: dict[str, Any]) -> dict[str, np.ndarray]:
+    """The parameters as arrays of numbers (not converted further), checked as such."""
+    return {k: _as_numeric(k, v) for k, v in params.items()}
 
 
 def parameters(params: dict[str, Any], dtype: type[np.floating]) -> dict[str, np.ndarray]:

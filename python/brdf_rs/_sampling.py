@@ -44,10 +44,12 @@ def sample(
         **params: the model's parameters, broadcasting against the batch.
 
     Returns:
-        ``(wo, weight, pdf)``: unit directions ``(..., 3)``, the RGB estimator weight
+        ``(wo, weight, pdf)``, float64 whatever the inputs' dtype: unit directions
+        ``(..., 3)``, the RGB estimator weight
         ``f(wi, wo)·cos θo / pdf`` (0 for a draw below the surface), and the mixture's
         density of ``wo`` in 1/sr (the same value :func:`pdf` returns).
     """
+    _arrays.model_name(model)
     _, v = _arrays.directions(wi=wi, n=n, tangent=tangent)
     return _core.sample(
         model,
@@ -71,6 +73,7 @@ def pdf(
     **params: Any,
 ) -> np.ndarray:
     """Returns the density (1/sr) with which :func:`sample` draws ``wo`` given ``wi``."""
+    _arrays.model_name(model)
     _, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     return _core.pdf(
         model,

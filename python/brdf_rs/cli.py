@@ -13,9 +13,11 @@ from __future__ import annotations
 import argparse
 import errno
 import json
+import math
 import os
 import sys
 import time
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -51,6 +53,11 @@ def _param(text: str) -> tuple[str, Any]:
         numbers = [float(x) for x in value.split(",")]
     except ValueError:
         raise argparse.ArgumentTypeError(f"{name}: expected numbers, got {value!r}") from None
+    for x, given in zip(numbers, value.split(","), strict=True):
+        if math.isinf(x) and "inf" not in given.lower():
+            raise argparse.ArgumentTypeError(
+                f"{name}: {given.strip()} is beyond float64's range (about 1.8e308)"
+            )
     return name.strip(), numbers[0] if len(numbers) == 1 else numbers
 
 
@@ -86,6 +93,10 @@ def cmd_eval(args: argparse.Namespace) -> int:
     return 0
 
 
+#: The most values an axis of the command line may have.
+MAX_AXIS = 1 << 20
+
+
 def _axis(text: str) -> tuple[str, np.ndarray]:
     """Parses an axis: ``name=start:stop:count`` (linear, ends included),
     ``name=mid:start:stop:count`` (cell midpoints), ``name=log:start:stop:count`` or
@@ -103,15 +114,31 @@ def _axis(text: str) -> tuple[str, np.ndarray]:
             nums = parts[1:] if parts[0] in ("lin", "log", "mid") else parts
             if len(nums) != 3:
                 raise ValueError("need start:stop:count")
-            start, stop, count = float(nums[0]), float(nums[1]), int(nums[2])
-            if count < 1:
-                raise ValueError("count must be at least 1")
-            if kind == "log":
-                values = np.geomspace(start, stop, count)
-            elif kind == "mid":
-                values = start + (stop - start) * (np.arange(count) + 0.5) / count
-            else:
-                values = np.linspace(start, stop, count)
+            start, stop = float(nums[0]), float(nums[1])
+            try:
+                count = int(nums[2])
+            except ValueError:
+                raise ValueError(f"count: expected an integer, got {nums[2]!r}") from None
+            if not 1 <= count <= MAX_AXIS:
+                raise ValueError(f"count must be from 1 to {MAX_AXIS}")
+            if not (math.isfinite(start) and math.isfinite(stop)):
+                raise ValueError("start and stop must be finite numbers")
+            if kind == "log" and not (start > 0 and stop > 0):
+                raise ValueError(
+                    f"a log axis needs positive ends (start and stop > 0), got {start:g}"
+                    f" and {stop:g}"
+                )
+            with np.errstate(all="raise"):  # e.g. stop - start beyond float64
+                if kind == "log":
+                    values = np.geomspace(start, stop, count)
+                elif kind == "mid":
+                    values = start + (stop - start) * (np.arange(count) + 0.5) / count
+                else:
+                    values = np.linspace(start, stop, count)
+    except FloatingPointError as exc:
+        raise argparse.ArgumentTypeError(
+            f"axis {name}: the values overflow float64 ({exc}) (in {spec!r})"
+        ) from None
     except ValueError as exc:
         raise argparse.ArgumentTypeError(f"axis {name}: {exc} (in {spec!r})") from None
     return name, values
@@ -152,6 +179,17 @@ def cmd_table(args: argparse.Namespace) -> int:
     if "phi" in axes:  # degrees on the command line, radians in the library
         axes["phi"] = np.radians(axes["phi"])
     tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
+    # Everything is checked before any work (and before a progress bar is drawn).
+    _albedo._table_axes(model, axes, params)
+    _albedo._options(
+        args.samples,
+        args.sampler,
+        args.sequence,
+        args.seed,
+        tol,
+        args.max_samples,
+        _albedo.DEFAULT_REPLICATES,
+    )
     out = _output_path(args.output or f"albedo_{model}.npz", TABLE_FORMATS)
     plot_path = _plot_path(args.plot)
     # Cells computed: a phi axis computes only its distinct folded azimuths.
@@ -767,24 +805,71 @@ def cmd_stress(args: argparse.Namespace) -> int:
     return 0 if report.ok else EXIT_FAILURE
 
 
-def _progress_bar_models(quiet: bool) -> Any:
-    if quiet:
-        return None
+class _LazyBar:
+    """A tqdm progress bar drawn only once the work reports progress: an error found
+    before any work is done (a bad argument, a missing dependency) prints no bar."""
+
+    def __init__(self, total: int, unit: str) -> None:
+        self._options: dict[str, Any] = {"total": total, "unit": unit}
+        self._bar: Any = None
+
+    def _drawn(self) -> Any:
+        if self._bar is None:
+            from tqdm import tqdm
+
+            self._bar = tqdm(file=sys.stderr, dynamic_ncols=True, **self._options)
+        return self._bar
+
+    @property
+    def n(self) -> int:
+        return 0 if self._bar is None else int(self._bar.n)
+
+    @property
+    def total(self) -> int:
+        return int(self._options["total"] if self._bar is None else self._bar.total)
+
+    @total.setter
+    def total(self, value: int) -> None:
+        if self._bar is None:
+            self._options["total"] = value
+        else:
+            self._bar.total = value
+
+    def set_description(self, text: str) -> None:
+        if self._bar is None:
+            self._options["desc"] = text
+        else:
+            self._bar.set_description(text)
+
+    def set_postfix_str(self, text: str) -> None:
+        self._drawn().set_postfix_str(text)
+
+    def update(self, n: int) -> None:
+        self._drawn().update(n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+
+
+def _tqdm_available() -> bool:
     try:
-        from tqdm import tqdm
+        import tqdm  # noqa: F401
     except ImportError:
+        return False
+    return True
+
+
+def _progress_bar_models(quiet: bool) -> Any:
+    if quiet or not _tqdm_available():
         return None
-    return tqdm(total=0, unit="model", file=sys.stderr, dynamic_ncols=True)
+    return _LazyBar(0, "model")
 
 
 def _progress_bar(total: int, quiet: bool) -> Any:
-    if quiet:
+    if quiet or not _tqdm_available():
         return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=total, unit="cell", file=sys.stderr, dynamic_ncols=True)
+    return _LazyBar(total, "cell")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -934,9 +1019,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    with warnings.catch_warnings():
+        # A NumPy warning (an overflow, an invalid value) means a number the checks let
+        # through: it becomes the command's one-line error, never a warning and a result.
+        warnings.simplefilter("error", RuntimeWarning)
+        args = parser.parse_args(argv)
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     try:
         return int(args.run(args))
+    except RuntimeWarning as exc:
+        print(f"brdf-rs {args.command}: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     except UsageError as exc:
         print(f"brdf-rs {args.command}: {exc}", file=sys.stderr)
         return EXIT_USAGE

@@ -52,8 +52,10 @@ A scene is a TOML file (or the same structure as a dict)::
 Directions follow the library's conventions (``l = wi`` toward the light, ``v = wo``
 toward the camera). One sample per pixel, no shadows, no interreflection.
 
-Errors in a scene raise :class:`SceneError` (a ``ValueError``) naming the file, the key
-and what was expected.
+A dict scene may hold NumPy numbers and 1-D NumPy arrays wherever a number or a list of
+numbers goes. The renderer computes in float32, so every number must be within its range
+(|x| <= 3.4e38). Errors in a scene raise :class:`SceneError` (a ``ValueError``) naming the
+file, the key and what was expected.
 """
 
 from __future__ import annotations
@@ -73,7 +75,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 
-from . import _atomic
+from . import _arrays, _atomic
 from . import _brdf_rs as _core
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -133,8 +135,10 @@ class _Where:
         where = f"{self.source}: {self.path}" if self.path else self.source
         return SceneError(f"{where}: {message}")
 
-    def expected(self, what: str, got: Any) -> SceneError:
-        return self.error(f"expected {what}, got {_show(got)}")
+    def expected(self, what: str, got: Any, *, float32: bool = False) -> SceneError:
+        """``float32``: the value goes to the renderer, which holds float32 numbers."""
+        note = _range_note(got) if float32 else ""
+        return self.error(f"expected {what}, got {_show(got)}{note}")
 
 
 def _show(value: Any) -> str:
@@ -142,8 +146,35 @@ def _show(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+#: The renderer computes in float32: every number of a scene must be within its range.
+FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
 def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    """A real number: a Python or NumPy int or float, not a bool."""
+    return _arrays.is_real(x)
+
+
+def _fits(x: Any) -> bool:
+    """A number the renderer can hold: finite and within float32's range. Compared
+    without a conversion, so a 400-digit integer is simply too large."""
+    return _is_number(x) and bool(abs(x) <= FLOAT32_MAX)
+
+
+def _range_note(got: Any) -> str:
+    """Says why a number that looks fine is refused: it is beyond float32's range."""
+    values = got if isinstance(got, (list, tuple)) else [got]
+    if any(_is_number(x) and not _fits(x) and bool(x == x) and abs(x) != math.inf for x in values):
+        return f" (beyond float32's range: the renderer takes |x| <= {FLOAT32_MAX:.4g})"
+    return ""
+
+
+def _plain(value: Any) -> Any:
+    """A NumPy array of real numbers reads as (nested) lists of numbers, as in a scene
+    file (Python callers pass arrays)."""
+    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf":
+        return value.tolist()
+    return value
 
 
 def _table(where: _Where, value: Any, allowed: Sequence[str]) -> dict[str, Any]:
@@ -170,29 +201,19 @@ def _number(
     where: _Where, value: Any, *, positive: bool = False, non_negative: bool = False
 ) -> float:
     what = "a positive number" if positive else "a number >= 0" if non_negative else "a number"
-    if not _is_number(value) or not math.isfinite(value):
-        raise where.expected(what, value)
+    value = _plain(value)
+    if not _fits(value):
+        raise where.expected(what, value, float32=True)
     if (positive and not value > 0) or (non_negative and not value >= 0):
         raise where.expected(what, value)
     return float(value)
 
 
-def _triple(value: Any) -> Any:
-    """A 1-D NumPy array of three numbers reads as a list (Python callers pass arrays)."""
-    if isinstance(value, np.ndarray) and value.shape == (3,) and value.dtype.kind in "iuf":
-        return value.tolist()
-    return value
-
-
 def _vector(where: _Where, value: Any, *, nonzero: bool = False) -> list[float]:
     what = "a nonzero vector [x, y, z]" if nonzero else "[x, y, z] (three numbers)"
-    value = _triple(value)
-    if (
-        not isinstance(value, (list, tuple))
-        or len(value) != 3
-        or not all(_is_number(x) and math.isfinite(x) for x in value)
-    ):
-        raise where.expected(what, value)
+    value = _plain(value)
+    if not isinstance(value, (list, tuple)) or len(value) != 3 or not all(map(_fits, value)):
+        raise where.expected(what, value, float32=True)
     if nonzero and not any(value):
         raise where.expected(what, value)
     return [float(x) for x in value]
@@ -210,15 +231,15 @@ def _parallel(t: Sequence[float], n: Sequence[float]) -> bool:
 
 def _colour(where: _Where, value: Any) -> list[float]:
     what = "a colour: a number >= 0 or an RGB triple [r, g, b] of numbers >= 0"
-    value = _triple(value)
+    given = value = _plain(value)
     if _is_number(value):
         value = [value] * 3
     if (
         not isinstance(value, (list, tuple))
         or len(value) != 3
-        or not all(_is_number(x) and math.isfinite(x) and x >= 0 for x in value)
+        or not all(_fits(x) and x >= 0 for x in value)
     ):
-        raise where.expected(what, value)
+        raise where.expected(what, given, float32=True)
     return [float(x) for x in value]
 
 
@@ -242,12 +263,14 @@ def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
     def in_range(x: float) -> bool:
         above = x > lo if spec["min_open"] else x >= lo
         below = x < hi if spec["max_open"] else x <= hi
-        return math.isfinite(x) and above and below
+        return _fits(x) and bool(above and below)
 
     def scalar(w: _Where, x: Any, what: str) -> float:
         if not _is_number(x) or not in_range(x):
-            raise w.expected(what, x)
+            raise w.expected(what, x, float32=True)
         return float(x)
+
+    value = _plain(value)
 
     if kind == "scalar":
         return scalar(where, value, f"a number {rng}")
@@ -266,6 +289,7 @@ def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
         raise where.expected(f"a list of up to {spec['max_len']} colours", value)
     out = []
     for i, c in enumerate(value):
+        c = _plain(c)
         if _is_number(c):
             c = [c] * 3
         if not isinstance(c, (list, tuple)) or len(c) != 3:
@@ -337,14 +361,17 @@ def _camera(where: _Where, value: Any) -> dict[str, Any]:
         raise (where / "height").error("applies to orthographic cameras; use fov for perspective")
     if projection == "orthographic" and "fov" in table:
         raise (where / "fov").error("applies to perspective cameras; use height for orthographic")
-    fov = table.get("fov", 40.0)
+    fov = _plain(table.get("fov", 40.0))
     if not _is_number(fov) or not 0 < fov < 180:
         raise (where / "fov").expected("an angle in degrees, between 0 and 180", fov)
-    resolution = _required(where, table, "resolution", "[width, height] in pixels")
+    resolution = _plain(_required(where, table, "resolution", "[width, height] in pixels"))
     if (
         not isinstance(resolution, (list, tuple))
         or len(resolution) != 2
-        or not all(isinstance(x, int) and not isinstance(x, bool) for x in resolution)
+        or not all(
+            isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_))
+            for x in resolution
+        )
         or not all(1 <= x <= 32768 for x in resolution)
     ):
         raise (where / "resolution").expected(
@@ -704,10 +731,13 @@ def render(
 
 
 def _apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:
-    if kind not in TONEMAPS:
+    if not isinstance(kind, str) or kind not in TONEMAPS:
         raise ValueError(f"tonemap: expected one of {', '.join(TONEMAPS)}, got {kind!r}")
-    if not _is_number(exposure) or not math.isfinite(exposure):
-        raise ValueError(f"exposure: expected a finite number of stops, got {exposure!r}")
+    if not _fits(exposure):
+        raise ValueError(
+            f"exposure: expected a finite number of stops (within float32's range), got"
+            f" {_show(exposure)}"
+        )
     if kind == "none" and exposure == 0:
         return image
     _core.tonemap_inplace(image, kind, float(exposure))
@@ -723,7 +753,8 @@ def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.nda
     large the exposure, a product beyond float32's range is ±inf (1 after a tone map),
     and finite input never gives NaN.
     """
-    out = np.array(image, dtype=np.float32, order="C", copy=True)
+    with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
+        out = np.array(_arrays._as_numeric("image", image), dtype=np.float32, order="C", copy=True)
     return _apply_tonemap(out, kind, exposure)
 
 
@@ -752,10 +783,7 @@ def _material_core(where: _Where, material: Mapping[str, Any]) -> dict[str, Any]
 
 
 def _vectors(name: str, value: Any) -> np.ndarray:
-    try:
-        a = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name}: expected an array of numbers of shape (..., 3)") from None
+    a = np.asarray(_arrays._as_numeric(name, value), dtype=np.float64)
     if a.ndim == 0 or a.shape[-1] != 3:
         raise ValueError(f"{name}: expected an array of shape (..., 3), got shape {a.shape}")
     return a
@@ -913,8 +941,11 @@ def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     The file is replaced in one step: ``path`` holds either its old content or the whole
     image, never part of it, even when the write fails or is interrupted or several
     processes write the same path at once. An ``OSError`` names ``path``."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file name (str or path), got {type(path).__name__}")
     path = Path(path)
-    image = np.ascontiguousarray(image, dtype=np.float32)
+    with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
+        image = np.ascontiguousarray(_arrays._as_numeric("image", image), dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
         raise ValueError(f"image: expected shape (height, width, 3), got {image.shape}")
     suffix = path.suffix.lower()
@@ -1036,11 +1067,12 @@ def scene_tables(
     ``progress(material, cells_done, cells)`` is called while a table is built.
     """
     from . import __version__
-    from ._albedo import DEFAULT_REPLICATES, albedo_table
+    from ._albedo import DEFAULT_REPLICATES, _options, albedo_table
 
     scene = _as_scene(scene)
-    if isinstance(mu_count, bool) or not isinstance(mu_count, int) or mu_count < 1:
-        raise ValueError(f"mu_count: expected a positive integer, got {mu_count!r}")
+    mu_count = _arrays.integer("mu_count", mu_count, 1, 1 << 20)
+    checked = _options(samples, "auto", "sobol", seed, tol, None, DEFAULT_REPLICATES)
+    samples, seed, tol = checked["samples"], checked["seed"], checked["tol"]
     directory = Path(cache_dir) if cache_dir is not None else default_cache_dir()
     directory.mkdir(parents=True, exist_ok=True)
     mu = (np.arange(mu_count) + 0.5) / mu_count

@@ -40,15 +40,22 @@ fn pool() -> Arc<ThreadPool> {
     guard.as_ref().expect("pool just set").clone()
 }
 
+/// The largest thread count a pool can have (rayon's limit: it would silently use
+/// fewer).
+pub fn max_num_threads() -> usize {
+    rayon::max_num_threads()
+}
+
 /// Sets the number of worker threads for later calls.
 ///
 /// # Errors
-/// `n == 0`, or the OS refuses to start the threads.
+/// `n` is 0 or above [`max_num_threads`], or the OS refuses to start the threads.
 pub fn set_num_threads(n: usize) -> Result<(), BrdfError> {
-    if n == 0 {
-        return Err(BrdfError::InvalidArgument(
-            "n: must be at least 1 thread".into(),
-        ));
+    let max = max_num_threads();
+    if n == 0 || n > max {
+        return Err(BrdfError::InvalidArgument(format!(
+            "n: expected a thread count from 1 to {max}, got {n}"
+        )));
     }
     let new = build(n)?;
     *POOL.write().unwrap_or_else(|e| e.into_inner()) = Some(new);

@@ -496,6 +496,12 @@ fn set_num_threads(n: usize) -> PyResult<()> {
     Ok(crate::parallel::set_num_threads(n)?)
 }
 
+/// Returns the largest thread count `set_num_threads` accepts.
+#[pyfunction]
+fn max_num_threads() -> usize {
+    crate::parallel::max_num_threads()
+}
+
 /// Returns the number of worker threads.
 #[pyfunction]
 fn num_threads() -> usize {
@@ -514,8 +520,8 @@ fn isa() -> &'static str {
 mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
-        albedo, check_params, eval_f32, eval_f64, isa, models, num_threads, pdf, sample,
-        set_num_threads,
+        albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads, pdf,
+        sample, set_num_threads,
     };
 
     #[pymodule_export]

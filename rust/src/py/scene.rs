@@ -218,6 +218,12 @@ fn scene(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         .collect::<PyResult<_>>()?;
     let background: [f64; 3] =
         optional(d, "background", "scene", "an RGB triple")?.unwrap_or([0.0; 3]);
+    if background.iter().any(|&x| !(x as f32).is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "background: expected an RGB triple within float32's range (|x| <= 3.4e38); \
+             got {background:?}"
+        )));
+    }
     Ok(Scene {
         camera: camera(&camera_dict)?,
         materials,

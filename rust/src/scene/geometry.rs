@@ -55,13 +55,15 @@ pub struct Object {
     pub tangent: TangentField,
 }
 
+/// Converts to the renderer's float32, refusing what is not finite there (|x| above
+/// `f32::MAX` ≈ 3.4e38 rounds to infinity).
 fn vector(v: [f64; 3], what: &str) -> Result<Vec3, BrdfError> {
-    let v = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
-    if v.is_finite() {
-        Ok(v)
+    let f = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+    if f.is_finite() {
+        Ok(f)
     } else {
         Err(BrdfError::InvalidArgument(format!(
-            "{what}: expected finite numbers; got {v:?}"
+            "{what}: expected finite numbers within float32's range (|x| <= 3.4e38); got {v:?}"
         )))
     }
 }
@@ -94,9 +96,10 @@ impl Object {
         tangent: &str,
         axis: [f64; 3],
     ) -> Result<Object, BrdfError> {
-        if !(radius > 0.0 && radius.is_finite()) {
+        if !(radius > 0.0 && (radius as f32).is_finite()) {
             return Err(BrdfError::InvalidArgument(format!(
-                "radius: expected a positive number; got {radius}"
+                "radius: expected a positive number within float32's range (<= 3.4e38); \
+                 got {radius:?}"
             )));
         }
         let axis = unit(axis, "axis")?;

@@ -27,20 +27,23 @@ pub enum Light {
     },
 }
 
+/// Converts to the renderer's float32, refusing what is not finite there (|x| above
+/// `f32::MAX` ≈ 3.4e38 rounds to infinity).
 fn check_vector(v: [f64; 3], what: &str) -> Result<Vec3, BrdfError> {
-    let v = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
-    if !v.is_finite() {
+    let f = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+    if !f.is_finite() {
         return Err(BrdfError::InvalidArgument(format!(
-            "{what}: expected finite numbers; got {v:?}"
+            "{what}: expected finite numbers within float32's range (|x| <= 3.4e38); got {v:?}"
         )));
     }
-    Ok(v)
+    Ok(f)
 }
 
 fn check_intensity(i: [f64; 3]) -> Result<[f32; 3], BrdfError> {
-    if i.iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+    if i.iter().any(|&x| !((x as f32).is_finite() && x >= 0.0)) {
         return Err(BrdfError::InvalidArgument(format!(
-            "intensity: expected an RGB triple of finite numbers >= 0; got {i:?}"
+            "intensity: expected an RGB triple of numbers >= 0 within float32's range \
+             (<= 3.4e38); got {i:?}"
         )));
     }
     Ok(i.map(|x| x as f32))
@@ -69,10 +72,11 @@ impl Light {
     ) -> Result<Light, BrdfError> {
         let range = match range {
             None => f32::INFINITY,
-            Some(r) if r > 0.0 && r.is_finite() => r as f32,
+            Some(r) if r > 0.0 && (r as f32).is_finite() => r as f32,
             Some(r) => {
                 return Err(BrdfError::InvalidArgument(format!(
-                    "range: expected a positive number; got {r}"
+                    "range: expected a positive number within float32's range (<= 3.4e38); \
+                     got {r:?}"
                 )));
             }
         };

@@ -83,6 +83,18 @@ impl Term {
         }
         let mut slots = Vec::new();
         rows.slots(0, &mut slots);
+        // The renderer's kernels run in float32: a finite value beyond its range would
+        // become infinite there (unused list slots hold infinity on purpose).
+        let too_big = |x: &f64| x.is_finite() && x.abs() > f64::from(f32::MAX);
+        for p in kind.spec().params {
+            let range = p.slot..p.slot + p.kind.slots();
+            if let Some(&x) = slots.get(range).and_then(|s| s.iter().find(|x| too_big(x))) {
+                return Err(BrdfError::InvalidArgument(format!(
+                    "{} = {x:?} is out of range: the renderer computes in float32 (|x| <= 3.4e38)",
+                    p.name
+                )));
+            }
+        }
         Ok(Term { kind, slots })
     }
 
