@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import _thread
 import functools
-import re
 import threading
 import time
 from pathlib import Path
@@ -262,27 +261,26 @@ material = "m"
 
 
 @pytest.mark.parametrize(
-    ("ids", "index", "shown"),
+    ("ids", "error", "pattern"),
     [
-        ([-1, 2], "[0]", "-1"),
-        ([0, -2], "[1]", "-2"),
-        ([0.5, 2.7], "[0]", "0.5"),
-        ([1.0, 2.7], "[1]", "2.7"),
-        ([0.0, np.nan], "[1]", "nan"),
-        ([0.0, np.inf], "[1]", "inf"),
-        ([0.0, 2.0**64], "[1]", str(2.0**64)),
+        ([-1, 2], ValueError, r"^cell_ids\[0\] = -1 is out of range"),
+        ([0, -2], ValueError, r"^cell_ids\[1\] = -2 is out of range"),
+        ([0.5, 2.7], TypeError, r"^cell_ids\[0\]: expected integers"),
+        ([1.0, 2.7], TypeError, r"^cell_ids\[0\]: expected integers"),
+        (np.array([0.0, np.nan]), TypeError, r"^cell_ids: expected integers .* dtype float64"),
+        (np.array([0.0, 2.0**64]), TypeError, r"^cell_ids: expected integers .* dtype float64"),
     ],
 )
-def test_albedo_refuses_cell_ids_that_are_not_non_negative_integers(ids, index, shown):
-    pattern = rf"^cell_ids{re.escape(index)} = {re.escape(shown)} .*first bad index"
-    with pytest.raises(ValueError, match=pattern):
+def test_albedo_refuses_cell_ids_that_are_not_non_negative_integers(ids, error, pattern):
+    """A wrapped -1 or a truncated 2.7 would silently key another cell's stream."""
+    with pytest.raises(error, match=pattern):
         brdf_rs.albedo("lambert", [0.5, 0.7], samples=64, cell_ids=ids)
 
 
-def test_albedo_cell_ids_as_integers_or_integral_floats_key_the_same_streams():
+def test_albedo_cell_ids_of_any_integer_type_key_the_same_streams():
     mu = [0.3, 0.8]
     ref = brdf_rs.albedo("ggx", mu, samples=64, cell_ids=np.array([7, 9], np.uint64))
-    for ids in ([7, 9], np.array([7, 9], np.int32), [7.0, 9.0]):
+    for ids in ([7, 9], np.array([7, 9], np.int32), (np.int64(7), 9)):
         got = brdf_rs.albedo("ggx", mu, samples=64, cell_ids=ids)
         np.testing.assert_array_equal(got.value, ref.value)
 

@@ -60,28 +60,35 @@ SAMPLERS = ("auto", "importance", "cosine", "uniform")
 SEQUENCES = ("sobol", "random")
 
 
-def _cell_ids(cell_ids: Any) -> np.ndarray:
-    """``cell_ids`` as C-contiguous uint64: non-negative integers below 2**64, given as an
-    integer array or as floats that are exact integers (a wrapped -1 or a truncated 2.7
-    would silently key another cell's stream)."""
-    raw = np.asarray(cell_ids)
-    if raw.dtype.kind not in "iu":
-        raw = _arrays.parameters({"cell_ids": cell_ids}, np.float64)["cell_ids"]
-    if raw.dtype.kind == "u":
-        bad = np.zeros(raw.shape, dtype=bool)
-    elif raw.dtype.kind == "i":
-        bad = raw < 0
-    else:
-        with np.errstate(invalid="ignore"):
-            bad = ~(np.isfinite(raw) & (raw >= 0) & (raw < 2.0**64) & (np.floor(raw) == raw))
-    if np.any(bad):
-        index = tuple(int(i) for i in np.argwhere(bad)[0])
-        where = f"[{', '.join(map(str, index))}]"
-        raise ValueError(
-            f"cell_ids{where if index else ''} = {raw[index].item()!r} is not a non-negative"
-            f" integer below 2**64" + (f" (first bad index {where})" if index else "")
-        )
-    return np.ascontiguousarray(raw, dtype=np.uint64)
+def _cell_ids(cell_ids: Any) -> np.ndarray | None:
+    """``cell_ids`` as a C-contiguous uint64 array: integers from 0 to 2**64 - 1."""
+    if cell_ids is None:
+        return None
+    expected = f"integers from 0 to {_U64_MAX}"
+    # Python numbers are read one by one: NumPy would turn [5, 2**63] into floats.
+    given = cell_ids if isinstance(cell_ids, np.ndarray) else np.asarray(cell_ids, dtype=object)
+    try:
+        a = np.asarray(given)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"cell_ids: expected an array of {expected} ({exc})") from None
+    if a.dtype.kind == "O":
+        for index in np.ndindex(a.shape):
+            x = a[index]
+            if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
+                raise TypeError(f"cell_ids{list(index)}: expected {expected}, got {x!r}")
+            if not 0 <= x <= _U64_MAX:
+                raise ValueError(
+                    f"cell_ids{list(index)} = {x} is out of range: expected {expected}"
+                )
+        return np.ascontiguousarray(a, dtype=np.uint64)
+    if a.dtype.kind not in "iu":
+        raise TypeError(f"cell_ids: expected {expected}, got dtype {a.dtype}")
+    if a.size and a.min() < 0:
+        flat = a.ravel()
+        i = int(np.flatnonzero(flat < 0)[0])
+        index = [int(k) for k in np.unravel_index(i, a.shape)]
+        raise ValueError(f"cell_ids{index} = {flat[i]} is out of range: expected {expected}")
+    return np.ascontiguousarray(a, dtype=np.uint64)
 
 
 def _options(
@@ -210,7 +217,7 @@ def albedo(
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
     options = _options(samples, sampler, sequence, seed, tol, max_samples, replicates)
-    ids = None if cell_ids is None else _cell_ids(cell_ids)
+    ids = _cell_ids(cell_ids)
     value, stderr, drawn = _core.albedo(
         model,
         mu_array,

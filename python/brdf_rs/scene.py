@@ -733,11 +733,11 @@ def render(
 def _apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:
     if not isinstance(kind, str) or kind not in TONEMAPS:
         raise ValueError(f"tonemap: expected one of {', '.join(TONEMAPS)}, got {kind!r}")
-    if not _fits(exposure):
-        raise ValueError(
-            f"exposure: expected a finite number of stops (within float32's range), got"
-            f" {_show(exposure)}"
-        )
+    # Any finite float64 number of stops: the scale is applied in float64 and rounded
+    # once, so 0 stays 0 and an overflow is ±inf (compared without a conversion, so a
+    # 400-digit integer is refused, not an OverflowError).
+    if not (_is_number(exposure) and bool(abs(exposure) <= sys.float_info.max)):
+        raise ValueError(f"exposure: expected a finite number of stops, got {_show(exposure)}")
     if kind == "none" and exposure == 0:
         return image
     _core.tonemap_inplace(image, kind, float(exposure))
