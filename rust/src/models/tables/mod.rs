@@ -3,13 +3,11 @@
 
 pub mod beckmann_e;
 pub mod ggx_e;
+pub mod nodes;
 
 use crate::math::{Real, clamp, max};
 
-/// Incidence nodes of the energy tables (uniform in `x = (sqrt(t) + t)/2`).
-const NT: usize = ggx_e::T.len();
-/// Roughness nodes of the energy tables (log-uniform in `[1e-3, 1]`).
-const NA: usize = ggx_e::ALPHA.len();
+use nodes::{NA, NT};
 
 /// A single-scattering energy table: the loss `L = 1 − E(mu, alpha)` with its average
 /// `L_avg(alpha) = 2 ∫ L mu dmu`.
@@ -116,7 +114,7 @@ impl EnergyTable {
     /// the node coordinate between the incidence nodes.
     #[inline(always)]
     fn column<F: Real>(&self, j: usize, mu: F, sin: F) -> F {
-        let alpha = F::from_f64(ggx_e::ALPHA[j]);
+        let alpha = F::from_f64(nodes::ALPHA[j]);
         // mu = 0 gives t = 0 and mu = 1 gives t = 1; below the surface (and NaN), 0.
         let t = if mu > F::ZERO {
             mu / (mu + alpha * sin)
