@@ -1,0 +1,76 @@
+"""Prints a hash of ``brdf_rs.eval``'s bits per model and dtype, to compare two builds.
+
+The inputs are fixed (seeded): random directions above and below the surface, near
+the horizon, tilted normals and tangents, and each model's parameters drawn inside their
+ranges. Run it with two builds and diff the output: a changed line is a model whose
+values changed.
+
+    python scripts/eval_hashes.py > after.txt
+    PYTHONPATH=/path/to/other/build/python python scripts/eval_hashes.py > before.txt
+    diff before.txt after.txt
+"""
+
+from __future__ import annotations
+
+import hashlib
+
+import brdf_rs
+import numpy as np
+
+N = 50_000
+#: Parameters without defaults.
+EXTRA = {
+    "toon_diffuse": {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
+}
+
+
+def directions(rng: np.random.Generator) -> np.ndarray:
+    v = rng.normal(size=(N, 3))
+    v[: N // 4, 2] *= 1e-3  # near the horizon
+    return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+
+def parameters(rng: np.random.Generator, spec: dict) -> dict:
+    out = {}
+    for p in spec["params"]:
+        if p["kind"] == "colour":
+            out[p["name"]] = rng.uniform(0.0, 1.0, size=(N, 3))
+        elif p["kind"] == "scalar" and p.get("varies", True):
+            lo = max(p["min"], 1e-3)
+            hi = min(p["max"], 1e3)
+            values = np.exp(rng.uniform(np.log(lo), np.log(hi), size=N))
+            out[p["name"]] = np.clip(values, p["min"], p["max"])
+    return out
+
+
+def main() -> None:
+    models = brdf_rs.models()
+    for name in sorted(models):
+        spec = models[name]
+        rng = np.random.default_rng(7)
+        wi, wo = directions(rng), directions(rng)
+        n = directions(rng)
+        n[: N // 2] = [0.0, 0.0, 1.0]
+        t = np.cross(n, directions(rng))
+        t /= np.linalg.norm(t, axis=1, keepdims=True)
+        params = {**parameters(rng, spec), **EXTRA.get(name, {})}
+        for dtype in (np.float64, np.float32):
+            try:
+                takes_tangent = spec["tangent"] or spec["tangent_optional"]
+                tangent = t.astype(dtype) if takes_tangent else None
+                f = brdf_rs.eval(
+                    name,
+                    wi.astype(dtype),
+                    wo.astype(dtype),
+                    n.astype(dtype),
+                    tangent=tangent,
+                    **params,
+                )
+                digest = hashlib.sha256(np.ascontiguousarray(f).tobytes()).hexdigest()[:16]
+            except (ValueError, TypeError) as exc:
+                digest = f"error: {type(exc).__name__}"
+            print(f"{name:24s} {np.dtype(dtype).name:8s} {digest}")
+
+
+if __name__ == "__main__":
+    main()
