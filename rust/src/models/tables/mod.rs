@@ -68,6 +68,8 @@ fn node<F: Real>(x: F, last: usize) -> Node<F> {
 #[derive(Clone, Copy, Debug)]
 pub struct AlphaNode<F> {
     pub columns: [usize; 4],
+    /// The roughness of each column.
+    pub alphas: [F; 4],
     pub weights: [F; 4],
 }
 
@@ -104,41 +106,42 @@ impl EnergyTable {
             let c = weights[3];
             weights = [weights[0], weights[1] - c, weights[2] + two * c, F::ZERO];
         }
+        let columns = [j.saturating_sub(1), j, j + 1, (j + 2).min(NA - 1)];
         AlphaNode {
-            columns: [j.saturating_sub(1), j, j + 1, (j + 2).min(NA - 1)],
+            columns,
+            alphas: columns.map(|c| F::from_f64(nodes::ALPHA[c])),
             weights,
         }
     }
 
-    /// Returns the loss of node column `j` at `mu` (`sin = sqrt(1 − mu²)`), linear in
-    /// the node coordinate between the incidence nodes.
+    /// Returns the loss of node column `j` (of roughness `alpha`) at `mu` (`sin =
+    /// sqrt(1 − mu²)`, `mu >= 0`), linear in the node coordinate between the incidence
+    /// nodes. Branch-free, with indices clamped where the compiler can see it (no bounds
+    /// checks in the row loop).
     #[inline(always)]
-    fn column<F: Real>(&self, j: usize, mu: F, sin: F) -> F {
-        let alpha = F::from_f64(nodes::ALPHA[j]);
-        // mu = 0 gives t = 0 and mu = 1 gives t = 1; below the surface (and NaN), 0.
-        let t = if mu > F::ZERO {
-            mu / (mu + alpha * sin)
-        } else {
-            F::ZERO
-        };
+    fn column<F: Real>(&self, j: usize, alpha: F, mu: F, sin: F) -> F {
+        // mu = 0 gives t = 0 and mu = 1 gives t = 1.
+        let t = mu / (mu + alpha * sin);
         // The node coordinate x = (sqrt(t) + t)/2, uniform over the nodes.
         let x = (t.sqrt() + t) * F::from_f64(0.5 * (NT - 1) as f64);
         let m = node(x, NT - 1);
-        let lo = F::from_f64(self.loss[m.index][j]);
-        let hi = F::from_f64(self.loss[m.index + 1][j]);
+        let (i, j) = (m.index.min(NT - 2), j.min(NA - 1));
+        let lo = F::from_f64(self.loss[i][j]);
+        let hi = F::from_f64(self.loss[i + 1][j]);
         lo + (hi - lo) * m.weight
     }
 
     /// Returns the energy loss `1 − E(mu, alpha)`: each of the four alpha node columns
     /// read at its own `t`, blended with the cubic weights. Never negative: the blend
     /// is clamped at 0 (where it would dip below, the loss is within the table's noise
-    /// of 0).
+    /// of 0). Below the surface (and for NaN) it is read at `mu = 0`.
     #[inline(always)]
     pub fn loss<F: Real>(&self, mu: F, a: AlphaNode<F>) -> F {
+        let mu = if mu > F::ZERO { mu } else { F::ZERO };
         let sin = max((F::ONE - mu) * (F::ONE + mu), F::ZERO).sqrt();
         let mut sum = F::ZERO;
-        for (&j, &w) in a.columns.iter().zip(&a.weights) {
-            sum = sum + self.column(j, mu, sin) * w;
+        for k in 0..4 {
+            sum = sum + self.column(a.columns[k], a.alphas[k], mu, sin) * a.weights[k];
         }
         max(sum, F::ZERO)
     }
