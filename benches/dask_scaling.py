@@ -1,7 +1,7 @@
 """Albedo tables on Dask: 1 and 2 worker processes against the local build, and a
 projection to 100 workers from the measured per-task cost and scheduler overhead.
 
-The table (as issue 8 asks): torrance_sparrow over mu x p x eta x ks (16 x 16 x 8 x 4 =
+The table: torrance_sparrow over mu x p x eta x ks (16 x 16 x 8 x 4 =
 8192 cells, kd = 0, 16384 samples per cell, seed 1), built
 
 - locally (``brdf_rs.albedo_table``) with 1 and 2 rayon threads, and

@@ -390,7 +390,7 @@ def cmd_tables(args: argparse.Namespace) -> int:
     return 0
 
 
-# ------------------------------------------------- dfg, energy, bench, plot-lobe (issue 6)
+# --------------------------------------------------------- dfg, energy, bench, plot-lobe
 
 TABLE_FORMATS = (".npz", ".exr", ".png")
 PLOT_FORMATS = (".png", ".svg", ".pdf")
