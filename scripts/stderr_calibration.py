@@ -27,7 +27,7 @@ A cell with stderr 0 counts as |z| = inf unless its value equals the reference e
 
     python scripts/stderr_calibration.py                 # all cases, 1000 cells
     python scripts/stderr_calibration.py --quick         # 200 cells, three cases
-    python scripts/stderr_calibration.py --cells 4000 --out /tmp/calibration
+    python scripts/stderr_calibration.py --cells 4000 --out calibration
 
 Writes ``<out>.json`` and ``<out>.md`` (default benches/results/stderr_calibration).
 """

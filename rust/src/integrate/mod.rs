@@ -595,8 +595,10 @@ impl LobeSums {
         let mut scaled_mean = [0.0; 3];
         let mut second = [0.0; 3];
         let mut shift = [0.0; 3];
+        // Each lobe's mean weight about its shift.
+        let shifted: [f64; MAX_LOBES] = std::array::from_fn(|k| Self::total(&self.sum[k]) / n);
         for (k, lk) in lobes.iter().enumerate() {
-            let sk = Self::total(&self.sum[k]) / n;
+            let sk = shifted[k];
             for c in 0..3 {
                 mean[c] += lk.colour[c] * sk;
                 scaled_mean[c] += lk.colour[c] / scale[c] * sk;
@@ -619,7 +621,7 @@ impl LobeSums {
             let mut extra = 0.0;
             for (k, lk) in lobes.iter().enumerate() {
                 if lk.bounded {
-                    let m = self.shift[k] + Self::total(&self.sum[k]) / n;
+                    let m = self.shift[k] + shifted[k];
                     let w = lk.colour[c] / scale[c];
                     extra += w * w * (m * m + (1.0 - m) * (1.0 - m));
                 }
@@ -755,10 +757,15 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
     } else {
         first.div_ceil(streams_count).next_power_of_two()
     };
-    let mut streams: Vec<Stream> = (0..streams_count)
-        .map(|r| Stream::new(options.sequence, options.seed, cell, r))
-        .collect();
-    let mut sums = vec![LobeSums::new(); streams.len()];
+    // The cell's streams from their start, and empty sums for them.
+    let fresh = || {
+        let streams: Vec<Stream> = (0..streams_count)
+            .map(|r| Stream::new(options.sequence, options.seed, cell, r))
+            .collect();
+        let sums = vec![LobeSums::new(); streams.len()];
+        (streams, sums)
+    };
+    let (mut streams, mut sums) = fresh();
     let mut done_per_stream = 0u64;
     let mut checked_hits = false;
     let (mean, stderr, samples) = loop {
@@ -776,10 +783,7 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
             checked_hits = true;
             if integrand.fall_back(&sums, total) {
                 // Start again with the new samplers, on fresh streams.
-                streams = (0..streams_count)
-                    .map(|r| Stream::new(options.sequence, options.seed, cell, r))
-                    .collect();
-                sums = vec![LobeSums::new(); streams.len()];
+                (streams, sums) = fresh();
                 done_per_stream = 0;
                 continue;
             }

@@ -19,8 +19,8 @@ use nodes::{NA, NT};
 /// t)/2`, which refines them towards `t = 0`, where the loss of rough lobes grows like
 /// `mu^0.85` from 0 (`scripts/furnace_check.py` measures the result). The roughness axis is
 /// log-uniform, blended by cubic (Catmull-Rom) weights over four node columns (linear
-/// interpolation left 9e-4 of furnace error near Beckmann's alpha = 0.5 at normal
-/// incidence, where the loss rises steeply). Each alpha column is read at its own node's
+/// interpolation left several times the furnace error near Beckmann's alpha = 0.5 at
+/// normal incidence, where the loss rises steeply). Each alpha column is read at its own node's
 /// `t` (not at the query's alpha), so the interpolant is, for every alpha, a fixed blend
 /// of node columns' functions of `mu`, and the stored averages (of those functions,
 /// `scripts/gen_tables.py`) blend with the same weights: the lobe's albedo is exactly
