@@ -1,4 +1,5 @@
-"""Shared test helpers: random inputs drawn from the spec table, and a condition estimate.
+"""Shared test helpers: random inputs drawn from the spec table, a condition estimate,
+a small scene and a CLI runner.
 
 The condition estimate says how much a model's exact value moves when its inputs move by
 a relative ``delta``: the ratio of relative output change to relative input change,
@@ -13,6 +14,9 @@ from __future__ import annotations
 
 import math
 import os
+import subprocess
+import sys
+from pathlib import Path
 
 import brdf_rs
 import numpy as np
@@ -156,3 +160,33 @@ def condition(model, wi, wo, n, tangent, params, rng, value, delta=1e-7, trials=
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)
+
+
+# ------------------------------------------------------------------ scenes and the CLI
+
+#: One unit sphere carrying material ``m``.
+SPHERE = '[[objects]]\ntype = "sphere"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = "m"\n'
+
+
+def tiny_scene(material: str, objects: str = SPHERE, lights: str = "") -> str:
+    """A TOML scene: an 8×8 orthographic camera, one material ``m`` (its TOML body
+    lines), ``objects`` and ``lights`` (TOML tables)."""
+    return (
+        '[camera]\ntype = "orthographic"\nposition = [0, 0, 5]\nheight = 3\n'
+        f"resolution = [8, 8]\n\n[materials.m]\n{material}\n\n{objects}\n{lights}"
+    )
+
+
+def run_cli(*args: str, cwd: Path | None = None, code: int = 0) -> subprocess.CompletedProcess:
+    """Runs ``python -m brdf_rs ARGS`` (2 threads) and checks its exit code."""
+    env = {**os.environ, "BRDF_RS_NUM_THREADS": "2"}
+    result = subprocess.run(
+        [sys.executable, "-m", "brdf_rs", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=env,
+        check=False,
+    )
+    assert result.returncode == code, (result.returncode, result.stdout, result.stderr)
+    return result

@@ -18,23 +18,9 @@ from pathlib import Path
 import brdf_rs
 import numpy as np
 import pytest
+from conftest import run_cli as run
 
 PIL = pytest.importorskip("PIL.Image")
-
-
-def run(*args: str, cwd: Path | None = None, code: int = 0) -> subprocess.CompletedProcess:
-    """Runs ``python -m brdf_rs ARGS`` and checks its exit code."""
-    env = {**os.environ, "BRDF_RS_NUM_THREADS": "2"}
-    result = subprocess.run(
-        [sys.executable, "-m", "brdf_rs", *args],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        env=env,
-        check=False,
-    )
-    assert result.returncode == code, (result.returncode, result.stdout, result.stderr)
-    return result
 
 
 def run_json(*args: str, cwd: Path | None = None) -> dict:

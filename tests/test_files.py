@@ -24,6 +24,7 @@ import pytest
 from brdf_rs import TableFileError, plot
 from brdf_rs.cli import main as cli_main
 from brdf_rs.cli import save_energy
+from conftest import run_cli, tiny_scene
 
 
 def small_table(seed: int = 0, n: int = 6, m: int = 5) -> brdf_rs.Table:
@@ -318,23 +319,14 @@ def test_a_write_keeps_permissions(tmp_path):
 def test_cli_outputs_in_the_way(tmp_path):
     (tmp_path / "adir.npz").mkdir()
     (tmp_path / "adir.npy").mkdir()
-    env = {**os.environ, "BRDF_RS_NUM_THREADS": "2"}
     scene = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "gallery.toml"
     for args, name in (
         (["table", "normalized_phong", "--axis", "mu=0.5,1", "-o", "adir.npz"], "adir.npz"),
         (["render", str(scene), "--resolution", "8x4", "--npy", "adir.npy"], "adir.npy"),
     ):
-        result = subprocess.run(
-            [sys.executable, "-m", "brdf_rs", *args],
-            capture_output=True,
-            text=True,
-            cwd=tmp_path,
-            env=env,
-            check=False,
-        )
         # Refused before the work, with the error writing would give (exit 1: a file that
         # cannot be written).
-        assert result.returncode == 1, result.stderr
+        result = run_cli(*args, cwd=tmp_path, code=1)
         assert result.stderr.strip() == f"brdf-rs {args[0]}: [Errno 21] Is a directory: '{name}'"
         assert listing(tmp_path) == ["adir.npy", "adir.npz"]
 
@@ -353,29 +345,10 @@ def test_cli_write_failure_is_one_line_naming_the_path(tmp_path, monkeypatch, ca
 
 # ------------------------------------------------------------------ damaged table cache
 
-SCENE = """
-[camera]
-type = "orthographic"
-position = [0, 0, 5]
-height = 3
-resolution = [8, 8]
-
-[materials.m]
-model = "normalized_phong"
-kd = 0
-ks = 1
-p = 4
-
-[[objects]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1
-material = "m"
-
-[[lights]]
-type = "directional"
-direction = [1, -1, -1]
-"""
+SCENE = tiny_scene(
+    'model = "normalized_phong"\nkd = 0\nks = 1\np = 4',
+    lights='[[lights]]\ntype = "directional"\ndirection = [1, -1, -1]\n',
+)
 
 
 def _truncate(path: Path) -> None:

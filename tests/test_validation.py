@@ -14,6 +14,7 @@ import brdf_rs
 import numpy as np
 import pytest
 from brdf_rs.scene import TONEMAPS, SceneError, load_scene, parse_scene
+from conftest import tiny_scene
 
 SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 DTYPES = (np.float64, np.float32)
@@ -235,23 +236,11 @@ def test_shade_refuses_a_tangent_parallel_to_the_normal():
 
 
 def test_scene_plane_tangent_parallel_to_its_normal_is_refused():
-    text = """
-[camera]
-type = "orthographic"
-position = [0, 0, 5]
-height = 3
-resolution = [8, 8]
-
-[materials.m]
-model = "ward"
-
-[[objects]]
-type = "plane"
-point = [0, 0, 0]
-normal = [0, 0, 1]
-tangent = [0, 0, -3]
-material = "m"
-"""
+    plane = (
+        '[[objects]]\ntype = "plane"\npoint = [0, 0, 0]\nnormal = [0, 0, 1]\n'
+        'tangent = [0, 0, -3]\nmaterial = "m"\n'
+    )
+    text = tiny_scene('model = "ward"', objects=plane)
     with pytest.raises(SceneError, match=r"objects\[0\]\.tangent: .*parallel to the plane"):
         parse_scene(text, "plane.toml")
     parse_scene(text.replace("[0, 0, -3]", "[1, 0, -3]"), "plane.toml")
@@ -368,26 +357,7 @@ def test_the_reported_sigma_bound(dtype):
 
 def test_a_scene_accepts_the_float32_rounding_of_a_closed_bound():
     material = f'model = "oren_nayar"\nsigma = {float(np.float32(np.pi / 2))!r}'
-    text = f"""
-[camera]
-type = "orthographic"
-position = [0, 0, 5]
-height = 3
-resolution = [8, 8]
-
-[materials.m]
-{material}
-
-[[objects]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1
-material = "m"
-
-[[lights]]
-type = "directional"
-direction = [0, 0, -1]
-"""
+    text = tiny_scene(material, lights='[[lights]]\ntype = "directional"\ndirection = [0, 0, -1]\n')
     assert np.isfinite(brdf_rs.render(parse_scene(text, "bound.toml"))).all()
 
 
