@@ -138,12 +138,7 @@ class _Where:
     def expected(self, what: str, got: Any, *, float32: bool = False) -> SceneError:
         """``float32``: the value goes to the renderer, which holds float32 numbers."""
         note = _range_note(got) if float32 else ""
-        return self.error(f"expected {what}, got {_show(got)}{note}")
-
-
-def _show(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
+        return self.error(f"expected {what}, got {_arrays._show(got)}{note}")
 
 
 #: The renderer computes in float32: every number of a scene must be within its range.
@@ -308,7 +303,7 @@ def _term(where: _Where, value: Any, *, family: str, slot: str | None) -> dict[s
         close = difflib.get_close_matches(str(model), list(specs), n=1, cutoff=0.6)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         raise (where / "model").error(
-            f"unknown model {_show(model)}{hint}; known models: {', '.join(specs)}"
+            f"unknown model {_arrays._show(model)}{hint}; known models: {', '.join(specs)}"
         )
     spec = specs[model]
     if spec["family"] != family:
@@ -433,7 +428,7 @@ def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         defined = ", ".join(known) if known else "none"
         raise (where / "material").error(
-            f"unknown material {_show(name)}{hint}; defined materials: {defined}"
+            f"unknown material {_arrays._show(name)}{hint}; defined materials: {defined}"
         )
     out: dict[str, Any] = {"shape": shape, "material": name}
     if shape == "sphere":
@@ -454,8 +449,8 @@ def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str
             out["tangent"] = _vector(where / "tangent", table["tangent"], nonzero=True)
             if _parallel(out["tangent"], out["normal"]):
                 raise (where / "tangent").error(
-                    f"{_show(table['tangent'])} is parallel to the plane's normal"
-                    f" {_show(table['normal'])}: it gives no direction in the plane"
+                    f"{_arrays._show(table['tangent'])} is parallel to the plane's normal"
+                    f" {_arrays._show(table['normal'])}: it gives no direction in the plane"
                 )
         else:
             out["tangent"] = None
@@ -737,7 +732,9 @@ def _apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:
     # once, so 0 stays 0 and an overflow is ±inf (compared without a conversion, so a
     # 400-digit integer is refused, not an OverflowError).
     if not (_is_number(exposure) and bool(abs(exposure) <= sys.float_info.max)):
-        raise ValueError(f"exposure: expected a finite number of stops, got {_show(exposure)}")
+        raise ValueError(
+            f"exposure: expected a finite number of stops, got {_arrays._show(exposure)}"
+        )
     if kind == "none" and exposure == 0:
         return image
     _core.tonemap_inplace(image, kind, float(exposure))
