@@ -17,10 +17,7 @@ import argparse
 
 import brdf_rs
 import numpy as np
-
-#: Torrance-Sparrow's albedo at mu = 1, p = 100, eta = 1.5, kd = 0, ks = 1 (adaptive
-#: Gauss-Legendre cubature, scripts/stderr_calibration.py).
-REFERENCE = {100.0: 0.0400000080482049}
+from stderr_calibration import reference_albedo
 
 
 def weights(p: float, eps: float, wide: float, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -50,7 +47,7 @@ def main() -> None:
     ap.add_argument("--samples", type=int, default=256)
     ap.add_argument("--cells", type=int, default=3000)
     args = ap.parse_args()
-    ref = REFERENCE[args.p]
+    ref = reference_albedo("torrance_sparrow", 1.0, {"kd": 0.0, "ks": 1.0, "p": args.p, "eta": 1.5})
     rng = np.random.default_rng(1)
     print(f"{'eps':>8s} {'wide p':>7s} {'P(|z|>3)':>9s} {'median se':>10s} {'rms error':>10s}")
     for eps, wide in [
