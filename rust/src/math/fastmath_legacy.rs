@@ -59,7 +59,6 @@ fn pow_unit_impl_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_unit_scaled_f64::<FMA>(x, one_minus_x, p, 0.0, 0.0)
 }
 
-
 /// x^p / d for x in [0, 1] (given with `one_minus_x`, as [`pow_unit_f64`]) and finite
 /// d > 0, without underflow of x^p before the division: d = m 2^e is split exactly and
 /// the result is (x^p 2^-e) / m, so `x^p` below the float range still counts when `d`
@@ -118,7 +117,6 @@ pub fn pow_unit_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
 pub fn pow_unit_f64_fma(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_unit_impl_f64::<true>(x, one_minus_x, p)
 }
-
 
 /// f32 analogue of [`exp2_dd_f64`]: 2^(yh + yl - e), |e| <= 160; exactly 0 below
 /// 2^-170, +inf beyond the float range.
