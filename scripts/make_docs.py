@@ -30,7 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: Image sizes and sample counts: "full" for the committed docs, "small" for tests.
 RESOLUTIONS = {
-    "full": {"sphere": 160, "dpi": 90, "overview": 96, "mu": 32, "samples": 4096},
+    "full": {"sphere": 160, "dpi": 100, "overview": 96, "mu": 48, "samples": 4096},
     "small": {"sphere": 24, "dpi": 24, "overview": 16, "mu": 6, "samples": 256},
 }
 
@@ -194,7 +194,10 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         "",
         f"**Lobe**: the same parameters; `wo` sweeps the plane of incidence, the light"
         f" arrives from the left at θi = {', '.join(f'{a:g}°' for a in LOBE_ANGLES)} (dotted"
-        " lines), the mirror direction is on the right.",
+        " lines), the mirror direction is on the right. The radius is"
+        f" {'`s` (no unit)' if spec['family'] == 'B' else '`f` in 1/sr'}: one curve per"
+        " angle, of the value itself when the colour parameters are grey, else of its"
+        " luminance 0.2126 R + 0.7152 G + 0.0722 B.",
         "",
     ]
     curve = curve_of(spec)
@@ -211,7 +214,8 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
             f"**Directional albedo** `R(μ) = ∫ f(wi, wo)·cos θo dωo` against μ = cos θi, for"
             f" {param} = {', '.join(f'{v:g}' for v in values)} and the defaults"
             f" ({_call(fixed) or 'no others'}), computed by `brdf_rs.albedo_table` with ±2"
-            " standard-error bands; the dotted line is R = 1 (energy conservation).",
+            " standard-error bands; the dotted line is R = 1 (energy conservation). The albedo"
+            " axis is logarithmic when the curves span more than a factor of 30.",
             "",
         ]
     else:

@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 import brdf_rs
+import brdf_rs.plot
 import numpy as np
 import pytest
 from brdf_rs.cli import build_parser
@@ -248,7 +249,8 @@ def test_plot_lobe_writes_a_png(tmp_path):
         "--theta-i", "60", "-o", str(out),
     )  # fmt: skip
     assert summary == {"model": "ward", "theta_i": [30.0, 60.0], "plot": str(out.resolve())}
-    assert png_size(out) == (500, 220)  # the default 5.0 x 2.2 inches at 100 dpi
+    size = brdf_rs.plot.LOBE_SIZE  # inches, at 100 dpi
+    assert png_size(out) == (round(size[0] * 100), round(size[1] * 100))
 
 
 # ------------------------------------------------------------------ errors, exit codes

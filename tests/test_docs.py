@@ -21,7 +21,11 @@ PIL = pytest.importorskip("PIL.Image")
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "scripts" / "make_docs.py"
-SMALL = {"sphere": 24, "lobe": (120, int(2.2 * 24)), "albedo": (120, int(3.4 * 24))}
+SMALL = {
+    "sphere": 24,
+    "lobe": (int(plot.LOBE_SIZE[0] * 24), int(plot.LOBE_SIZE[1] * 24)),
+    "albedo": (int(plot.CURVES_SIZE[0] * 24), int(plot.CURVES_SIZE[1] * 24)),
+}
 
 
 @pytest.fixture(scope="module")
