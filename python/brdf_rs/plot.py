@@ -27,7 +27,7 @@ import logging
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -83,7 +83,9 @@ def _matplotlib() -> Any:
     return matplotlib
 
 
-def _figure(width: float, height: float, layout: str | None = "constrained") -> Figure:
+def _figure(
+    width: float, height: float, layout: Literal["constrained"] | None = "constrained"
+) -> Figure:
     _matplotlib()
     from matplotlib.figure import Figure
 
@@ -201,7 +203,8 @@ def polar_lobe(
     if channel == "rgb":
         shown = values
     elif channel is not None:
-        shown, which = values[..., channel : channel + 1], f", {'RGB'[int(channel)]}"
+        c = int(channel)
+        shown, which = values[..., c : c + 1], f", {'RGB'[c]}"
     elif distinct:
         shown, which = values @ _LUMINANCE[:, None], ", luminance of RGB"
     else:
@@ -552,7 +555,7 @@ def convergence(
         targets: error levels to mark with horizontal lines.
     """
     tables = _convergence_tables(results)
-    fig = _figure(5.5 * len(tables), 4.8)
+    fig = _figure(max(7.0, 5.5 * len(tables)), 4.8 + (0.3 if title and "\n" in title else 0))
     axes = [fig.add_subplot(1, len(tables), k + 1) for k in range(len(tables))]
     for ax, (name, methods) in zip(axes, tables.items(), strict=True):
         for label, points in methods.items():
@@ -578,7 +581,7 @@ def convergence(
         handles,
         labels,
         loc="outside lower center",
-        ncol=min(len(labels), 3),
+        ncol=min(len(labels), 3 if len(tables) > 1 else 2),
         fontsize=9,
         frameon=False,
     )
