@@ -125,6 +125,21 @@ def test_the_examples_on_every_page_run(docs, tmp_path):
                 assert cli_main(args) == 0, line
 
 
+@pytest.mark.parametrize("page", ["normalization.md", "dask.md"])
+def test_the_examples_in_the_guides_run_and_print_what_they_show(page, capsys):
+    if page == "dask.md":
+        pytest.importorskip("dask.array")
+    text = (ROOT / "docs" / page).read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, page, "exec"), {})
+        # Every line the code prints is shown in the block as a "# <line>" comment.
+        shown = {line[2:] for line in block.splitlines() if line.startswith("# ")}
+        for line in capsys.readouterr().out.splitlines():
+            assert line in shown, f"{page} prints {line!r} but does not show it"
+
+
 def test_the_committed_docs_match_a_fresh_run(docs):
     committed = ROOT / "docs"
     for page in ["index.md", "conventions.md", *(f"models/{m}.md" for m in brdf_rs.models())]:
