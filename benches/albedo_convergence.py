@@ -374,7 +374,19 @@ def main() -> None:
     parser.add_argument("--mitsuba-budget", type=float, default=None, help="default: --budget")
     parser.add_argument("--no-mitsuba", action="store_true", help="skip Mitsuba")
     parser.add_argument("--out", type=Path, default=RESULTS / "albedo_convergence")
+    parser.add_argument(
+        "--replot",
+        action="store_true",
+        help="run nothing: rewrite OUT.md and OUT.png from the measurements in OUT.json",
+    )
     args = parser.parse_args()
+    if args.replot:
+        saved = json.loads(args.out.with_suffix(".json").read_text())
+        lines = report(saved["meta"], saved["results"])
+        args.out.with_suffix(".md").write_text("\n".join(lines) + "\n")
+        plot(args.out.with_suffix(".png"), saved["meta"], saved["results"])
+        print(f"wrote {args.out.with_suffix('.md')}, .png from {args.out.with_suffix('.json')}")
+        return
     if args.threads:
         brdf_rs.set_num_threads(args.threads)
     results = {}
@@ -471,7 +483,7 @@ def main() -> None:
 
 def report(meta, results):
     lines = [
-        "# Albedo tables: run time against error",
+        f"# Albedo tables of {', '.join(results)}: run time against error",
         "",
         f"CPU: {meta['cpu']}, {meta['threads']} threads ({meta['isa']}); {meta['date']}; "
         f"budget {meta['budget_seconds']:.0f} s per method; the fastest of "
@@ -514,7 +526,10 @@ def report(meta, results):
 def plot(path, meta, results):
     from brdf_rs.plot import convergence
 
-    title = f"Albedo tables: error against time ({meta['cpu']}, {meta['threads']} threads)"
+    title = (
+        f"Albedo tables of {', '.join(results)}: error against time\n"
+        f"({meta['cpu']}, {meta['threads']} threads)"
+    )
     try:
         convergence(results, targets=TARGETS, title=title, path=path, dpi=110)
     except ImportError:

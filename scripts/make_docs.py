@@ -30,7 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: Image sizes and sample counts: "full" for the committed docs, "small" for tests.
 RESOLUTIONS = {
-    "full": {"sphere": 160, "dpi": 90, "overview": 96, "mu": 32, "samples": 4096},
+    "full": {"sphere": 160, "dpi": 100, "overview": 96, "mu": 48, "samples": 4096},
     "small": {"sphere": 24, "dpi": 24, "overview": 16, "mu": 6, "samples": 256},
 }
 
@@ -194,7 +194,10 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         "",
         f"**Lobe**: the same parameters; `wo` sweeps the plane of incidence, the light"
         f" arrives from the left at θi = {', '.join(f'{a:g}°' for a in LOBE_ANGLES)} (dotted"
-        " lines), the mirror direction is on the right.",
+        " lines), the mirror direction is on the right. The radius is"
+        f" {'`s` (no unit)' if spec['family'] == 'B' else '`f` in 1/sr'}: one curve per"
+        " angle, of the value itself when the colour parameters are grey, else of its"
+        " luminance 0.2126 R + 0.7152 G + 0.0722 B.",
         "",
     ]
     curve = curve_of(spec)
@@ -211,7 +214,8 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
             f"**Directional albedo** `R(μ) = ∫ f(wi, wo)·cos θo dωo` against μ = cos θi, for"
             f" {param} = {', '.join(f'{v:g}' for v in values)} and the defaults"
             f" ({_call(fixed) or 'no others'}), computed by `brdf_rs.albedo_table` with ±2"
-            " standard-error bands; the dotted line is R = 1 (energy conservation).",
+            " standard-error bands; the dotted line is R = 1 (energy conservation). The albedo"
+            " axis is logarithmic when the curves span more than a factor of 30.",
             "",
         ]
     else:
@@ -335,6 +339,12 @@ def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
         "- [Example scenes](scenes.md): scan-line rendering with the models as materials.",
         "- [Error bars](error_bars.md): what an albedo's `stderr` means, how it is measured,"
         " and its known limit.",
+        '- [Exact normalization](normalization.md): `normalization="exact"`, per model,'
+        " and how accurate it is.",
+        "- [Albedo tables on Dask](dask.md): one table built by many processes or machines,"
+        " with the same bits.",
+        "- [Numerics](numerics.md): the stress test of every model against a 50-digit"
+        " reference, and what it measured.",
     ]
     if has_benchmarks:
         lines.append("- [Benchmarks](benchmarks.md): throughput, convergence, rendering, Dask.")
@@ -362,9 +372,33 @@ def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
     return "\n".join(lines)
 
 
+#: Result pages that are not for users: comparisons of development builds of the library
+#: (their labels name code that no release contains). They stay in benches/results/.
+NOT_FOR_USERS = ("ab_builds",)
+
+#: Titles of result pages whose first line is not a heading.
+TITLES = {
+    "eval_layouts": "brdf_rs.eval by input memory layout",
+    "furnace": "White furnace of the multiple-scattering lobes (ggx_ms, beckmann_ms)",
+}
+
+
+#: What each figure shows, for a reader (the figure's own title names the model).
+CAPTIONS = {
+    "albedo_convergence": "RMS error of the whole table against wall time, log-log, one line"
+    " per sampling method: lower and further left is better.",
+    "eval_layouts": "Million evaluations per second for each way of passing the directions:"
+    " contiguous, reversed rows, Fortran order, an outer product of broadcast arrays.",
+    "eval_throughput": "Million evaluations per second of every model (log scale), NumPy"
+    " implementations of the same formulas (where one exists) against brdf-rs on one and two"
+    " threads.",
+    "render": "The frame that was timed: the gallery scene (examples/scenes/gallery.toml).",
+}
+
+
 def benchmarks_page(results: Path) -> str | None:
     """Collects benches/results/*.md: each one's title and description, its figure."""
-    pages = sorted(results.glob("*.md"))
+    pages = [p for p in sorted(results.glob("*.md")) if p.stem not in NOT_FOR_USERS]
     if not pages:
         return None
     rel = Path("..") / results.relative_to(ROOT)  # docs/ is beside benches/
@@ -377,9 +411,12 @@ def benchmarks_page(results: Path) -> str | None:
     ]
     for page in pages:
         text = page.read_text(encoding="utf-8").splitlines()
-        title = text[0].lstrip("# ").strip() if text else page.stem
+        if text and text[0].startswith("#"):
+            title, text = text[0].lstrip("# ").strip(), text[1:]
+        else:
+            title = TITLES.get(page.stem, page.stem)
         intro = []
-        for line in text[1:]:
+        for line in text:
             if line.startswith(("|", "#")):
                 break
             intro.append(line)
@@ -388,6 +425,9 @@ def benchmarks_page(results: Path) -> str | None:
         figure = page.with_suffix(".png")
         if figure.exists():
             lines += ["", f"![{title}]({(rel / figure.name).as_posix()})"]
+            caption = CAPTIONS.get(page.stem) or CAPTIONS.get(page.stem.rsplit("_", 1)[0])
+            if caption:
+                lines += ["", f"*{caption}*"]
         lines.append("")
     return "\n".join(lines)
 

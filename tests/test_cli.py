@@ -16,9 +16,13 @@ import sys
 from pathlib import Path
 
 import brdf_rs
+import brdf_rs.plot
 import numpy as np
 import pytest
+from brdf_rs.cli import build_parser
+from brdf_rs.cli import main as cli_main
 from conftest import run_cli as run
+from conftest import tiny_scene
 
 PIL = pytest.importorskip("PIL.Image")
 
@@ -245,7 +249,8 @@ def test_plot_lobe_writes_a_png(tmp_path):
         "--theta-i", "60", "-o", str(out),
     )  # fmt: skip
     assert summary == {"model": "ward", "theta_i": [30.0, 60.0], "plot": str(out.resolve())}
-    assert png_size(out) == (500, 220)  # the default 5.0 x 2.2 inches at 100 dpi
+    size = brdf_rs.plot.LOBE_SIZE  # inches, at 100 dpi
+    assert png_size(out) == (round(size[0] * 100), round(size[1] * 100))
 
 
 # ------------------------------------------------------------------ errors, exit codes
@@ -273,20 +278,30 @@ BAD = [
     (["plot-lobe", "ggx", "--theta-i", "100", "-o", "l.png"], "theta_i: expected angles"),
     (["plot-lobe", "ggx", "-o", "l.txt"], "unknown format; use .png, .svg, .pdf"),
     (["nonsense"], "invalid choice: 'nonsense'"),
+    (["models", "ggxx"], "unknown model 'ggxx'; did you mean 'ggx'?"),
+    (["table", "ggx", "--samples", "many"], "argument --samples: invalid int value: 'many'"),
+    (["eval", "ggx", "--wi", "0,0,1"], "the following arguments are required: --wo"),
+    ([], "the following arguments are required: COMMAND"),
 ]
 
 
 @pytest.mark.parametrize(("args", "message"), BAD, ids=[" ".join(a) for a, _ in BAD])
 def test_bad_input_is_one_line_and_exit_code_2(tmp_path, args, message):
     result = run(*args, cwd=tmp_path, code=2)
-    assert "Traceback" not in result.stderr
-    assert message in result.stderr
-    # Our own errors are exactly one line; argparse's add its usage lines before it.
-    last = result.stderr.strip().splitlines()[-1]
-    assert message in last
-    if not last.startswith("usage") and "error: argument" not in last and "invalid" not in last:
-        assert len(result.stderr.strip().splitlines()) == 1
+    assert "Traceback" not in result.stderr and "usage:" not in result.stderr
+    # One line, ours or argparse's (no usage block before it).
+    (line,) = result.stderr.strip().splitlines()
+    assert message in line
     assert list(tmp_path.iterdir()) == []  # nothing written, no work done
+
+
+@pytest.mark.parametrize(
+    ("args", "prog"),
+    [(["nonsense"], "brdf-rs"), (["dfg", "--mu", "0:1"], "brdf-rs dfg"), ([], "brdf-rs")],
+)
+def test_argparse_errors_point_to_help(tmp_path, args, prog):
+    line = run(*args, cwd=tmp_path, code=2).stderr.strip()
+    assert line.startswith(f"{prog}: ") and line.endswith(f"(see {prog} --help)")
 
 
 def test_a_file_that_cannot_be_written_is_a_failure_exit_1(tmp_path):
@@ -316,6 +331,116 @@ def test_missing_matplotlib_is_a_clear_failure_before_any_work(tmp_path):
         " (or matplotlib>=3.7)"
     )
     assert list(tmp_path.iterdir()) == []
+
+
+# --------------------------------------------------------- help, version, habits
+
+
+def test_version_is_the_library_version():
+    assert run("--version").stdout.strip() == f"brdf-rs {brdf_rs.__version__}"
+
+
+def test_models_name_lists_only_that_model():
+    out = run("models", "ggx").stdout
+    assert out.startswith("ggx  (family A")
+    assert "\nlambert  (family" not in out and "alpha" in out
+    assert list(run_json("models", "ggx", "lambert")) == ["ggx", "lambert"]
+
+
+def _subparsers(parser):
+    (action,) = [a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction"]
+    return action
+
+
+def test_every_command_and_positional_is_described_and_options_show_defaults():
+    subparsers = _subparsers(build_parser())
+    commands = subparsers.choices
+    assert set(commands) >= {"models", "eval", "table", "render", "tables", "dfg", "energy"}
+    # `brdf-rs --help` lists each command with a line of help; `brdf-rs NAME --help`
+    # starts with a description.
+    listed = {a.dest: a.help for a in subparsers._choices_actions}
+    for name, sub in commands.items():
+        assert listed.get(name) and sub.description, name
+        text = " ".join(sub.format_help().split())  # one line: wrapped help joined
+        for action in sub._actions:
+            if not action.option_strings:
+                assert action.help, f"{name} {action.dest}: positional without a description"
+                continue
+            if action.dest == "help":
+                continue
+            assert action.help, f"{name} {action.option_strings[0]}: no help"
+            default = action.default
+            if default is None or default is False or default == []:
+                continue
+            spelled = {str(default), f"{default:g}" if isinstance(default, float) else ""}
+            shown = any(f"default: {x}" in text or f"default {x}" in text for x in spelled if x)
+            assert shown, f"{name} {action.option_strings[0]}: default {default!r} not shown"
+
+
+def test_tables_says_where_its_cache_is(tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text(tiny_scene('model = "ggx"\nalpha = 0.5', lights=""), encoding="utf-8")
+    cache = tmp_path / "cache"
+    args = ["tables", str(scene), "--cache-dir", str(cache), "--samples", "256", "--mu-count", "4"]
+    out = run(*args, "-q").stdout
+    assert f"cache: {cache.resolve()}" in out
+    assert run_json(*args)["cache_dir"] == str(cache)
+    # By default: $BRDF_RS_CACHE, and the line names it.
+    env = {**os.environ, "BRDF_RS_CACHE": str(tmp_path / "env-cache"), "BRDF_RS_NUM_THREADS": "1"}
+    result = subprocess.run(
+        [sys.executable, "-m", "brdf_rs", *args[:2], *args[4:], "-q"],
+        capture_output=True,
+        text=True,
+        env=env,
+        check=True,
+    )
+    assert f"cache: {(tmp_path / 'env-cache').resolve()}" in result.stdout
+    assert (tmp_path / "env-cache").is_dir()
+
+
+@pytest.mark.parametrize("command", ["energy", "dfg", "table"])
+def test_plot_alone_writes_only_the_plot(tmp_path, command):
+    pytest.importorskip("matplotlib")
+    axes = {
+        "energy": ["ggx", "--mu", "0.5,1", "--alpha", "0.3,0.6", "--tol", "1e-2"],
+        "dfg": ["ggx", "--mu", "0.5,1", "--roughness", "0.3,0.6", "--samples", "256"],
+        "table": ["ggx", "--axis", "mu=0.5,1", "--axis", "alpha=0.3,0.6", "--samples", "256"],
+    }[command]
+    result = run(command, *axes, "--plot", "x.png", "-q", cwd=tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.png"]
+    assert "not saved (no -o)" in result.stdout
+    # Without --plot, the table goes to its default name, as before.
+    run(command, *axes, "-q", cwd=tmp_path)
+    assert len(list(tmp_path.glob("*.npz"))) == 1
+
+
+def test_table_says_when_it_replaces_a_file(tmp_path):
+    args = ["table", "lambert", "--axis", "mu=0.5,1", "--samples", "64", "-o", "t.npz", "-q"]
+    first = run(*args, cwd=tmp_path).stdout
+    assert f"wrote {(tmp_path / 't.npz').resolve()}\n" in first and "replaced" not in first
+    second = run(*args, cwd=tmp_path).stdout
+    assert f"wrote {(tmp_path / 't.npz').resolve()} (replaced the existing file)" in second
+    assert run_json(*args, cwd=tmp_path)["replaced"] is True
+
+
+def test_bench_check_line_says_whether_it_passed(monkeypatch, capsys):
+    from brdf_rs import _bench
+
+    args = ["bench", "--models", "lambert", "--n", "1000", "--repeat", "1", "--table-size", "2"]
+    assert cli_main(args) == 0
+    (check,) = [line for line in capsys.readouterr().out.splitlines() if "check:" in line]
+    assert check.endswith(": passed (limit 5 standard errors)")
+    # A table that misses its exact value fails the check, and the command with it.
+    real = _bench.albedo_table_benchmark
+
+    def wrong(size, tol, seed=0):
+        result = real(size, tol, seed)
+        return {**result, "max_error_in_stderr_at_mu_1": 9.0, "check_passed": False}
+
+    monkeypatch.setattr(_bench, "albedo_table_benchmark", wrong)
+    assert cli_main(args) == 1
+    (check,) = [line for line in capsys.readouterr().out.splitlines() if "check:" in line]
+    assert "9.0 standard errors): FAILED (limit 5 standard errors)" in check
 
 
 def test_the_console_script_is_installed():

@@ -21,7 +21,11 @@ PIL = pytest.importorskip("PIL.Image")
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "scripts" / "make_docs.py"
-SMALL = {"sphere": 24, "lobe": (120, int(2.2 * 24)), "albedo": (120, int(3.4 * 24))}
+SMALL = {
+    "sphere": 24,
+    "lobe": (int(plot.LOBE_SIZE[0] * 24), int(plot.LOBE_SIZE[1] * 24)),
+    "albedo": (int(plot.CURVES_SIZE[0] * 24), int(plot.CURVES_SIZE[1] * 24)),
+}
 
 
 @pytest.fixture(scope="module")
@@ -119,6 +123,21 @@ def test_the_examples_on_every_page_run(docs, tmp_path):
                 if args[0] == "plot-lobe":
                     args[args.index("-o") + 1] = str(tmp_path / "lobe.png")
                 assert cli_main(args) == 0, line
+
+
+@pytest.mark.parametrize("page", ["normalization.md", "dask.md"])
+def test_the_examples_in_the_guides_run_and_print_what_they_show(page, capsys):
+    if page == "dask.md":
+        pytest.importorskip("dask.array")
+    text = (ROOT / "docs" / page).read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, page, "exec"), {})
+        # Every line the code prints is shown in the block as a "# <line>" comment.
+        shown = {line[2:] for line in block.splitlines() if line.startswith("# ")}
+        for line in capsys.readouterr().out.splitlines():
+            assert line in shown, f"{page} prints {line!r} but does not show it"
 
 
 def test_the_committed_docs_match_a_fresh_run(docs):

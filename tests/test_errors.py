@@ -500,11 +500,9 @@ def _cli(*args: str, code: str | None = None) -> subprocess.CompletedProcess:
 
 def _one_line_error(result: subprocess.CompletedProcess, code: int = 2) -> str:
     """The command failed with ``code`` and one line on stderr: no warning, no progress
-    bar, no traceback (argparse's own errors put the usage lines first)."""
+    bar, no traceback, no usage block (argparse's own errors included)."""
     assert result.returncode == code, (result.returncode, result.stderr)
     lines = result.stderr.strip().splitlines()
-    if lines[0].startswith("usage:"):
-        lines = lines[next(i for i, line in enumerate(lines) if "error:" in line) :]
     assert len(lines) == 1, result.stderr
     for noise in ("Warning", "Traceback", "%|", "it/s", "cell/s", "model/s", "model ["):
         assert noise not in result.stderr, result.stderr

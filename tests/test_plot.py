@@ -31,7 +31,7 @@ def png_size(path: Path) -> tuple[int, int]:
 def test_polar_lobe_draws_eval_in_the_plane_of_incidence(tmp_path):
     out = tmp_path / "lobe.png"
     fig = plot.polar_lobe("ggx", [30, 60], alpha=0.3, kd=0.1, resolution=181, path=out, dpi=80)
-    assert png_size(out) == (round(5.0 * 80), round(2.2 * 80))
+    assert png_size(out) == (round(plot.LOBE_SIZE[0] * 80), round(plot.LOBE_SIZE[1] * 80))
     ax = fig.axes[0]
     curves = [line for line in ax.lines if line.get_label().startswith("θi")]
     assert [c.get_label() for c in curves] == ["θi = 30°", "θi = 60°"]
@@ -47,13 +47,45 @@ def test_polar_lobe_draws_eval_in_the_plane_of_incidence(tmp_path):
 
 
 def test_polar_lobe_colours_channels_that_differ_and_takes_a_tangent(tmp_path):
-    fig = plot.polar_lobe("kajiya_kay", 45, kd=[0.5, 0.2, 0.1], cosine=True)
+    fig = plot.polar_lobe("kajiya_kay", 45, kd=[0.5, 0.2, 0.1], cosine=True, channel="rgb")
     labels = [line.get_label() for line in fig.axes[0].lines]
     assert [label for label in labels if label.startswith("θi")] == [
         "θi = 45°, R",
         "θi = 45°, G",
         "θi = 45°, B",
     ]
+
+
+def test_polar_lobe_draws_one_line_per_angle_and_labels_its_axes():
+    # A coloured lobe is one curve, its luminance; the radial axis says what and in what
+    # unit; the legend sits outside the half disc.
+    kd = [0.3, 0.12, 0.05]
+    fig = plot.polar_lobe("ggx", [30, 60], kd=kd, ks=0.04, alpha=0.15, resolution=91)
+    ax = fig.axes[0]
+    curves = [line for line in ax.lines if line.get_label().startswith("θi")]
+    assert [c.get_label() for c in curves] == ["θi = 30°", "θi = 60°"]
+    theta_o = curves[0].get_xdata()
+    wo = np.stack([np.sin(theta_o), 0 * theta_o, np.cos(theta_o)], axis=-1)
+    t = np.radians(30)
+    rgb = brdf_rs.eval("ggx", [-np.sin(t), 0, np.cos(t)], wo, kd=kd, ks=0.04, alpha=0.15)
+    np.testing.assert_allclose(curves[0].get_ydata(), rgb @ [0.2126, 0.7152, 0.0722], rtol=1e-15)
+    texts = [t.get_text() for t in ax.texts]
+    assert "f, luminance of RGB (1/sr)" in texts
+    (legend,) = fig.legends
+    assert [t.get_text() for t in legend.get_texts()] == [
+        "θi = 30°",
+        "θi = 60°",
+        "light direction",
+    ]
+    fig.canvas.draw()
+    box = legend.get_window_extent()
+    disc = ax.get_tightbbox()
+    assert box.x0 > disc.x1 - 1  # beside the half disc, not over it
+    # A grey lobe is one curve of its value; family B has no unit; channel= picks one.
+    fig = plot.polar_lobe("blinn_specular", 45, channel=1, ks=[0.2, 0.5, 0.9])
+    assert "s, G (no unit)" in [t.get_text() for t in fig.axes[0].texts]
+    with pytest.raises(ValueError, match="channel: expected 0, 1, 2"):
+        plot.polar_lobe("ggx", channel="r")
 
 
 @pytest.mark.parametrize(
@@ -74,7 +106,8 @@ def test_albedo_curves_plot_the_albedo_table_with_bands(tmp_path):
     out = tmp_path / "albedo.png"
     mu = np.linspace(0.1, 1, 5)
     fig = plot.albedo_curves("normalized_phong", "p", [2, 50], mu=mu, kd=0, ks=1, path=out)
-    assert png_size(out) == (500, 340)
+    assert png_size(out) == (round(plot.CURVES_SIZE[0] * 100), round(plot.CURVES_SIZE[1] * 100))
+    assert fig.axes[0].get_yscale() == "linear"  # 0.6 to 1: no decades
     table = brdf_rs.albedo_table("normalized_phong", {"p": [2, 50], "mu": mu}, kd=0, ks=1)
     lines = [line for line in fig.axes[0].lines if line.get_label().startswith("p =")]
     assert [line.get_label() for line in lines] == ["p = 2", "p = 50"]
@@ -85,13 +118,21 @@ def test_albedo_curves_plot_the_albedo_table_with_bands(tmp_path):
         plot.albedo_curves("ggx", "mu", [0.5])
 
 
+def test_albedo_curves_spanning_decades_get_a_log_axis():
+    # Un-normalized Phong: R(0.02) near 20 for p = 2, about 0.03 for p = 200.
+    fig = plot.albedo_curves("phong", "p", [2, 200], mu=[0.02, 0.5, 1], samples=256)
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "log" and ax.get_ylabel().endswith(", log")
+    assert ax.get_legend() is not None and ax.get_legend().get_bbox_to_anchor().x0 > 0
+
+
 def test_table_heatmap_panels_and_sizes(tmp_path):
     mu = (np.arange(6) + 0.5) / 6
     albedo = brdf_rs.albedo_table(
         "torrance_sparrow", {"mu": mu, "p": np.geomspace(1, 1e3, 5)}, kd=0, samples=256
     )
     fig = plot.table_heatmap(albedo, path=tmp_path / "a.png", dpi=50)
-    assert png_size(tmp_path / "a.png") == (round(4.2 * 50), round(3.4 * 50))
+    assert png_size(tmp_path / "a.png") == (round(4.8 * 50), round(3.8 * 50))
     panel = [ax for ax in fig.axes if ax.get_title()]
     assert len(panel) == 1 and panel[0].get_yscale() == "log"  # p is geometric
     mesh = panel[0].collections[0]
@@ -101,7 +142,9 @@ def test_table_heatmap_panels_and_sizes(tmp_path):
 
     dfg = brdf_rs.dfg_table("ggx", mu, [0.2, 0.5, 0.9], samples=256)
     fig = plot.table_heatmap(dfg, path=tmp_path / "d.png", dpi=50)
-    assert png_size(tmp_path / "d.png") == (round(8.4 * 50), round(3.4 * 50))
+    assert png_size(tmp_path / "d.png") == (round(9.6 * 50), round(3.8 * 50))
+    bars = [ax.get_ylabel() for ax in fig.axes if not ax.get_title()]
+    assert bars == ["scale A", "bias B"]  # the colour bars say what they show
     assert [ax.get_title() for ax in fig.axes if ax.get_title()] == ["ggx scale A", "ggx bias B"]
 
     one_d = brdf_rs.albedo_table("lambert", {"mu": mu}, kd=[0.2, 0.5, 0.8], samples=64)
@@ -120,7 +163,7 @@ def test_table_heatmap_panels_and_sizes(tmp_path):
 def test_energy_compensation_figure(tmp_path):
     result = brdf_rs.energy_compensation_table("ggx", [0.25, 0.75], [0.2, 0.6], tol=1e-3)
     fig = plot.energy_compensation(result, path=tmp_path / "e.png", dpi=50)
-    assert png_size(tmp_path / "e.png") == (round(8.4 * 50), round(3.4 * 50))
+    assert png_size(tmp_path / "e.png") == (round(10.0 * 50), round(3.8 * 50))
     curve = next(line for line in fig.axes[1].lines if line.get_label() == "E_avg(α)")
     np.testing.assert_array_equal(curve.get_ydata(), result.e_avg)
 
@@ -129,7 +172,7 @@ def test_convergence_from_the_benchmark_json_and_from_a_dict(tmp_path):
     bench = ROOT / "benches" / "results" / "albedo_convergence.json"
     fig = plot.convergence(bench, targets=(1e-3, 1e-4), path=tmp_path / "c.png", dpi=50)
     tables = json.loads(bench.read_text())["results"]
-    assert png_size(tmp_path / "c.png") == (round(5.5 * len(tables) * 50), round(4.2 * 50))
+    assert png_size(tmp_path / "c.png") == (round(5.5 * len(tables) * 50), round(4.8 * 50))
     points = [{"seconds": 0.1, "rms": 1e-2}, {"seconds": 0.4, "rms": 5e-3}]
     fig = plot.convergence({"mine": points})
     line = fig.axes[0].lines[0]

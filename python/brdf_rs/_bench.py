@@ -7,7 +7,8 @@ Two measurements a user can run anywhere the wheel installs, in a few seconds:
   array with ``out=``), the best of ``repeat`` timed calls after a warm-up.
 - **albedo table**: ``normalized_phong`` (kd = 0, ks = 1) over mu × p to a standard-error
   tolerance, timed, with a correctness check: at mu = 1 its albedo is exactly 1
-  (MODELS.md), so the largest ``|R − 1|`` is reported against the stated standard error.
+  (MODELS.md), so the largest ``|R − 1|`` is reported against the stated standard error;
+  the check passes when it is within ``CHECK_STDERRS`` standard errors.
 
 The full benchmarks (every model, NumPy baselines, convergence against a quadrature)
 live in the repository's ``benches/``.
@@ -26,7 +27,12 @@ import numpy as np
 
 from . import _albedo, _api
 
-__all__ = ["DEFAULT_MODELS", "run"]
+__all__ = ["CHECK_STDERRS", "DEFAULT_MODELS", "run"]
+
+#: The albedo check passes when every ``|R(1) − 1|`` is within this many standard errors.
+#: The errors are Student-t with 15 degrees of freedom (docs/error_bars.md):
+#: P(|z| > 5) ≈ 1.6e-4 per cell, 0.25% for any of 16 cells by chance.
+CHECK_STDERRS = 5.0
 
 #: One model per family of kernels: constant, Phong lobe, microfacet, rough diffuse.
 DEFAULT_MODELS = ("lambert", "normalized_phong", "torrance_sparrow", "ggx", "oren_nayar")
@@ -114,6 +120,8 @@ def albedo_table_benchmark(size: int, tol: float, seed: int = 0) -> dict[str, An
         "max_stderr": float(table.stderr.max()),
         "max_error_at_mu_1": float(error.max()),
         "max_error_in_stderr_at_mu_1": float(np.max(error / np.maximum(se_at_one, 1e-300))),
+        "check_limit_in_stderr": CHECK_STDERRS,
+        "check_passed": bool(np.all(error <= CHECK_STDERRS * se_at_one)),
     }
 
 

@@ -3,14 +3,16 @@
 argparse (the standard library) on purpose: the commands are plain subcommands with
 typed options, and the core package then needs nothing beyond NumPy. Every command
 prints a table for people or ``--json`` for machines; errors are one line on stderr
-naming what was wrong. Exit codes: 0 success, 1 a failure (a file that cannot be
-written, a missing optional dependency), 2 a usage error (bad arguments, unknown model,
-parameter out of range), 130 interrupted (Ctrl-C).
+naming what was wrong (argparse's own errors too, with a pointer to ``--help`` instead
+of the usage block). Exit codes: 0 success, 1 a failure (a file that cannot be written, a
+missing optional dependency, a failed ``bench`` check), 2 a usage error (bad arguments,
+unknown model, parameter out of range), 130 interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
 
 import argparse
+import difflib
 import errno
 import json
 import math
@@ -20,7 +22,7 @@ import time
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -68,6 +70,13 @@ def _print_json(data: Any) -> None:
 
 def cmd_models(args: argparse.Namespace) -> int:
     specs = _api.models()
+    for name in args.names:
+        if name not in specs:
+            close = difflib.get_close_matches(name, specs, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise UsageError(f"unknown model {name!r}; {hint}brdf-rs models lists them all")
+    if args.names:
+        specs = {name: specs[name] for name in dict.fromkeys(args.names)}
     if args.json:
         _print_json(specs)
         return 0
@@ -92,6 +101,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
         print(" ".join(f"{v:.17g}" for v in value))
     return 0
 
+
+SEED_HELP = "random seed: the same seed gives the same bits"
 
 #: The most values an axis of the command line may have.
 MAX_AXIS = 1 << 20
@@ -190,7 +201,7 @@ def cmd_table(args: argparse.Namespace) -> int:
         args.max_samples,
         _albedo.DEFAULT_REPLICATES,
     )
-    out = _output_path(args.output or f"albedo_{model}.npz", TABLE_FORMATS)
+    out = _table_output(args.output, f"albedo_{model}.npz", TABLE_FORMATS, args.plot)
     plot_path = _plot_path(args.plot)
     # Cells computed: a phi axis computes only its distinct folded azimuths.
     lengths = {k: len(v) for k, v in axes.items()}
@@ -224,13 +235,15 @@ def cmd_table(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - start
-    path = table.save(out)
+    existed = out is not None and out.exists()
+    path = None if out is None else table.save(out)
     summary = {
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
         "shape": list(table.value.shape),
         "params": params,
-        "output": str(path.resolve()),
+        "output": None if path is None else str(path.resolve()),
+        "replaced": existed,
         "seconds": seconds,
         "samples": int(table.samples.sum()),
         "max_stderr": float(table.stderr.max()),
@@ -245,7 +258,8 @@ def cmd_table(args: argparse.Namespace) -> int:
         _print_json(summary)
     else:
         shape = " x ".join(f"{k}[{len(v)}]" for k, v in table.axes.items())
-        print(f"{model} albedo table {shape}: wrote {path.resolve()}")
+        where = "not saved (no -o)" if path is None else _wrote(path, existed)
+        print(f"{model} albedo table {shape}: {where}")
         print(
             f"  albedo in [{summary['albedo_range'][0]:.4g}, {summary['albedo_range'][1]:.4g}],"
             f" largest standard error {summary['max_stderr']:.2g},"
@@ -327,6 +341,7 @@ def cmd_tables(args: argparse.Namespace) -> int:
     from . import scene as scenes
 
     scene = scenes.load_scene(args.scene)
+    cache_dir = Path(args.cache_dir) if args.cache_dir else scenes.default_cache_dir()
     bar: Any = None
     current_material: str | None = None
     current_done = 0
@@ -347,7 +362,7 @@ def cmd_tables(args: argparse.Namespace) -> int:
     try:
         results = scenes.scene_tables(
             scene,
-            cache_dir=args.cache_dir,
+            cache_dir=cache_dir,
             mu_count=args.mu_count,
             samples=args.samples,
             tol=args.tol,
@@ -371,13 +386,14 @@ def cmd_tables(args: argparse.Namespace) -> int:
         for r in results
     ]
     if args.json:
-        _print_json({"scene": str(args.scene), "tables": rows})
+        _print_json({"scene": str(args.scene), "cache_dir": str(cache_dir), "tables": rows})
         return 0
     if not rows:
         print(f"{args.scene}: no family-A materials in use; no albedo tables needed")
         return 0
     built = sum(not r["cached"] for r in rows)
     print(f"{args.scene}: {len(rows)} albedo tables ({built} built, {len(rows) - built} cached)")
+    print(f"  cache: {cache_dir.resolve()} (--cache-dir or $BRDF_RS_CACHE to move it)")
     for r in rows:
         status = "cached" if r["cached"] else f"built in {r['seconds']:.2f} s"
         albedo = ", ".join(f"{x:.4f}" for x in r["max_albedo"])
@@ -404,6 +420,21 @@ def _output_path(text: str, formats: Sequence[str], what: str = "-o") -> Path:
         raise UsageError(f"{what} {text}: unknown format; use {', '.join(formats)}")
     _check_location(text, what)
     return path
+
+
+def _wrote(path: Path, existed: bool) -> str:
+    """``wrote PATH``, saying so when an existing file was replaced."""
+    return f"wrote {path.resolve()}" + (" (replaced the existing file)" if existed else "")
+
+
+def _table_output(
+    text: str | None, default: str, formats: Sequence[str], plot: str | None
+) -> Path | None:
+    """The table file to write: ``-o``, else ``default`` unless only ``--plot`` was asked
+    for (then no table file: the plot is what was requested). Checked before any work."""
+    if text is None and plot is not None:
+        return None
+    return _output_path(text or default, formats)
 
 
 def _check_location(text: str, what: str) -> None:
@@ -481,7 +512,7 @@ def cmd_dfg(args: argparse.Namespace) -> int:
         )
     mu = args.mu
     roughness = _values(DFG_ROUGHNESS[model]) if args.roughness is None else args.roughness
-    out = _output_path(args.output or f"dfg_{model}.npz", TABLE_FORMATS)
+    out = _table_output(args.output, f"dfg_{model}.npz", TABLE_FORMATS, args.plot)
     plot_path = _plot_path(args.plot)
     cells = mu.size * roughness.size
     progress = _PassProgress([cells, cells], args.quiet or args.json)
@@ -496,14 +527,16 @@ def cmd_dfg(args: argparse.Namespace) -> int:
     finally:
         progress.close(completed)
     seconds = time.perf_counter() - start
-    path = table.save(out)
+    existed = out is not None and out.exists()
+    path = None if out is None else table.save(out)
     rough = list(table.axes)[1]
     summary: dict[str, Any] = {
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
         "shape": [mu.size, roughness.size],
         "channels": ["scale A", "bias B", "zero"],
-        "output": str(path.resolve()),
+        "output": None if path is None else str(path.resolve()),
+        "replaced": existed,
         "seconds": seconds,
         "samples": int(table.samples.sum()),
         "max_stderr": float(table.stderr[..., :2].max()),
@@ -518,9 +551,8 @@ def cmd_dfg(args: argparse.Namespace) -> int:
     if args.json:
         _print_json(summary)
         return 0
-    print(
-        f"{model} split-sum table mu[{mu.size}] x {rough}[{roughness.size}]: wrote {path.resolve()}"
-    )
+    where = "not saved (no -o)" if path is None else _wrote(path, existed)
+    print(f"{model} split-sum table mu[{mu.size}] x {rough}[{roughness.size}]: {where}")
     print(
         f"  scale A in [{summary['scale_range'][0]:.4g}, {summary['scale_range'][1]:.4g}],"
         f" bias B in [{summary['bias_range'][0]:.4g}, {summary['bias_range'][1]:.4g}],"
@@ -561,7 +593,7 @@ def cmd_energy(args: argparse.Namespace) -> int:
         known = ", ".join(_albedo._COMPENSATED)
         raise UsageError(f"unknown model {args.model!r}; energy compensation takes {known}")
     mu, alpha = args.mu, args.alpha
-    out = _output_path(args.output or f"energy_{args.model}.npz", (".npz",))
+    out = _table_output(args.output, f"energy_{args.model}.npz", (".npz",), args.plot)
     plot_path = _plot_path(args.plot)
     # Two runs: the E(mu, alpha) grid, then 32 Gauss-Legendre incidences for E_avg.
     progress = _PassProgress([mu.size * alpha.size, 32 * alpha.size], args.quiet or args.json)
@@ -581,7 +613,8 @@ def cmd_energy(args: argparse.Namespace) -> int:
     finally:
         progress.close(completed)
     seconds = time.perf_counter() - start
-    path = save_energy(result, out)
+    existed = out is not None and out.exists()
+    path = None if out is None else save_energy(result, out)
     summary: dict[str, Any] = {
         "model": args.model,
         "axes": {
@@ -589,7 +622,8 @@ def cmd_energy(args: argparse.Namespace) -> int:
             "alpha": [float(alpha[0]), float(alpha[-1]), alpha.size],
         },
         "shape": [mu.size, alpha.size],
-        "output": str(path.resolve()),
+        "output": None if path is None else str(path.resolve()),
+        "replaced": existed,
         "seconds": seconds,
         "max_stderr": float(result.stderr.max()),
         "e_range": [float(result.e.min()), float(result.e.max())],
@@ -605,9 +639,10 @@ def cmd_energy(args: argparse.Namespace) -> int:
     if args.json:
         _print_json(summary)
         return 0
+    where = "not saved (no -o)" if path is None else _wrote(path, existed)
     print(
         f"{args.model} energy compensation E(mu[{mu.size}], alpha[{alpha.size}]) and E_avg:"
-        f" wrote {path.resolve()} in {seconds:.2f} s"
+        f" {where}, {seconds:.2f} s"
     )
     print(
         f"  E in [{summary['e_range'][0]:.4g}, {summary['e_range'][1]:.4g}],"
@@ -634,9 +669,10 @@ def cmd_bench(args: argparse.Namespace) -> int:
         table_size=args.table_size,
         tol=args.tol,
     )
+    passed = bool(result["albedo_table"]["check_passed"])
     if args.json:
         _print_json(result)
-        return 0
+        return 0 if passed else EXIT_FAILURE
     m = result["machine"]
     print(
         f"brdf-rs {m['brdf_rs']} on {m['cpu']} ({m['cpus']} CPUs), {m['threads']} threads,"
@@ -659,11 +695,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
         f"  {t['seconds']:.3f} s, {t['samples']:,} samples ({t['msamples_per_s']:.1f} M/s),"
         f" largest standard error {t['max_stderr']:.2g}"
     )
+    verdict = "passed" if passed else "FAILED"
     print(
         f"  check: exact albedo 1 at mu = 1; largest |R - 1| = {t['max_error_at_mu_1']:.2g}"
-        f" ({t['max_error_in_stderr_at_mu_1']:.1f} standard errors)"
+        f" ({t['max_error_in_stderr_at_mu_1']:.1f} standard errors):"
+        f" {verdict} (limit {t['check_limit_in_stderr']:g} standard errors)"
     )
-    return 0
+    return 0 if passed else EXIT_FAILURE
 
 
 def cmd_plot_lobe(args: argparse.Namespace) -> int:
@@ -711,8 +749,13 @@ def _add_user_commands(sub: Any) -> None:
         help="roughness axis spec (default mid:0:1:32 for alpha, log:1:10000:32 for p)",
     )
     p.add_argument("--samples", type=int, default=1 << 14, help="samples per cell")
-    p.add_argument("--tol", type=float, default=None, help="stop each cell at this standard error")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--tol",
+        type=float,
+        default=None,
+        help="stop each cell at this standard error (default: none, --samples per cell)",
+    )
+    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
     p.add_argument("-o", "--output", default=None, help="dfg.npz | dfg.exr | dfg.png")
     p.add_argument("--plot", default=None, help="also draw A and B (needs matplotlib): out.png")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
@@ -734,8 +777,8 @@ def _add_user_commands(sub: Any) -> None:
         "--alpha", type=_values, default="mid:0:1:32", help="roughness (default mid:0:1:32)"
     )
     p.add_argument("--samples", type=int, default=1 << 12, help="samples per cell (first round)")
-    p.add_argument("--tol", type=float, default=1e-5, help="standard error per cell (default 1e-5)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--tol", type=float, default=1e-5, help="standard error per cell")
+    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
     p.add_argument("-o", "--output", default=None, help="energy.npz")
     p.add_argument("--plot", default=None, help="also draw E and E_avg (needs matplotlib): out.png")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
@@ -765,7 +808,7 @@ def _add_user_commands(sub: Any) -> None:
         description="Draws f(wi, wo) for wo in the plane of incidence, light arriving from "
         "the left at each --theta-i (degrees), like Disney's BRDF Explorer.",
     )
-    p.add_argument("model")
+    p.add_argument("model", help="a model name (brdf-rs models lists them)")
     p.add_argument(
         "--theta-i", type=float, action="append", default=[], help="degrees (repeat; default 45)"
     )
@@ -872,19 +915,74 @@ def _progress_bar(total: int, quiet: bool) -> Any:
     return _LazyBar(total, "cell")
 
 
+class _HelpFormatter(argparse.HelpFormatter):
+    """Adds ``(default: X)`` to an option's help when it has a default worth stating
+    (not None, False or an empty list) and the help does not state it already."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help or ""
+        default = action.default
+        if (
+            action.option_strings
+            and "default" not in text
+            and not any(default is x for x in (None, False, argparse.SUPPRESS))
+            and default != []
+        ):
+            text += " (default: %(default)s)"
+        return text
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with usage errors as one line and a pointer to ``--help`` (argparse's
+    own prints the whole usage block first); exit code 2 as before."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", _HelpFormatter)
+        super().__init__(*args, **kwargs)
+
+    def add_subparsers(self, **kwargs: Any) -> Any:
+        sub = super().add_subparsers(**kwargs)
+        add = sub.add_parser
+
+        def add_parser(name: str, **options: Any) -> Any:
+            # The one-line help doubles as the description `brdf-rs NAME --help` shows.
+            options.setdefault("description", options.get("help"))
+            return add(name, **options)
+
+        sub.add_parser = add_parser  # type: ignore[method-assign]
+        return sub
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_USAGE, f"{self.prog}: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    from . import __version__
+
+    parser = _Parser(
         prog="brdf-rs",
         description="Evaluate, integrate and tabulate reflectance models (BRDFs).",
+        epilog="brdf-rs COMMAND --help describes a command. Exit codes: 0 success, 1 failure,"
+        " 2 usage error, 130 interrupted.",
     )
+    parser.add_argument("--version", action="version", version=f"brdf-rs {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    p = sub.add_parser("models", help="list every model: family, parameters, source")
+    p = sub.add_parser(
+        "models",
+        help="list the models (or the named ones): family, formula, source, parameters",
+    )
+    p.add_argument(
+        "names",
+        nargs="*",
+        metavar="NAME",
+        help="only these models (default: every model)",
+    )
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(run=cmd_models)
 
     p = sub.add_parser("eval", help="evaluate one model for one pair of directions")
-    p.add_argument("model")
+    p.add_argument("model", help="a model name (brdf-rs models lists them)")
     p.add_argument("--wi", type=_vector, required=True, help="toward the light: x,y,z")
     p.add_argument("--wo", type=_vector, required=True, help="toward the viewer: x,y,z")
     p.add_argument("--n", type=_vector, default=None, help="surface normal (default 0,0,1)")
@@ -902,7 +1000,12 @@ def build_parser() -> argparse.ArgumentParser:
         "With no arguments: a 32x32 torrance_sparrow table over mu and p, tol 1e-4; "
         "with a model and no --axis: 32 incidences mu.",
     )
-    p.add_argument("model", nargs="?", default=None, help="a family-A model")
+    p.add_argument(
+        "model",
+        nargs="?",
+        default=None,
+        help="a family-A model (default: the 32x32 torrance_sparrow table described above)",
+    )
     p.add_argument(
         "--axis",
         type=_axis,
@@ -926,11 +1029,32 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--samples", type=int, default=4096, help="samples per cell (first round with --tol)"
     )
-    p.add_argument("--tol", type=float, default=None, help="stop each cell at this standard error")
-    p.add_argument("--max-samples", type=int, default=None, help="cap per cell with --tol")
-    p.add_argument("--sampler", default="auto", choices=["auto", "importance", "cosine", "uniform"])
-    p.add_argument("--sequence", default="sobol", choices=["sobol", "random"])
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--tol",
+        type=float,
+        default=None,
+        help="stop each cell at this standard error (default: 1e-4 for the default"
+        " table, else none: --samples per cell)",
+    )
+    p.add_argument(
+        "--max-samples",
+        type=int,
+        default=None,
+        help="cap per cell with --tol (default: the larger of --samples and 2^24)",
+    )
+    p.add_argument(
+        "--sampler",
+        default="auto",
+        choices=["auto", "importance", "cosine", "uniform"],
+        help="how directions are drawn (auto: the model's importance sampling)",
+    )
+    p.add_argument(
+        "--sequence",
+        default="sobol",
+        choices=["sobol", "random"],
+        help="scrambled Sobol points or independent random numbers",
+    )
+    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
     p.add_argument("-o", "--output", default=None, help="table.npz | table.exr | table.png")
     p.add_argument("--plot", default=None, help="also draw the table (needs matplotlib): out.png")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
@@ -943,7 +1067,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Render a scene: PNG gets the tone-mapped, sRGB-encoded image; EXR and "
         "NPY get linear radiance (float32).",
     )
-    p.add_argument("scene", help="scene.toml")
+    p.add_argument("scene", help="a scene file (TOML), e.g. examples/scenes/gallery.toml")
     p.add_argument("-o", "--output", default=None, help="image.png | image.exr | image.npy")
     p.add_argument("--exr", default=None, help="also write linear radiance as .exr")
     p.add_argument("--npy", default=None, help="also write linear radiance as .npy")
@@ -972,7 +1096,7 @@ def build_parser() -> argparse.ArgumentParser:
         "R(mu), cached on disk under a hash of the model, parameters, sampler settings and "
         "library version; a second run skips every table already built.",
     )
-    p.add_argument("scene", help="scene.toml")
+    p.add_argument("scene", help="a scene file (TOML), e.g. examples/scenes/gallery.toml")
     p.add_argument(
         "--cache-dir", default=None, help="default: $BRDF_RS_CACHE or ~/.cache/brdf-rs/tables"
     )
@@ -980,8 +1104,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--samples", type=int, default=4096, help="samples per cell (first round with --tol)"
     )
-    p.add_argument("--tol", type=float, default=None, help="stop each cell at this standard error")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--tol",
+        type=float,
+        default=None,
+        help="stop each cell at this standard error (default: none, --samples per cell)",
+    )
+    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="machine-readable summary")
     p.set_defaults(run=cmd_tables)
@@ -1003,14 +1132,19 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="MODEL",
         help="models to run (space or comma separated; default: all)",
     )
-    p.add_argument("--dtype", default="float64", choices=["float64", "float32", "both"])
+    p.add_argument(
+        "--dtype",
+        default="float64",
+        choices=["float64", "float32", "both"],
+        help="the kernels' float width",
+    )
     p.add_argument(
         "--cases",
         default="quick",
         choices=["quick", "all"],
         help="quick: ~10 cases per model (seconds); all: ~400 (minutes)",
     )
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="the whole report as JSON")
     p.set_defaults(run=cmd_stress)

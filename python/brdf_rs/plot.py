@@ -27,7 +27,7 @@ import logging
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, cast
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -54,6 +54,23 @@ log = logging.getLogger("brdf_rs")
 #: Line colours for the R, G, B channels when they differ.
 _RGB_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")
 
+#: Rec. 709 luminance weights: one curve for a coloured lobe.
+_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+#: Axis labels (with units) for a table's axes.
+_AXIS_LABELS = {
+    "mu": "μ = cos θi",
+    "alpha": "α (roughness)",
+    "p": "p (exponent)",
+    "phi": "φ (rad)",
+    "eta": "η (index of refraction)",
+    "sigma": "σ (rad)",
+}
+
+#: Default figure sizes (inches): readable at 100 dpi with 9-11 pt text.
+LOBE_SIZE = (6.4, 3.2)
+CURVES_SIZE = (6.4, 3.8)
+
 
 def _matplotlib() -> Any:
     """Imports matplotlib (lazily: ``import brdf_rs`` never pays for it)."""
@@ -66,11 +83,13 @@ def _matplotlib() -> Any:
     return matplotlib
 
 
-def _figure(width: float, height: float) -> Figure:
+def _figure(
+    width: float, height: float, layout: Literal["constrained"] | None = "constrained"
+) -> Figure:
     _matplotlib()
     from matplotlib.figure import Figure
 
-    return Figure(figsize=(width, height), layout="constrained")
+    return Figure(figsize=(width, height), layout=layout)
 
 
 def _finish(fig: Figure, path: str | os.PathLike[str] | None, dpi: float) -> Figure:
@@ -109,28 +128,32 @@ def polar_lobe(
     theta_i: float | Sequence[float] = 45.0,
     *,
     cosine: bool = False,
-    resolution: int = 721,
+    resolution: int = 1441,
     tangent: Sequence[float] | None = None,
     normalization: str = "approximate",
+    channel: int | str | None = None,
     ax: Axes | None = None,
     path: str | os.PathLike[str] | None = None,
     dpi: float = 100,
-    size: tuple[float, float] = (5.0, 2.2),
+    size: tuple[float, float] = LOBE_SIZE,
     **params: Any,
 ) -> Figure:
     """Polar plot of the lobe ``f(wi, wo)`` for ``wo`` in the plane of incidence.
 
     The light arrives from the left at ``theta_i`` degrees from the normal (``wi`` =
-    (−sin θi, 0, cos θi)); ``wo`` = (sin θo, 0, cos θo) sweeps θo from −90° to 90°, so
-    the mirror direction is at +θi. The radius is ``f`` in 1/sr (family A) or the shading
-    term ``s`` (family B, which includes the light's cosine); ``cosine=True`` multiplies by
-    cos θo (the reflected radiance under a unit irradiance, as in BRDF Explorer's
-    "multiply by N·L" toggle, here for the outgoing side). Channels that differ are drawn
-    in red, green and blue; grey parameters give one curve per ``theta_i``.
+    (−sin θi, 0, cos θi), drawn as a dotted line); ``wo`` = (sin θo, 0, cos θo) sweeps θo
+    from −90° to 90°, so the mirror direction is at +θi. The radius is ``f`` in 1/sr
+    (family A) or the shading term ``s`` (family B, which includes the light's cosine;
+    no unit); ``cosine=True`` multiplies by cos θo (the reflected radiance under a unit
+    irradiance, as in BRDF Explorer's "multiply by N·L" toggle, here for the outgoing
+    side). One curve per ``theta_i``: the value itself when the three channels agree,
+    else their luminance ``0.2126 R + 0.7152 G + 0.0722 B`` (the axis label says so);
+    ``channel`` picks 0, 1 or 2 (R, G, B) instead, or ``"rgb"`` draws all three.
 
     Args:
         model: any model of ``brdf_rs.models()``.
         theta_i: incidence angle(s) in degrees, in [0, 90].
+        resolution: outgoing angles per curve.
         tangent: the tangent for models that need one (default (1, 0, 0), in the plane).
         **params: the model's parameters.
     """
@@ -139,6 +162,8 @@ def polar_lobe(
         raise ValueError(f"theta_i: expected angles in degrees from 0 to 90, got {theta_i!r}")
     if isinstance(resolution, bool) or not isinstance(resolution, int) or resolution < 3:
         raise ValueError(f"resolution: expected an integer of at least 3, got {resolution!r}")
+    if channel not in (None, 0, 1, 2, "rgb") or isinstance(channel, bool):
+        raise ValueError(f"channel: expected 0, 1, 2 (R, G, B), 'rgb' or None, got {channel!r}")
     specs = _api.models()
     if model in specs and specs[model]["tangent"] and tangent is None:
         tangent = (1.0, 0.0, 0.0)
@@ -154,63 +179,108 @@ def polar_lobe(
             f = f * np.cos(theta_o)[:, None]
         curves.append(np.where(np.isfinite(f), f, np.nan))
     values = np.stack(curves)
-    fig, axes = _target(ax, *size, projection="polar")
+    own_figure = ax is None
+    if ax is None:
+        # Placed by hand (the layout engines keep room for the whole circle): a polar
+        # axes box of side 2r draws the half disc, r high, centred in it. The disc's
+        # base sits 0.6 in above the bottom (radial ticks and their label), 0.7 in are
+        # kept above it for the angle labels and the title, the legend goes to its right.
+        fig = _figure(*size, layout=None)
+        width, height = size
+        radius = min(height - 1.3, 0.33 * width)  # inches
+        bottom = 0.6 - radius / 2
+        box = (0.4 / width, bottom / height, 2 * radius / width, 2 * radius / height)
+        axes: Axes = fig.add_axes(box, projection="polar")
+    else:
+        fig, axes = ax.get_figure(), ax  # type: ignore[assignment]
     ax = cast("PolarAxes", axes)
     ax.set_theta_zero_location("N")
     ax.set_theta_direction(-1)
     ax.set_thetamin(-90)
     ax.set_thetamax(90)
-    colour_lines = _distinct_channels(values)
+    distinct = _distinct_channels(values)
+    which = ""
+    if channel == "rgb":
+        shown = values
+    elif channel is not None:
+        c = int(channel)
+        shown, which = values[..., c : c + 1], f", {'RGB'[c]}"
+    elif distinct:
+        shown, which = values @ _LUMINANCE[:, None], ", luminance of RGB"
+    else:
+        shown = values[..., :1]
     styles = ["-", "--", ":", "-."]
     cycle = [f"C{k}" for k in range(10)]
-    for k, (angle, f) in enumerate(zip(angles, values, strict=True)):
+    for k, (angle, f) in enumerate(zip(angles, shown, strict=True)):
         label = f"θi = {angle:g}°"
-        if colour_lines:
+        if f.shape[-1] == 3:
             for c in range(3):
                 ax.plot(
                     theta_o,
                     f[:, c],
                     styles[k % len(styles)],
                     color=_RGB_COLOURS[c],
-                    lw=1.2,
+                    lw=1.5,
                     label=f"{label}, {'RGB'[c]}",
                 )
         else:
-            ax.plot(theta_o, f[:, 0], color=cycle[k % len(cycle)], lw=1.4, label=label)
-    top = float(np.nanmax(values)) if np.any(np.isfinite(values)) else 1.0
+            ax.plot(theta_o, f[:, 0], color=cycle[k % len(cycle)], lw=1.8, label=label)
+    top = float(np.nanmax(shown)) if np.any(np.isfinite(shown)) else 1.0
     top = top if top > 0 else 1.0
     ax.set_rmax(top * 1.05)
+    rgb = shown.shape[-1] == 3
     for k, angle in enumerate(angles):
-        colour = "grey" if colour_lines else cycle[k % len(cycle)]
-        ax.plot([-np.radians(angle)] * 2, [0, top * 1.05], ":", color=colour, lw=1)
+        colour = "grey" if rgb else cycle[k % len(cycle)]
+        ax.plot([-np.radians(angle)] * 2, [0, top * 1.05], ":", color=colour, lw=1.2)
     family = specs[model]["family"] if model in specs else "A"
     quantity = "s(l, v)" if family == "B" else "f(wi, wo)"
     if cosine:
         quantity += "·cos θo"
-    ax.set_title(f"{model}: {quantity}", fontsize=9, pad=2)
-    ax.tick_params(labelsize=7, pad=1)
+    unit = "no unit" if family == "B" else "1/sr"
+    single = f", θi = {angles[0]:g}°" if len(angles) == 1 else ""
+    title = f"{model}: {quantity}{single}"
+    if own_figure:  # above the half disc (the axes box reaches beyond the figure)
+        centre = box[0] + box[2] / 2
+        fig.text(centre, 1 - 0.1 / size[1], title, ha="center", va="top", fontsize=11)
+    else:
+        ax.set_title(title, fontsize=11, pad=6)
+    ax.tick_params(labelsize=9, pad=2)
     ax.set_thetagrids(np.arange(-90, 91, 30), [f"{t}°" for t in np.arange(-90, 91, 30)])
     from matplotlib.ticker import MaxNLocator
 
-    ax.yaxis.set_major_locator(MaxNLocator(3))
+    ax.yaxis.set_major_locator(MaxNLocator(4))
     ax.yaxis.set_major_formatter("{x:.3g}")
     ax.set_rlabel_position(-90)
-    legend: dict[str, Any] = {
-        "fontsize": 6,
-        "loc": "upper left",
-        "bbox_to_anchor": (0.86, 1.06),
-        "frameon": False,
-    }
-    if colour_lines:  # one entry per angle (line style) and per channel (colour)
-        from matplotlib.lines import Line2D
+    # The radial axis runs along the left horizon (the −90° line): its label below it.
+    ax.annotate(
+        f"{quantity.split('(')[0]}{which} ({unit})",
+        xy=(-np.pi / 2, top * 0.55),
+        xytext=(0, -20),
+        textcoords="offset points",
+        ha="center",
+        va="top",
+        fontsize=9,
+        annotation_clip=False,
+    )
+    from matplotlib.lines import Line2D
 
+    if rgb:  # one entry per angle (line style) and per channel (colour)
         handles = [
             Line2D([], [], color="0.3", ls=styles[k % len(styles)], label=f"θi = {a:g}°")
             for k, a in enumerate(angles)
         ] + [Line2D([], [], color=_RGB_COLOURS[c], label="RGB"[c]) for c in range(3)]
-        ax.legend(handles=handles, **legend)
-    elif len(angles) > 1:
-        ax.legend(**legend)
+    else:
+        handles = [
+            Line2D([], [], color=cycle[k % len(cycle)], lw=1.8, label=f"θi = {a:g}°")
+            for k, a in enumerate(angles)
+        ]
+    handles.append(Line2D([], [], color="grey", ls=":", lw=1.2, label="light direction"))
+    # Beside the half disc, in the space at its upper right: it covers no curve.
+    legend: dict[str, Any] = {"fontsize": 9, "frameon": False, "handlelength": 1.8}
+    if own_figure:
+        fig.legend(handles=handles, loc="upper right", bbox_to_anchor=(0.99, 0.86), **legend)
+    else:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.0, 1.0), **legend)
     return _finish(fig, path, dpi)
 
 
@@ -240,7 +310,8 @@ def albedo_curves(
     ax: Axes | None = None,
     path: str | os.PathLike[str] | None = None,
     dpi: float = 100,
-    size: tuple[float, float] = (5.0, 3.4),
+    size: tuple[float, float] = CURVES_SIZE,
+    log: bool | None = None,
     **params: Any,
 ) -> Figure:
     """Directional albedo ``R(mu)`` of a family-A model, one curve per value of ``param``.
@@ -248,7 +319,9 @@ def albedo_curves(
     Each curve is computed by :func:`brdf_rs.albedo_table` (with its honest standard
     errors, drawn as ±2σ bands); a dotted line marks R = 1 (energy conservation).
     ``channel`` picks R, G or B; by default grey tables show their one value and coloured
-    ones the mean of the three channels.
+    ones the mean of the three channels. The albedo axis is logarithmic when ``log`` is
+    true, or by default when the curves span more than a factor of 30 (un-normalized
+    Phong at grazing incidence, next to curves below 1).
 
     Args:
         model: a family-A model.
@@ -273,17 +346,27 @@ def albedo_curves(
     fig, ax = _target(ax, *size)
     for k, v in enumerate(table.axes[param]):
         colour = f"C{k % 10}"
-        ax.plot(mu_axis, value[k], color=colour, lw=1.4, label=f"{param} = {v:.4g}")
+        ax.plot(mu_axis, value[k], color=colour, lw=1.8, label=f"{param} = {v:.4g}")
         ax.fill_between(
             mu_axis, value[k] - 2 * stderr[k], value[k] + 2 * stderr[k], color=colour, alpha=0.25
         )
-    ax.axhline(1.0, color="grey", ls=":", lw=0.8)
+    ax.axhline(1.0, color="grey", ls=":", lw=1.0, label="R = 1")
     ax.set_xlim(0, 1)
-    ax.set_ylim(bottom=0)
-    ax.set_xlabel("μ = cos θi")
-    ax.set_ylabel(f"albedo R(μ){suffix}")
-    ax.set_title(f"{model}: directional albedo", fontsize=9)
-    ax.legend(fontsize=7)
+    positive = value[value > 0]
+    if log is None:
+        log = bool(positive.size and positive.max() > 30 * positive.min())
+    if log:
+        ax.set_yscale("log")
+        ax.set_ylim(bottom=0.5 * float(positive.min()) if positive.size else None)
+        ax.grid(True, which="minor", lw=0.2)
+    else:
+        ax.set_ylim(bottom=0)
+    ax.set_xlabel("μ = cos θi", fontsize=10)
+    ax.set_ylabel(f"directional albedo R(μ){suffix}" + (", log" if log else ""), fontsize=10)
+    ax.set_title(f"{model}: directional albedo", fontsize=11)
+    ax.tick_params(labelsize=9)
+    # Outside the axes, to the right: it covers no curve.
+    ax.legend(fontsize=9, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.grid(True, lw=0.3)
     return _finish(fig, path, dpi)
 
@@ -354,7 +437,7 @@ def table_heatmap(
     if ax is not None:
         fig, axes = ax.get_figure(), [ax]
     else:
-        fig = _figure(4.2 * len(panels), 3.4)
+        fig = _figure(4.8 * len(panels), 3.8)
         axes = [fig.add_subplot(1, len(panels), k + 1) for k in range(len(panels))]
     x_name = names[0]
     x = table.axes[x_name]
@@ -363,7 +446,7 @@ def table_heatmap(
             v, se = table.value[:, c], table.stderr[:, c]
             a.plot(x, v, lw=1.4)
             a.fill_between(x, v - 2 * se, v + 2 * se, alpha=0.25)
-            a.set_ylabel(label)
+            a.set_ylabel(label, fontsize=10)
             _, geometric = _edges(x)
             if geometric:
                 a.set_xscale("log")
@@ -373,14 +456,16 @@ def table_heatmap(
             xe, x_log = _edges(x)
             ye, y_log = _edges(table.axes[y_name])
             mesh = a.pcolormesh(xe, ye, table.value[:, :, c].T, cmap=cmap, shading="flat")
-            fig.colorbar(mesh, ax=a, shrink=0.9)  # type: ignore[union-attr]
+            bar = fig.colorbar(mesh, ax=a, shrink=0.9)  # type: ignore[union-attr]
+            bar.set_label("directional albedo R" if label == "albedo" else label, fontsize=10)
             if x_log:
                 a.set_xscale("log")
             if y_log:
                 a.set_yscale("log")
-            a.set_ylabel(y_name)
-        a.set_xlabel(x_name)
-        a.set_title(f"{model} {label}".strip(), fontsize=9)
+        a.set_xlabel(_AXIS_LABELS.get(x_name, x_name), fontsize=10)
+        if len(names) == 2:
+            a.set_ylabel(_AXIS_LABELS.get(names[1], names[1]), fontsize=10)
+        a.set_title(f"{model} {label}".strip(), fontsize=11)
     return _finish(fig, path, dpi)  # type: ignore[arg-type]
 
 
@@ -396,28 +481,29 @@ def energy_compensation(
         raise TypeError(
             f"result: expected a brdf_rs.EnergyCompensation, got {type(result).__name__}"
         )
-    fig = _figure(8.4, 3.4)
+    fig = _figure(10.0, 3.8)
     left, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
     xe, x_log = _edges(result.mu)
     ye, y_log = _edges(result.alpha)
     mesh = left.pcolormesh(xe, ye, result.e.T, cmap="viridis", shading="flat", vmin=0, vmax=1)
-    fig.colorbar(mesh, ax=left, shrink=0.9)
+    fig.colorbar(mesh, ax=left, shrink=0.9).set_label("E(μ, α)", fontsize=10)
     if y_log:
         left.set_yscale("log")
     if x_log:
         left.set_xscale("log")
-    left.set_xlabel("μ = cos θi")
-    left.set_ylabel("alpha")
-    left.set_title(f"{result.model}: E(μ, α), F = 1", fontsize=9)
+    left.set_xlabel("μ = cos θi", fontsize=10)
+    left.set_ylabel("α (roughness)", fontsize=10)
+    left.set_title(f"{result.model}: single-scattering albedo E(μ, α), F = 1", fontsize=11)
     se = result.e_avg_stderr
     right.plot(result.alpha, result.e_avg, lw=1.4, label="E_avg(α)")
     right.fill_between(result.alpha, result.e_avg - 2 * se, result.e_avg + 2 * se, alpha=0.25)
     right.plot(result.alpha, 1 - result.e_avg, lw=1.4, ls="--", label="1 − E_avg (lost)")
-    right.set_xlabel("alpha")
+    right.set_xlabel("α (roughness)", fontsize=10)
+    right.set_ylabel("energy fraction", fontsize=10)
     right.set_ylim(0, 1.02)
     right.grid(True, lw=0.3)
-    right.legend(fontsize=7)
-    right.set_title("cosine-weighted average albedo", fontsize=9)
+    right.legend(fontsize=9, loc="center left")
+    right.set_title("cosine-weighted average albedo E_avg(α)", fontsize=11)
     return _finish(fig, path, dpi)
 
 
@@ -469,7 +555,7 @@ def convergence(
         targets: error levels to mark with horizontal lines.
     """
     tables = _convergence_tables(results)
-    fig = _figure(5.5 * len(tables), 4.2)
+    fig = _figure(max(7.0, 5.5 * len(tables)), 4.8 + (0.3 if title and "\n" in title else 0))
     axes = [fig.add_subplot(1, len(tables), k + 1) for k in range(len(tables))]
     for ax, (name, methods) in zip(axes, tables.items(), strict=True):
         for label, points in methods.items():
@@ -479,14 +565,28 @@ def convergence(
             ax.loglog(xs, ys, style, label=label, markersize=3)
         for target in targets:
             ax.axhline(target, color="grey", lw=0.5)
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel("RMS error")
+        ax.set_xlabel("wall time (s)", fontsize=10)
+        ax.set_ylabel("RMS error over the table", fontsize=10)
         if name:
-            ax.set_title(name, fontsize=9)
+            ax.set_title(name, fontsize=11)
         ax.grid(True, which="both", lw=0.3)
-    axes[0].legend(fontsize=7)
+    # One legend for every panel, below them: it covers no line.
+    handles, labels = axes[0].get_legend_handles_labels()
+    for ax in axes[1:]:
+        for h, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            if label not in labels:
+                handles.append(h)
+                labels.append(label)
+    fig.legend(
+        handles,
+        labels,
+        loc="outside lower center",
+        ncol=min(len(labels), 3 if len(tables) > 1 else 2),
+        fontsize=9,
+        frameon=False,
+    )
     if title:
-        fig.suptitle(title, fontsize=10)
+        fig.suptitle(title, fontsize=12)
     return _finish(fig, path, dpi)
 
 
