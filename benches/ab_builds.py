@@ -1,19 +1,18 @@
-"""Two builds of brdf-rs side by side on the GGX albedo table, in one run.
+"""Two or more builds of brdf-rs side by side on an albedo table, in one run.
 
-Each build lives in its own Python environment (e.g. one with the current tree, one
-with a wheel of an earlier commit: `git archive <commit> | tar -x -C /tmp/base`, then
-`maturin build --release` there and `pip install` the wheel into a second venv). The
-script runs the same series of tables (64x64 GGX, mu x alpha as in
-benches/albedo_convergence.py; fixed sample counts and adaptive `tol`) in a subprocess
-per build, alternating the builds for `--rounds` rounds, and keeps each point's fastest
-time (the machine is shared and noisy; interleaving spreads the noise over both). The
-error is the RMS against the cached quadrature reference
-(benches/results/reference_ggx_*.npy, made by albedo_convergence.py). Prints the time
-to RMS 1e-4 and 1e-5 of each build and the ratio, and writes
-benches/results/ab_builds.{md,json,png}.
+Each build is a Python that imports it (its own virtual environment, or a small wrapper
+script that sets PYTHONPATH to a directory holding the package). The script runs the
+same series of tables (a 64x64 table of benches/albedo_convergence.py: GGX over mu x
+alpha, or Torrance-Sparrow over mu x p; fixed sample counts and adaptive `tol`) in a
+subprocess per build, alternating the builds for `--rounds` rounds, and keeps each
+point's fastest time (the machine is shared and noisy; interleaving spreads the noise
+over both). The error is the RMS against the cached quadrature reference of
+albedo_convergence.py (benches/results/reference_<model>_*.npy, computed on first use).
+Prints the time to RMS 1e-4 and 1e-5 of each build and the ratio, and writes
+benches/results/ab_builds_<model>.{md,json,png} (or `--out`).
 
-    python benches/ab_builds.py --a /path/to/before/bin/python --b .venv/bin/python \\
-        --label-a "main (generic VNDF weights)" --label-b "closed-form weights"
+    python benches/ab_builds.py --model torrance_sparrow \\
+        --build "release 0.1.0=/path/to/old/bin/python" --build "this tree=.venv/bin/python"
 """
 
 from __future__ import annotations
@@ -22,7 +21,6 @@ import argparse
 import itertools
 import json
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -31,10 +29,6 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 TARGETS = (1e-4, 1e-5)
-
-
-def axes() -> dict:
-    return {"mu": (np.arange(64) + 0.5) / 64, "alpha": np.geomspace(0.01, 1.0, 64)}
 
 
 def series() -> dict:
@@ -46,19 +40,27 @@ def series() -> dict:
     }
 
 
-def worker(reference: str, budget: float) -> None:
+def table_spec(model: str) -> dict:
+    """The table's axes and fixed parameters (benches/albedo_convergence.py's)."""
+    from albedo_convergence import tables
+
+    return tables()[model]
+
+
+def worker(model: str, reference: str, budget: float) -> None:
     """Runs every series with the brdf_rs importable here; JSON on stdout."""
     import brdf_rs
 
     ref = np.load(reference)
-    grid = axes()
-    brdf_rs.albedo_table("ggx", grid, kd=0.0, ks=1.0, samples=64)  # warm-up
+    spec = table_spec(model)
+    grid, fixed = spec["axes"], spec["fixed"]
+    brdf_rs.albedo_table(model, grid, **fixed, samples=64)  # warm-up
     out = {}
     for name, runs in series().items():
         points = []
         for options in runs:
             t = time.perf_counter()
-            table = brdf_rs.albedo_table("ggx", grid, kd=0.0, ks=1.0, **options)
+            table = brdf_rs.albedo_table(model, grid, **fixed, **options)
             seconds = time.perf_counter() - t
             err = table.value[..., 0] - ref
             points.append(
@@ -102,27 +104,31 @@ def main() -> None:
         metavar="LABEL=PYTHON",
         help="LABEL=PYTHON: a Python that imports the build (split at the last =; first: baseline)",
     )
+    parser.add_argument(
+        "--model", default="ggx", choices=["ggx", "torrance_sparrow"], help="the table"
+    )
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--budget", type=float, default=8.0, help="seconds per table")
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--reference", default=None, help=argparse.SUPPRESS)
-    parser.add_argument("--out", type=Path, default=RESULTS / "ab_builds")
+    parser.add_argument("--out", type=Path, default=None, help="path without suffix")
     args = parser.parse_args()
     if args.worker:
-        worker(args.reference, args.budget)
+        worker(args.model, args.reference, args.budget)
         return
     if len(args.build) < 2 or not all("=" in b for b in args.build):
         parser.error("give at least two --build LABEL=PYTHON")
-    refs = sorted(RESULTS.glob("reference_ggx_[0-9a-f]*.npy"))
-    if not refs:
-        sys.exit("no GGX reference: run benches/albedo_convergence.py --tables ggx first")
-    reference = str(refs[0])
+    out = args.out or RESULTS / f"ab_builds_{args.model}"
+    from albedo_convergence import reference as converged
+
+    np.save(out.with_suffix(".reference.npy"), converged(args.model, table_spec(args.model)))
+    reference = str(out.with_suffix(".reference.npy"))
     builds = dict(b.rsplit("=", 1) for b in args.build)
     base = next(iter(builds))
     best: dict[str, dict[str, list[dict]]] = {}
     for r in range(args.rounds):
         for label, python in builds.items():
-            cmd = [python, __file__, "--worker"]
+            cmd = [python, __file__, "--worker", "--model", args.model]
             cmd += ["--reference", reference, "--budget", str(args.budget)]
             run = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
             print(f"round {r + 1}, {label}: done", flush=True)
@@ -135,7 +141,7 @@ def main() -> None:
                     old["seconds"] = min(old["seconds"], new["seconds"])
                 known.extend(points[len(known) :])
     lines = [
-        "# Builds compared on the 64x64 GGX albedo table",
+        f"# Builds compared on the 64x64 {args.model} albedo table",
         "",
         f"{time.strftime('%Y-%m-%d %H:%M:%S')}; {args.rounds} interleaved rounds, fastest time "
         "per point; RMS against the converged quadrature. Seconds to reach each RMS "
@@ -161,9 +167,10 @@ def main() -> None:
                 ]
             lines.append(f"| {name} | {label} | {' | '.join(cells)} |")
     print("\n".join(lines))
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.with_suffix(".md").write_text("\n".join(lines) + "\n")
-    args.out.with_suffix(".json").write_text(
+    out.with_suffix(".reference.npy").unlink()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.with_suffix(".md").write_text("\n".join(lines) + "\n")
+    out.with_suffix(".json").write_text(
         json.dumps({"builds": builds, "results": best, "speedup": ratios}, indent=1)
     )
     try:
@@ -181,14 +188,14 @@ def main() -> None:
             ax.loglog(*zip(*pts, strict=True), "-o", markersize=3, label=label)
         for t in TARGETS:
             ax.axhline(t, color="grey", lw=0.5)
-        ax.set_title(f"GGX 64x64, {name}")
+        ax.set_title(f"{args.model} 64x64, {name}")
         ax.set_xlabel("wall time (s)")
         ax.set_ylabel("RMS error over the table")
         ax.grid(True, which="both", lw=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(args.out.with_suffix(".png"), dpi=110)
-    print(f"wrote {args.out.with_suffix('.md')}, .json, .png")
+    fig.savefig(out.with_suffix(".png"), dpi=110)
+    print(f"wrote {out.with_suffix('.md')}, .json, .png")
 
 
 if __name__ == "__main__":
