@@ -4,7 +4,8 @@
 
 Checks that the package imported is the installed one (not the source tree), that the
 compiled core evaluates and integrates with known exact answers, that the typing files
-ship, that the console script works, and that an optional extra that is missing
+ship, that the console script works (rendering an example scene that ships in the
+wheel to PNG), that a table's PNG preview reads back, and that an optional extra that is missing
 (matplotlib) gives its one-line ImportError. Exits non-zero on the first failure.
 """
 
@@ -79,6 +80,17 @@ with tempfile.TemporaryDirectory() as tmp:
         [script, "eval", "nope", "--wi", "0,0,1", "--wo", "0,0,1"], capture_output=True, text=True
     )
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1, bad.stderr
+
+    # The example scenes ship in the wheel: render one by name to PNG (no extra needed),
+    # and save a table's 16-bit PNG preview and read its values back.
+    assert set(brdf_rs.example_scenes()) >= {"gallery", "hdr", "rtr_fig_7_38"}
+    image = Path(tmp) / "hdr.png"
+    subprocess.run(
+        [script, "render", "hdr", "--resolution", "64x36", "-q", "-o", str(image)], check=True
+    )
+    assert image.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+    preview = brdf_rs.TablePreview.load(table.save(Path(tmp) / "t.png"))
+    assert np.all(np.abs(preview.value - table.value) <= preview.step / 2 + 1e-12)
 
 # Optional extras stay optional: without matplotlib, plotting says what to install.
 try:

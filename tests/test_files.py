@@ -21,7 +21,7 @@ from pathlib import Path
 import brdf_rs
 import numpy as np
 import pytest
-from brdf_rs import TableFileError, plot
+from brdf_rs import TableFileError, _png, plot
 from brdf_rs.cli import main as cli_main
 from brdf_rs.cli import save_energy
 from conftest import run_cli, tiny_scene
@@ -207,12 +207,8 @@ def _patch_writer(monkeypatch, kind: str, writer) -> None:
         openexr = pytest.importorskip("OpenEXR")
         monkeypatch.setattr(_FakeExr, "writer", staticmethod(writer))
         monkeypatch.setattr(openexr, "File", _FakeExr)
-    elif kind == "table.png":
-        png = pytest.importorskip("png")
-        monkeypatch.setattr(png.Writer, "write", lambda self, f, rows: writer(f))
-    elif kind == "image.png":
-        image = pytest.importorskip("PIL.Image")
-        monkeypatch.setattr(image.Image, "save", lambda self, fp, *a, **k: writer(fp))
+    elif kind in ("table.png", "image.png"):
+        monkeypatch.setattr(_png, "_write_file", lambda f, data: writer(f))
     elif kind == "image.npy":
         monkeypatch.setattr(np, "save", writer)
     elif kind == "plot.png":
