@@ -1,14 +1,13 @@
-"""PNG files without a dependency: the package's encoder and decoder checked against
-independent decoders (pypng, Pillow) and a hand-made file for every row filter; the
-16-bit table preview's scale chunk read back to recover the table's values; example
-scenes rendered by name."""
+"""PNG files through pypng (the png extra): what the package writes read back by an
+independent decoder (Pillow) and by pypng itself, text chunks included; the error
+without pypng names the extra; the 16-bit table preview's scale chunk read back to recover
+the table's values; example scenes rendered by name."""
 
 from __future__ import annotations
 
 import io
 import json
-import struct
-import zlib
+import sys
 
 import brdf_rs
 import numpy as np
@@ -16,8 +15,8 @@ import pytest
 from brdf_rs import _png
 from brdf_rs.cli import main as cli_main
 
-png = pytest.importorskip("png")  # pypng: an independent decoder
-PIL = pytest.importorskip("PIL.Image")
+png = pytest.importorskip("png")  # pypng: the png extra
+PIL = pytest.importorskip("PIL.Image")  # an independent decoder
 
 
 def _pypng_pixels(data: bytes) -> np.ndarray:
@@ -29,76 +28,53 @@ def _pypng_pixels(data: bytes) -> np.ndarray:
     ("dtype", "shape"),
     [(np.uint8, (37, 53, 3)), (np.uint16, (20, 31, 3)), (np.uint8, (9, 7)), (np.uint16, (5, 6, 4))],
 )
-def test_encode_round_trips_and_other_decoders_agree(dtype, shape):
+def test_encode_round_trips_with_text_and_pillow_agrees(dtype, shape):
     rng = np.random.default_rng(7)
-    top = np.iinfo(dtype).max
-    noise = rng.integers(0, top + 1, size=shape, dtype=dtype)
-    # Half noise, half smooth ramps: the row filters differ between the two.
-    ramp = np.linspace(0, top, shape[1]).astype(dtype)
-    pixels = noise.copy()
-    pixels[: shape[0] // 2] = np.broadcast_to(
-        ramp.reshape((1, -1) + (1,) * (len(shape) - 2)), pixels[: shape[0] // 2].shape
-    )
-    data = _png.encode(pixels, {"key": "value", "unicode": "μ = cos θ"})
+    pixels = rng.integers(0, np.iinfo(dtype).max + 1, size=shape, dtype=dtype)
+    data = _png.encode(pixels, {"key": "value", "brdf-rs:scale": '{"min": 0.0}'})
     back, text = _png.decode(data)
     expected = pixels.reshape(shape[0], shape[1], -1)
     np.testing.assert_array_equal(back, expected)
     assert back.dtype == dtype
-    assert text == {"key": "value", "unicode": "μ = cos θ"}
-    np.testing.assert_array_equal(_pypng_pixels(data), expected)
-
-
-def _filter_row(kind: int, row: np.ndarray, prev: np.ndarray, bpp: int) -> np.ndarray:
-    """PNG spec 9.2, written out byte by byte (independent of the vectorized encoder)."""
-    out = np.zeros_like(row)
-    for i in range(row.size):
-        a = int(row[i - bpp]) if i >= bpp else 0
-        b = int(prev[i])
-        c = int(prev[i - bpp]) if i >= bpp else 0
-        p = a + b - c
-        pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-        paeth = a if pa <= pb and pa <= pc else b if pb <= pc else c
-        predicted = [0, a, b, (a + b) // 2, paeth][kind]
-        out[i] = (int(row[i]) - predicted) % 256
-    return out
-
-
-def test_decode_reads_every_row_filter():
-    rng = np.random.default_rng(3)
-    pixels = rng.integers(0, 256, size=(10, 6, 3), dtype=np.uint8)
-    raw = pixels.reshape(10, -1)
-    lines, prev = [], np.zeros(raw.shape[1], dtype=np.uint8)
-    for y, row in enumerate(raw):
-        kind = y % 5
-        lines.append(bytes([kind]) + _filter_row(kind, row, prev, 3).tobytes())
-        prev = row
-
-    def chunk(kind: bytes, body: bytes) -> bytes:
-        return (
-            struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
-        )
-
-    data = (
-        _png.SIGNATURE
-        + chunk(b"IHDR", struct.pack(">IIBBBBB", 6, 10, 8, 2, 0, 0, 0))
-        + chunk(b"IDAT", zlib.compress(b"".join(lines)))
-        + chunk(b"IEND", b"")
-    )
-    np.testing.assert_array_equal(_pypng_pixels(data), pixels)  # the file is right
-    np.testing.assert_array_equal(_png.decode(data)[0], pixels)
+    assert text == {"key": "value", "brdf-rs:scale": '{"min": 0.0}'}
+    kinds = [kind for kind, _ in png.Reader(bytes=data).chunks()]
+    assert kinds.index(b"tEXt") < kinds.index(b"IDAT")  # text before the image data
+    if dtype == np.uint8 and len(shape) == 3:  # Pillow reads 8-bit RGB as it is
+        with PIL.open(io.BytesIO(data)) as decoded:
+            np.testing.assert_array_equal(np.asarray(decoded), pixels)
+            assert decoded.text["key"] == "value"
 
 
 def test_decode_refuses_damaged_files(tmp_path):
     data = bytearray(_png.encode(np.zeros((4, 4, 3), dtype=np.uint8)))
     data[40] ^= 0xFF  # inside IHDR's body or CRC
-    with pytest.raises(ValueError, match="bad CRC"):
+    with pytest.raises(ValueError, match="damaged PNG file"):
         _png.decode(bytes(data))
     with pytest.raises(ValueError, match="not a PNG file"):
         _png.decode(b"GIF89a")
     path = tmp_path / "cut.png"
     path.write_bytes(_png.encode(np.zeros((4, 4, 3), dtype=np.uint8))[:-20])
-    with pytest.raises(ValueError, match=rf"^{path}: truncated PNG file"):
+    with pytest.raises(ValueError, match=rf"^{path}: damaged PNG file"):
         _png.read(path)
+
+
+def test_without_pypng_the_error_names_the_extra(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "png", None)  # import png then raises ImportError
+    image = np.zeros((2, 2, 3), dtype=np.float32)
+    with pytest.raises(
+        ImportError, match=r"^saving a PNG needs pypng: pip install 'brdf-rs\[png\]'$"
+    ):
+        brdf_rs.save_image(tmp_path / "a.png", image)
+    with pytest.raises(ImportError, match=r"pip install 'brdf-rs\[png\]'"):
+        brdf_rs.encode_png(image)
+    with pytest.raises(ImportError, match=r"pip install 'brdf-rs\[png\]'"):
+        _table(np.ones((2, 3, 3))).save(tmp_path / "t.png")
+    (tmp_path / "x.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+    with pytest.raises(
+        ImportError, match=r"^reading a PNG needs pypng: pip install 'brdf-rs\[png\]'$"
+    ):
+        brdf_rs.TablePreview.load(tmp_path / "x.png")
+    assert list(tmp_path.iterdir()) == [tmp_path / "x.png"]
 
 
 def test_save_image_png_is_encode_png_and_pillow_reads_it(tmp_path):

@@ -277,16 +277,17 @@ class Table:
 
     def save(self, path: str | Path) -> Path:
         """Writes ``.npz`` (everything), ``.exr`` (float32 value and stderr, needs the
-        ``exr`` extra) or ``.png`` (a 16-bit RGB preview of a 2-D table's value).
+        ``exr`` extra) or ``.png`` (a 16-bit RGB preview of a 2-D table's value, needs
+        pypng: the ``png`` extra).
 
         The file is replaced in one step: ``path`` holds either its old content or the
         whole table, never part of it, even when the write fails or is interrupted or
         several processes save to the same path at once (the last one wins). Only
         ``.npz`` is read back whole (:meth:`load`).
 
-        The ``.png`` preview needs no optional package. Its rows are the first axis (top:
-        the first coordinate), its columns the second, its channels the value's three
-        (RGB; a split-sum table's A and B). Pixels map ``[min, max]`` linearly onto
+        The ``.png`` preview: its rows are the first axis (top: the first coordinate),
+        its columns the second, its channels the value's three (RGB; a split-sum table's
+        A and B). Pixels map ``[min, max]`` linearly onto
         ``0..65535``, ``min`` being 0 unless the table has negative values and ``max`` the
         largest value; the file records the range in a ``tEXt`` chunk with the key
         ``brdf-rs:scale`` (JSON ``{"min": ..., "max": ..., "pixel_max": 65535}``), the axes
@@ -614,13 +615,14 @@ class TablePreview:
             TableFileError: (a ``ValueError``) not a PNG, or a PNG without the preview's
                 text chunks (``brdf-rs:scale``, ``brdf-rs:axes``, ``brdf-rs:meta``), or
                 with chunks that do not match its pixels; the message names the file.
+            ImportError: pypng (the ``png`` extra) is not installed.
             OSError: the file cannot be opened.
         """
         path = Path(path)
         data = path.read_bytes()
         try:
             pixels, text = _png.decode(data)
-        except Exception as exc:  # any damage: a bad CRC, a cut-off chunk, bad zlib data
+        except ValueError as exc:  # any damage: a bad CRC, a cut-off chunk, bad zlib data
             raise TableFileError(f"{path}: not a table preview: {exc}") from None
         missing = [k for k in (PNG_SCALE_KEY, PNG_AXES_KEY, PNG_META_KEY) if k not in text]
         if missing:

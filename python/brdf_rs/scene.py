@@ -965,8 +965,8 @@ def shade(
 
 def encode_png(image: np.ndarray) -> bytes:
     """The bytes of the PNG file :func:`save_image` writes for ``image`` (display values
-    in [0, 1], shape ``(height, width, 3)``): 8-bit sRGB, made with the standard library
-    alone. In a notebook, ``IPython.display.Image(brdf_rs.encode_png(image))`` shows a
+    in [0, 1], shape ``(height, width, 3)``): 8-bit sRGB, encoded by pypng (the ``png``
+    extra). In a notebook, ``IPython.display.Image(brdf_rs.encode_png(image))`` shows a
     rendered image."""
     return _png.encode(_core.encode_srgb8(_image("image", image)))
 
@@ -980,8 +980,9 @@ def _image(name: str, image: Any) -> np.ndarray:
 
 
 def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
-    """Writes an image by its suffix: ``.png`` (8-bit sRGB of display values in [0, 1]),
-    ``.exr`` (float32 RGB, needs OpenEXR: the ``exr`` extra) or ``.npy`` (float32).
+    """Writes an image by its suffix: ``.png`` (8-bit sRGB of display values in [0, 1],
+    needs pypng: the ``png`` extra), ``.exr`` (float32 RGB, needs OpenEXR: the ``exr``
+    extra) or ``.npy`` (float32).
 
     The file is replaced in one step: ``path`` holds either its old content or the whole
     image, never part of it, even when the write fails or is interrupted or several
