@@ -1,4 +1,4 @@
-"""Renders the example scenes (examples/scenes/*.toml) into docs/ as PNG.
+"""Renders the example scenes (python/brdf_rs/example_scenes/*.toml) into docs/ as PNG.
 
     python scripts/render_examples.py
 
@@ -17,32 +17,29 @@ from pathlib import Path
 import brdf_rs
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENES = ROOT / "examples" / "scenes"
 DOCS = ROOT / "docs"
 
 JOBS = [
-    ("rtr_fig_7_38.png", "rtr_fig_7_38.toml", {}),
-    ("gallery.png", "gallery.toml", {}),
-    ("gallery_diffuse.png", "gallery.toml", {"only": "diffuse"}),
-    ("gallery_specular.png", "gallery.toml", {"only": "specular"}),
-    ("hdr_clamp.png", "hdr.toml", {"tonemap": "clamp"}),
-    ("hdr_reinhard.png", "hdr.toml", {"tonemap": "reinhard"}),
-    ("hdr_aces.png", "hdr.toml", {"tonemap": "aces"}),
+    ("rtr_fig_7_38.png", "rtr_fig_7_38", {}),
+    ("gallery.png", "gallery", {}),
+    ("gallery_diffuse.png", "gallery", {"only": "diffuse"}),
+    ("gallery_specular.png", "gallery", {"only": "specular"}),
+    ("hdr_clamp.png", "hdr", {"tonemap": "clamp"}),
+    ("hdr_reinhard.png", "hdr", {"tonemap": "reinhard"}),
+    ("hdr_aces.png", "hdr", {"tonemap": "aces"}),
 ]
 
 
 def main() -> None:
     DOCS.mkdir(exist_ok=True)
-    for out, scene_file, options in JOBS:
-        scene = brdf_rs.load_scene(SCENES / scene_file)
+    for out, name, options in JOBS:
+        scene = brdf_rs.load_scene(brdf_rs.example_scenes()[name])
         start = time.perf_counter()
         image = brdf_rs.render(scene, **options)
         seconds = time.perf_counter() - start
         brdf_rs.save_image(DOCS / out, image)
         width, height = scene.resolution
-        print(
-            f"docs/{out}: {scene_file} {options or ''} {width}x{height} in {seconds * 1e3:.0f} ms"
-        )
+        print(f"docs/{out}: {name} {options or ''} {width}x{height} in {seconds * 1e3:.0f} ms")
 
 
 if __name__ == "__main__":

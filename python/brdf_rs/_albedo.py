@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _arrays, _atomic, _normalization
+from . import _arrays, _atomic, _display, _normalization, _png
 from . import _brdf_rs as _core
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (xarray is optional)
@@ -29,6 +29,7 @@ __all__ = [
     "EnergyCompensation",
     "Table",
     "TableFileError",
+    "TablePreview",
     "albedo",
     "albedo_table",
     "dfg_table",
@@ -45,11 +46,24 @@ DEFAULT_REPLICATES = 16
 @dataclasses.dataclass(frozen=True)
 class Albedo:
     """Directional albedo estimates: ``value`` and ``stderr`` (shape ``cells + (3,)``,
-    RGB) and ``samples`` drawn per cell (0 where the value is exact)."""
+    RGB) and ``samples`` drawn per cell (0 where the value is exact); :func:`albedo`
+    also records the ``model`` and the cells' incidences ``mu`` (shape ``cells``).
+
+    In Jupyter it shows itself as a curve over ``mu`` (a heat map for 2-D cells) with
+    the largest standard error, or as a summary table without matplotlib.
+    """
 
     value: np.ndarray
     stderr: np.ndarray
     samples: np.ndarray
+    model: str | None = None
+    mu: np.ndarray | None = None
+
+    def _repr_png_(self) -> bytes | None:
+        return _display.albedo_png(self)
+
+    def _repr_html_(self) -> str:
+        return _display.albedo_html(self)
 
 
 #: The integrator's limits (the core checks them again): samples per cell, scrambles.
@@ -235,7 +249,8 @@ def albedo(
         phi_array,
         average,
     )
-    return Albedo(value=value, stderr=stderr, samples=drawn)
+    cells = np.shape(value)[:-1]
+    return Albedo(value, stderr, drawn, model, np.broadcast_to(mu_array, cells))
 
 
 # ------------------------------------------------------------------------------- tables
@@ -248,6 +263,10 @@ class Table:
     ``axes`` maps each axis name (``mu`` or a parameter) to its coordinates, in order;
     ``meta`` records how it was made (model, fixed parameters, sampler, sequence, seed,
     samples, library version).
+
+    In Jupyter a table shows itself: a curve (one axis) or a heat map (two axes) with the
+    axes labelled, the model and the largest standard error; without matplotlib, a
+    summary table of the axes and each channel's range.
     """
 
     value: np.ndarray
@@ -258,12 +277,25 @@ class Table:
 
     def save(self, path: str | Path) -> Path:
         """Writes ``.npz`` (everything), ``.exr`` (float32 value and stderr, needs the
-        ``exr`` extra) or ``.png`` (a 16-bit preview of a 2-D table).
+        ``exr`` extra) or ``.png`` (a 16-bit RGB preview of a 2-D table's value, needs
+        pypng: the ``png`` extra).
 
         The file is replaced in one step: ``path`` holds either its old content or the
         whole table, never part of it, even when the write fails or is interrupted or
         several processes save to the same path at once (the last one wins). Only
-        ``.npz`` can be read back (:meth:`load`).
+        ``.npz`` is read back whole (:meth:`load`).
+
+        The ``.png`` preview: its rows are the first axis (top: the first coordinate),
+        its columns the second, its channels the value's three (RGB; a split-sum table's
+        A and B). Pixels map ``[min, max]`` linearly onto
+        ``0..65535``, ``min`` being 0 unless the table has negative values and ``max`` the
+        largest value; the file records the range in a ``tEXt`` chunk with the key
+        ``brdf-rs:scale`` (JSON ``{"min": ..., "max": ..., "pixel_max": 65535}``), the axes
+        under ``brdf-rs:axes`` (names and coordinates of rows and columns, what the
+        channels hold) and ``meta`` under ``brdf-rs:meta``. So ``value = min + (max −
+        min) · pixel / 65535`` recovers the table to within half a step of ``(max − min)
+        / 65535``: :meth:`TablePreview.load` does this, or any PNG reader that keeps
+        16 bits and text chunks.
 
         Raises:
             ValueError: an unknown suffix, or a table whose arrays, axes and ``meta``
@@ -296,7 +328,7 @@ class Table:
         elif suffix == ".exr":
             _save_exr(self, path, meta)
         else:
-            _save_png(self, path)
+            _save_png(self, path, meta)
         return path
 
     @classmethod
@@ -327,7 +359,8 @@ class Table:
             if head not in (b"PK\x03\x04", b"PK\x05\x06"):
                 raise TableFileError(
                     f"{path}: not a table: not an .npz archive (tables are read back from the"
-                    " .npz that Table.save writes; .exr and .png are not read back)"
+                    " .npz that Table.save writes; .exr and .png are not read back whole:"
+                    " TablePreview.load reads a .png preview's values)"
                 )
             f.seek(0)
             try:
@@ -367,6 +400,12 @@ class Table:
     def __repr__(self) -> str:
         axes = ", ".join(f"{k}[{len(v)}]" for k, v in self.axes.items())
         return f"Table({self.meta.get('model')!r}, axes={axes})"
+
+    def _repr_png_(self) -> bytes | None:
+        return _display.table_png(self)
+
+    def _repr_html_(self) -> str:
+        return _display.table_html(self)
 
 
 class TableFileError(ValueError):
@@ -506,23 +545,108 @@ def _save_exr(table: Table, path: Path, meta: dict[str, Any]) -> None:
         f.write(str(tmp))
 
 
-def _save_png(table: Table, path: Path) -> None:
-    try:
-        import png
-    except ImportError:
-        raise ImportError("writing .png needs the pypng package: pip install pypng") from None
-    value = table.value
+#: Text keys of a table's .png preview (read back by :meth:`TablePreview.load`).
+PNG_SCALE_KEY = "brdf-rs:scale"
+PNG_AXES_KEY = "brdf-rs:axes"
+PNG_META_KEY = "brdf-rs:meta"
+_PNG_MAX = 65535
+
+
+def _channel_names(meta: Mapping[str, Any]) -> list[str]:
+    """What the three channels of a table hold: R, G, B, or a split-sum table's A, B."""
+    if str(meta.get("quantity", "")).startswith("split-sum"):
+        return ["A (scale)", "B (bias)", "unused (0)"]
+    return ["R", "G", "B"]
+
+
+def _save_png(table: Table, path: Path, meta: dict[str, Any]) -> None:
+    value = np.asarray(table.value, dtype=np.float64)
     if value.ndim != 3:
         raise ValueError(
             f"table: the .png preview is for 2-D tables; this one has {value.ndim - 1} axes"
         )
-    top = float(np.max(value)) or 1.0
-    scaled = np.clip(value / top, 0.0, 1.0)
-    pixels = np.round(scaled * 65535).astype(np.uint16)
-    rows = pixels.reshape(pixels.shape[0], -1)
-    writer = png.Writer(width=value.shape[1], height=value.shape[0], greyscale=False, bitdepth=16)
-    with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
-        writer.write(f, rows.tolist())
+    lo = min(0.0, float(np.min(value)))
+    hi = float(np.max(value))
+    if not hi > lo:
+        hi = lo + 1.0
+    pixels = np.round((value - lo) / (hi - lo) * _PNG_MAX).astype(np.uint16)
+    (rows, r), (columns, c) = table.axes.items()
+    axes = {
+        "rows": {"name": rows, "values": np.asarray(r, dtype=np.float64).tolist()},
+        "columns": {"name": columns, "values": np.asarray(c, dtype=np.float64).tolist()},
+        "channels": _channel_names(meta),
+    }
+    text = {
+        "Software": f"brdf-rs {meta.get('brdf_rs', '')}".strip(),
+        "Description": (
+            f"{meta.get('model')} table preview: rows are {rows} (top: first value), columns"
+            f" are {columns}; value = min + (max - min) * pixel / {_PNG_MAX} with min and max"
+            f" in the {PNG_SCALE_KEY!r} text chunk"
+        ),
+        PNG_SCALE_KEY: json.dumps({"min": lo, "max": hi, "pixel_max": _PNG_MAX}),
+        PNG_AXES_KEY: json.dumps(axes),
+        PNG_META_KEY: json.dumps(meta),
+    }
+    _png.write(path, pixels, text)
+
+
+@dataclasses.dataclass(frozen=True)
+class TablePreview:
+    """A 2-D table read back from the 16-bit ``.png`` preview :meth:`Table.save` writes.
+
+    ``value`` (float64, shape ``(rows, columns, 3)``) is the table's value to within
+    ``step / 2`` (the preview's quantization: ``step = (max − min) / 65535``, with ``min``
+    and ``max`` the range the file records, ``min`` = 0 unless the table has negative
+    values); ``axes`` maps the two axis names to their coordinates (rows first), ``meta``
+    is the table's metadata. The preview holds no standard errors: :meth:`Table.load`
+    reads everything back from ``.npz``.
+    """
+
+    value: np.ndarray
+    axes: dict[str, np.ndarray]
+    meta: dict[str, Any]
+    step: float
+
+    @classmethod
+    def load(cls, path: str | Path) -> TablePreview:
+        """Reads a ``.png`` written by :meth:`Table.save`.
+
+        Raises:
+            TableFileError: (a ``ValueError``) not a PNG, or a PNG without the preview's
+                text chunks (``brdf-rs:scale``, ``brdf-rs:axes``, ``brdf-rs:meta``), or
+                with chunks that do not match its pixels; the message names the file.
+            ImportError: pypng (the ``png`` extra) is not installed.
+            OSError: the file cannot be opened.
+        """
+        path = Path(path)
+        data = path.read_bytes()
+        try:
+            pixels, text = _png.decode(data)
+        except ValueError as exc:  # any damage: a bad CRC, a cut-off chunk, bad zlib data
+            raise TableFileError(f"{path}: not a table preview: {exc}") from None
+        missing = [k for k in (PNG_SCALE_KEY, PNG_AXES_KEY, PNG_META_KEY) if k not in text]
+        if missing:
+            raise TableFileError(
+                f"{path}: not a table preview: no {', '.join(map(repr, missing))} text chunk"
+                " (Table.save writes them)"
+            )
+        try:
+            scale = json.loads(text[PNG_SCALE_KEY])
+            axes = json.loads(text[PNG_AXES_KEY])
+            meta = json.loads(text[PNG_META_KEY])
+            lo, hi, top = float(scale["min"]), float(scale["max"]), int(scale["pixel_max"])
+            names = [axes["rows"]["name"], axes["columns"]["name"]]
+            coords = [np.asarray(axes[k]["values"], dtype=np.float64) for k in ("rows", "columns")]
+        except (ValueError, KeyError, TypeError) as exc:
+            raise TableFileError(f"{path}: damaged table preview text chunks ({exc})") from None
+        shape = (coords[0].size, coords[1].size, 3)
+        if pixels.dtype != np.uint16 or pixels.shape != shape or top != _PNG_MAX:
+            raise TableFileError(
+                f"{path}: the preview's pixels ({pixels.dtype}, shape {pixels.shape}) do not"
+                f" match its axes (16-bit RGB, shape {shape})"
+            )
+        value = lo + (hi - lo) * pixels.astype(np.float64) / _PNG_MAX
+        return cls(value, dict(zip(names, coords, strict=True)), meta, (hi - lo) / _PNG_MAX)
 
 
 def albedo_table(
@@ -876,7 +1000,9 @@ class Energy:
 
     ``max`` and ``stderr`` are RGB at ``mu_at_max`` (the incidence of the largest
     channel's maximum); ``gains_energy`` is true when some channel exceeds 1 by more than
-    3 standard errors; ``mu`` / ``value`` hold the whole curve that was searched.
+    3 standard errors; ``mu`` / ``value`` hold the whole curve that was searched, and
+    ``model`` the model's name. In Jupyter it shows itself as that curve, its maximum
+    marked, with the verdict and the standard error there.
     """
 
     max: np.ndarray
@@ -885,6 +1011,13 @@ class Energy:
     gains_energy: bool
     mu: np.ndarray
     value: np.ndarray
+    model: str | None = None
+
+    def _repr_png_(self) -> bytes | None:
+        return _display.energy_png(self)
+
+    def _repr_html_(self) -> str:
+        return _display.energy_html(self)
 
 
 def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) -> Energy:
@@ -912,7 +1045,7 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
     all_mu, all_value, all_err = all_mu[order], all_value[order], all_err[order]
     k = int(np.argmax(all_value.max(axis=-1)))
     gains = bool(np.any(all_value[k] - 3 * all_err[k] > 1.0))
-    return Energy(all_value[k], all_err[k], float(all_mu[k]), gains, all_mu, all_value)
+    return Energy(all_value[k], all_err[k], float(all_mu[k]), gains, all_mu, all_value, model)
 
 
 # ----------------------------------------------------------------- energy compensation

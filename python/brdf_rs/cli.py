@@ -282,6 +282,12 @@ def _resolution(text: str) -> tuple[int, int]:
     return w, h
 
 
+def _example_names() -> list[str]:
+    from .scene import example_scenes
+
+    return list(example_scenes())
+
+
 def cmd_render(args: argparse.Namespace) -> int:
     import time
 
@@ -1067,7 +1073,11 @@ def build_parser() -> argparse.ArgumentParser:
         description="Render a scene: PNG gets the tone-mapped, sRGB-encoded image; EXR and "
         "NPY get linear radiance (float32).",
     )
-    p.add_argument("scene", help="a scene file (TOML), e.g. examples/scenes/gallery.toml")
+    p.add_argument(
+        "scene",
+        help="a scene file (TOML), or an example scene that ships with brdf-rs: "
+        + ", ".join(_example_names()),
+    )
     p.add_argument("-o", "--output", default=None, help="image.png | image.exr | image.npy")
     p.add_argument("--exr", default=None, help="also write linear radiance as .exr")
     p.add_argument("--npy", default=None, help="also write linear radiance as .npy")
@@ -1096,7 +1106,11 @@ def build_parser() -> argparse.ArgumentParser:
         "R(mu), cached on disk under a hash of the model, parameters, sampler settings and "
         "library version; a second run skips every table already built.",
     )
-    p.add_argument("scene", help="a scene file (TOML), e.g. examples/scenes/gallery.toml")
+    p.add_argument(
+        "scene",
+        help="a scene file (TOML), or an example scene that ships with brdf-rs: "
+        + ", ".join(_example_names()),
+    )
     p.add_argument(
         "--cache-dir", default=None, help="default: $BRDF_RS_CACHE or ~/.cache/brdf-rs/tables"
     )

@@ -75,7 +75,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 
-from . import _arrays, _atomic
+from . import _arrays, _atomic, _png
 from . import _brdf_rs as _core
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -90,6 +90,8 @@ __all__ = [
     "Scene",
     "SceneError",
     "TableResult",
+    "encode_png",
+    "example_scenes",
     "load_scene",
     "parse_scene",
     "render",
@@ -603,13 +605,42 @@ def parse_scene(source: str | Mapping[str, Any], name: str = "<scene>") -> Scene
     return Scene(camera, materials, objects, lights, output, name, description)
 
 
+#: Where the example scenes ship: inside the package, so an installed wheel has them.
+_EXAMPLES = Path(__file__).resolve().parent / "example_scenes"
+
+
+def example_scenes() -> dict[str, Path]:
+    """The example scenes that ship with the package: ``{name: path of its TOML file}``.
+
+    :func:`load_scene`, :func:`render` and ``brdf-rs render`` take a name (``"gallery"``,
+    ``"hdr"``, ``"rtr_fig_7_38"``) in place of a path; the files are a starting point
+    for scenes of your own."""
+    return {p.stem: p for p in sorted(_EXAMPLES.glob("*.toml"))}
+
+
+def _scene_path(path: str | os.PathLike[str]) -> Path:
+    """``path``, or the example scene of that name when ``path`` is a bare name (no
+    folder, no suffix) that is not a file."""
+    given = Path(path)
+    if given.exists() or given.suffix or len(given.parts) != 1:
+        return given
+    return example_scenes().get(str(given), given)
+
+
 def load_scene(path: str | os.PathLike[str]) -> Scene:
-    """Reads and checks a scene file (TOML)."""
-    path = Path(path)
+    """Reads and checks a scene file (TOML), or an example scene by its name (see
+    :func:`example_scenes`)."""
+    path = _scene_path(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise SceneError(f"{path}: cannot read the scene: {exc.strerror or exc}") from None
+        hint = ""
+        if not path.suffix and len(path.parts) == 1:
+            names = list(example_scenes())
+            close = difflib.get_close_matches(str(path), names, n=1)
+            hint = f" (nor an example scene: {', '.join(names)})"
+            hint += f"; did you mean {close[0]!r}?" if close else ""
+        raise SceneError(f"{path}: cannot read the scene: {exc.strerror or exc}{hint}") from None
     except UnicodeDecodeError:
         raise SceneError(f"{path}: not a text file (a scene is TOML, UTF-8)") from None
     return parse_scene(text, str(path))
@@ -699,7 +730,8 @@ def render(
     runs in Rust, in parallel, without the GIL.
 
     Args:
-        scene: a :class:`Scene`, a path to a TOML file, or a dict of the same structure.
+        scene: a :class:`Scene`, a path to a TOML file, the name of an example scene
+            (:func:`example_scenes`), or a dict of the same structure.
         only: ``"diffuse"`` or ``"specular"`` renders that component alone (the other's
             kernels never run); a family-A model's diffuse term is its ``kd`` term.
         tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
@@ -931,9 +963,26 @@ def shade(
 # ---------------------------------------------------------------------------- images
 
 
+def encode_png(image: np.ndarray) -> bytes:
+    """The bytes of the PNG file :func:`save_image` writes for ``image`` (display values
+    in [0, 1], shape ``(height, width, 3)``): 8-bit sRGB, encoded by pypng (the ``png``
+    extra). In a notebook, ``IPython.display.Image(brdf_rs.encode_png(image))`` shows a
+    rendered image."""
+    return _png.encode(_core.encode_srgb8(_image("image", image)))
+
+
+def _image(name: str, image: Any) -> np.ndarray:
+    with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
+        a = np.ascontiguousarray(_arrays._as_numeric(name, image), dtype=np.float32)
+    if a.ndim != 3 or a.shape[2] != 3:
+        raise ValueError(f"{name}: expected shape (height, width, 3), got {a.shape}")
+    return a
+
+
 def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     """Writes an image by its suffix: ``.png`` (8-bit sRGB of display values in [0, 1],
-    needs Pillow), ``.exr`` (float32 RGB, needs OpenEXR) or ``.npy`` (float32).
+    needs pypng: the ``png`` extra), ``.exr`` (float32 RGB, needs OpenEXR: the ``exr``
+    extra) or ``.npy`` (float32).
 
     The file is replaced in one step: ``path`` holds either its old content or the whole
     image, never part of it, even when the write fails or is interrupted or several
@@ -941,19 +990,10 @@ def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path: expected a file name (str or path), got {type(path).__name__}")
     path = Path(path)
-    with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
-        image = np.ascontiguousarray(_arrays._as_numeric("image", image), dtype=np.float32)
-    if image.ndim != 3 or image.shape[2] != 3:
-        raise ValueError(f"image: expected shape (height, width, 3), got {image.shape}")
+    image = _image("image", image)
     suffix = path.suffix.lower()
     if suffix == ".png":
-        try:
-            from PIL import Image
-        except ImportError:
-            raise ImportError("writing .png needs Pillow: pip install brdf-rs[scene]") from None
-        encoded = Image.fromarray(_core.encode_srgb8(image), mode="RGB")
-        with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
-            encoded.save(f, format="PNG")
+        _png.write(path, _core.encode_srgb8(image))
     elif suffix == ".exr":
         try:
             import OpenEXR
