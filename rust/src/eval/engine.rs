@@ -1,7 +1,7 @@
 //! The hot loop: blocks of rows in structure-of-arrays scratch, one model per loop,
 //! compiled once per instruction set and chosen at run time.
 //!
-//! Each task takes `TASK_BLOCKS` blocks of `BLOCK` rows. Per block it (1) copies the
+//! Each task takes up to `TASK_BLOCKS` blocks of `BLOCK` rows. Per block it (1) copies the
 //! direction rows into scratch, deinterleaved, (2) normalizes them and flags unusable
 //! rows, (3) copies varying parameters into scratch, (4) runs the model over the block
 //! and writes RGB rows into the output. Steps 2 and 4 are straight-line loops over
@@ -21,7 +21,7 @@ use crate::parallel;
 
 /// Rows per block (the scratch stays inside L1).
 pub const BLOCK: usize = 128;
-/// Blocks per parallel task.
+/// Most blocks per parallel task.
 pub const TASK_BLOCKS: usize = 16;
 /// A block of at most this many rows (a small batch, or the last block of one) is
 /// computed over this many lanes, not over the whole block: a call with a few rows does
@@ -589,8 +589,8 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
     }
 }
 
-/// Rows between two calls of the `poll` of [`run_polled`] (a multiple of the task size, so
-/// that tasks, and with them every row's instructions, are those of one undivided run).
+/// Rows between two calls of the `poll` of [`run_polled`] (a multiple of the block size,
+/// so that blocks, and with them every row's instructions, are those of one undivided run).
 pub const POLL_ROWS: usize = 128 * TASK_BLOCKS * BLOCK;
 
 /// Runs the plan into `out` (C order, `rows × 3`), in parallel for large batches.
@@ -625,21 +625,30 @@ pub fn run_polled<F: Real>(
         _float: PhantomData,
     });
     let task_rows = TASK_BLOCKS * BLOCK;
-    let serial = plan.rows <= 2 * task_rows || parallel::num_threads() == 1;
+    let threads = parallel::num_threads();
+    let serial = plan.rows <= 2 * task_rows || threads == 1;
     let mut any_bad = false;
     for (k, part) in out.chunks_mut(3 * POLL_ROWS).enumerate() {
         if k > 0 && !poll() {
             return None;
         }
         let first = k * POLL_ROWS;
+        // Tasks of at most `task_rows` rows, as many as a multiple of the thread count, so
+        // that the threads share the rows evenly (10,000 rows in tasks of 2048 made 5 tasks:
+        // 3 for one thread, 2 for the other); each a whole number of blocks, so that every
+        // row is computed in the same block, by the same instructions, whatever the split.
+        let tasks = (part.len() / 3)
+            .div_ceil(task_rows)
+            .next_multiple_of(threads);
+        let per = (part.len() / 3).div_ceil(tasks).next_multiple_of(BLOCK);
         // SAFETY: `range` was compiled for `isa`, which `isa()` checked this CPU supports.
         any_bad |= if serial {
             unsafe { range(plan, first, part) }
         } else {
             parallel::install(|| {
-                part.par_chunks_mut(3 * task_rows)
+                part.par_chunks_mut(3 * per)
                     .enumerate()
-                    .map(|(i, chunk)| unsafe { range(plan, first + i * task_rows, chunk) })
+                    .map(|(i, chunk)| unsafe { range(plan, first + i * per, chunk) })
                     .reduce(|| false, |a, b| a || b)
             })
         };
