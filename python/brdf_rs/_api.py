@@ -107,6 +107,10 @@ def _check_out(out: object, dtype: type[np.floating]) -> None:
 class Model:
     """A model with fixed parameters, checked once, for many evaluations.
 
+    The parameters are also laid out for the kernels once (unless one varies over the
+    batch), so a call with a few directions costs little more than the Python call
+    itself: the way to evaluate in a loop (per object, per light, in an optimizer).
+
     >>> m = Model("torrance_sparrow", ks=0.8, p=50, eta=1.5)
     >>> m.eval([0, 0, 1], [0, 0, 1]).shape
     (3,)
