@@ -1,10 +1,15 @@
 """Throughput of brdf_rs.eval for every model against a natural NumPy implementation.
 
 Million evaluations per second, float64 and float32, 1 and 2 threads, N random direction
-pairs (NumPy arrays in, a fresh NumPy array out, as a user calls it; the last column
+pairs (NumPy arrays in, a fresh NumPy array out, as a user calls it; the 'out=' column
 writes into a preallocated array with ``out=`` instead, which saves the kernel's first
 touch of fresh pages). Every number in one table comes from the same run, so the ratios
-compare like with like on a noisy machine.
+compare like with like on a noisy machine; a row's brdf-rs columns (and its Numba column)
+are timed interleaved, call by call.
+
+The Numba column (``torrance_sparrow`` and ``ggx``, float64): an ``@njit(parallel=True)``
+kernel of the same formula (benches/numba_models.py) returning a fresh array, checked to
+agree with brdf_rs to 1e-12 relative first; skipped when Numba is not installed.
 
     python benches/eval_throughput.py                 # all models, N = 4,000,000
     python benches/eval_throughput.py --models torrance_sparrow --repeat 9
@@ -29,6 +34,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import brdf_rs  # noqa: E402
+import numba_models  # noqa: E402
 import numpy_models  # noqa: E402
 
 RESULTS = HERE / "results"
@@ -64,6 +70,42 @@ def directions(rng: np.random.Generator, n: int) -> np.ndarray:
     return v
 
 
+def interleaved_times(columns: dict, repeat: int) -> dict[str, tuple[float, float]]:
+    """(minimum, median) wall time of `repeat` calls of each column, one call of each per
+    round, after one warm-up call each. A column is ``(threads or None, fn)``: brdf-rs
+    runs with that many threads (set before each call)."""
+
+    current = [brdf_rs.num_threads()]
+
+    def call(threads, fn):
+        if threads is not None and threads != current[0]:
+            brdf_rs.set_num_threads(threads)
+            current[0] = threads
+        start = time.perf_counter()
+        fn()
+        return time.perf_counter() - start
+
+    for threads, fn in columns.values():
+        call(threads, fn)
+    times: dict[str, list[float]] = {key: [] for key in columns}
+    for _ in range(repeat):
+        for key, (threads, fn) in columns.items():
+            times[key].append(call(threads, fn))
+    return {key: (min(t), statistics.median(t)) for key, t in times.items()}
+
+
+def numba_call(model: str, wi: np.ndarray, wo: np.ndarray, extra: dict):
+    """The Numba parallel kernel of `model` as a call returning a fresh array, after
+    checking it against brdf_rs (None where there is no such kernel)."""
+    if wi.dtype != np.float64 or model not in numba_models.KERNELS:
+        return None
+    check = slice(0, 100_000)
+    numba_models.check_agreement(model, wi[check], wo[check], extra)
+    kernel = numba_models.KERNELS[model]["parallel"]
+    args = numba_models.kernel_args(model, extra)
+    return lambda: kernel(wi, wo, *args, np.empty((len(wi), 3)))
+
+
 def best_time(fn, repeat: int) -> tuple[float, float]:
     """(minimum, median) wall time of `repeat` calls after one warm-up call."""
     fn()
@@ -89,6 +131,8 @@ def main() -> None:
         "(each rerun row records its own date, and the table says which rows were rerun)",
     )
     args = parser.parse_args()
+    if not numba_models.available():
+        print("numba is not installed: the Numba column is skipped (pip install numba)")
 
     rng = np.random.default_rng(1)
     wi64, wo64 = directions(rng, args.n), directions(rng, args.n)
@@ -101,7 +145,7 @@ def main() -> None:
     header = (
         f"{'model':24s} {'dtype':8s} {'numpy':>8s}"
         + "".join(f" {f'{t} thr':>8s} {f'{t} thr n':>9s}" for t in args.threads)
-        + f" {'out=':>8s} {'x numpy':>8s}"
+        + f" {'out=':>8s} {'numba':>8s} {'x numpy':>8s}"
     )
     print(f"N = {args.n:,}, best of {args.repeat}; M evals/s ('n': normalized=True)")
     print(header)
@@ -124,35 +168,45 @@ def main() -> None:
                 )
                 best, _ = best_time(numpy_call, max(1, args.repeat // 2))
                 row["numpy"] = args.n / best / 1e6
+            columns = {}
             for threads in args.threads:
-                brdf_rs.set_num_threads(threads)
                 for normalized in (False, True):
-                    call = functools.partial(
-                        brdf_rs.eval, model, wi, wo, normalized=normalized, **tn, **extra
-                    )
-                    best, median = best_time(call, args.repeat)
                     key = f"{threads}t" + ("_normalized" if normalized else "")
-                    row[key] = args.n / best / 1e6
-                    row[key + "_median"] = args.n / median / 1e6
+                    columns[key] = (
+                        threads,
+                        functools.partial(
+                            brdf_rs.eval, model, wi, wo, normalized=normalized, **tn, **extra
+                        ),
+                    )
             top = max(args.threads)
+            columns["out"] = (
+                top,
+                functools.partial(brdf_rs.eval, model, wi, wo, out=outs[dtype], **tn, **extra),
+            )
+            numba_fn = numba_call(model, wi, wo, extra)
+            if numba_fn is not None:
+                columns["numba"] = (None, numba_fn)
+            timed = interleaved_times(columns, args.repeat)
+            for key, (best, median) in timed.items():
+                row[key] = args.n / best / 1e6
+                row[key + "_median"] = args.n / median / 1e6
+            row.setdefault("numba", None)
             brdf_rs.set_num_threads(top)
-            call = functools.partial(brdf_rs.eval, model, wi, wo, out=outs[dtype], **tn, **extra)
-            best, median = best_time(call, args.repeat)
-            row["out"] = args.n / best / 1e6
-            row["out_median"] = args.n / median / 1e6
             row["speedup"] = row[f"{top}t"] / row["numpy"] if row["numpy"] else None
             rows.append(row)
             line = f"{model:24s} {dtype:8s} {_cell(row['numpy'], 8)}"
             for threads in args.threads:
                 line += f" {row[f'{threads}t']:8.1f} {row[f'{threads}t_normalized']:9.1f}"
             ratio = f"{row['speedup']:7.1f}x" if row["speedup"] else f"{'—':>8s}"
-            print(line + f" {row['out']:8.1f} {ratio}", flush=True)
+            print(line + f" {row['out']:8.1f} {_cell(row['numba'], 8)} {ratio}", flush=True)
 
     meta = {
         "cpu": cpu_model(),
         "isa": brdf_rs.isa(),
         "brdf_rs": brdf_rs.__version__,
         "numpy": np.__version__,
+        "numba": numba_models.version(),
+        "numba_threads": numba_models.num_threads(),
         "python": platform.python_version(),
         "n": args.n,
         "repeat": args.repeat,
@@ -191,17 +245,25 @@ def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
         f"best of {meta['repeat']} calls; NumPy {meta['numpy']}; {meta['date']}.",
         "Million evaluations per second, NumPy arrays in and a new array out. "
         "'normalized' = `normalized=True` (inputs promised unit length); "
-        f"'out=' = {max(threads)} threads writing into a preallocated array.",
+        f"'out=' = {max(threads)} threads writing into a preallocated array; "
+        + (
+            f"'Numba' = Numba {meta['numba']}'s parallel kernel of the same formula "
+            f"({meta['numba_threads']} threads, a fresh array out; torrance_sparrow and ggx, "
+            "float64), timed interleaved with the brdf-rs columns."
+            if meta.get("numba")
+            else "'Numba': not installed."
+        ),
         "",
         "| model | dtype | NumPy |"
         + "".join(f" {t} thread{'s' if t > 1 else ''} | normalized |" for t in threads)
-        + " out= | vs NumPy |",
-        "|---|---|---:|" + "---:|---:|" * len(threads) + "---:|---:|",
+        + " out= | Numba | vs NumPy |",
+        "|---|---|---:|" + "---:|---:|" * len(threads) + "---:|---:|---:|",
     ]
     for r in rows:
         cells = "".join(f" {r[f'{t}t']:.1f} | {r[f'{t}t_normalized']:.1f} |" for t in threads)
         lines.append(
             f"| {r['model']} | {r['dtype']} | {_cell(r['numpy'])} |{cells} {r['out']:.1f} |"
+            f" {_cell(r.get('numba'))} |"
             f" {_cell(r['speedup'], digits=0)}{'x' if r['speedup'] else ''} |"
         )
     for rerun in meta.get("reruns", []):
@@ -228,9 +290,11 @@ def write_plot(path: Path, meta: dict, rows: list, threads: list) -> None:
         sub = {r["model"]: r for r in rows if r["dtype"] == dtype}
         y = np.arange(len(models))
         series = [("numpy", "NumPy")] + [(f"{t}t", f"brdf-rs, {t} thread(s)") for t in threads]
+        if any(sub[m].get("numba") for m in models):
+            series.append(("numba", "Numba, parallel"))
         h = 0.8 / len(series)
         for k, (key, label) in enumerate(series):
-            ax.barh(y + k * h, [sub[m][key] or 0.0 for m in models], height=h, label=label)
+            ax.barh(y + k * h, [sub[m].get(key) or 0.0 for m in models], height=h, label=label)
         ax.set_xscale("log")
         ax.set_yticks(y + 0.4 - h / 2, models)
         ax.set_xlabel("million evaluations / s (log)")

@@ -59,6 +59,28 @@ def eval(
         An array of shape ``broadcast(...) + (3,)`` (RGB): float32 if every direction
         input is float32 (computed by float32 kernels), float64 otherwise.
     """
+    if isinstance(normalization, str) and normalization == "approximate":
+        # The common call (float arrays or 3-lists, numbers and colours) read in Rust;
+        # None where an argument needs the conversions below (same results, same errors).
+        result = _core.eval_fast(model, wi, wo, n, tangent, params, normalized, check, out)
+        if result is not None:
+            return result
+    return _eval_general(model, wi, wo, n, tangent, normalized, check, out, normalization, params)
+
+
+def _eval_general(
+    model: str,
+    wi: Any,
+    wo: Any,
+    n: Any,
+    tangent: Any,
+    normalized: bool,
+    check: bool,
+    out: np.ndarray | None,
+    normalization: str,
+    params: dict[str, Any],
+) -> np.ndarray:
+    """:func:`eval` for any arguments: converted here, then evaluated in Rust."""
     _arrays.model_name(model)
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     _check_out(out, dtype)
@@ -85,12 +107,16 @@ def _check_out(out: object, dtype: type[np.floating]) -> None:
 class Model:
     """A model with fixed parameters, checked once, for many evaluations.
 
+    The parameters are also laid out for the kernels once (unless one varies over the
+    batch), so a call with a few directions costs little more than the Python call
+    itself: the way to evaluate in a loop (per object, per light, in an optimizer).
+
     >>> m = Model("torrance_sparrow", ks=0.8, p=50, eta=1.5)
     >>> m.eval([0, 0, 1], [0, 0, 1]).shape
     (3,)
     """
 
-    __slots__ = ("_given", "_params", "name", "normalization")
+    __slots__ = ("_fast", "_given", "_params", "name", "normalization")
 
     def __init__(self, name: str, *, normalization: str = "approximate", **params: Any) -> None:
         """``normalization`` as in :func:`brdf_rs.eval` (``"exact"`` rescales ``ks`` once,
@@ -106,6 +132,13 @@ class Model:
         self.normalization = normalization
         self._given = given
         self._params = {np.float64: p64}
+        # The parameters laid out for the kernels once, both dtypes (None when one has
+        # batch axes: those broadcast with the directions in the general path).
+        self._fast = _core.prepare_model(name, p64)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Rebuilt from what it was made of (the prepared core object does not pickle).
+        return (_restore, (self.name, self.normalization, self._given))
 
     @property
     def params(self) -> dict[str, np.ndarray]:
@@ -133,6 +166,25 @@ class Model:
         out: np.ndarray | None = None,
     ) -> np.ndarray:
         """Evaluates the model; arguments as :func:`brdf_rs.eval`."""
+        if self._fast is not None:
+            # The common call read in Rust with the parameters laid out at __init__; None
+            # where an argument needs the conversions below (same results, same errors).
+            result = self._fast.eval(wi, wo, n, tangent, normalized, check, out)
+            if result is not None:
+                return result
+        return self._eval_general(wi, wo, n, tangent, normalized, check, out)
+
+    def _eval_general(
+        self,
+        wi: Any,
+        wo: Any,
+        n: Any,
+        tangent: Any,
+        normalized: bool,
+        check: bool,
+        out: np.ndarray | None,
+    ) -> np.ndarray:
+        """:meth:`eval` for any arguments: converted here, then evaluated in Rust."""
         dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
         _check_out(out, dtype)
         kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
@@ -159,6 +211,11 @@ class Model:
         if self.normalization != "approximate":
             args += f", normalization={self.normalization!r}"
         return f"Model({self.name!r}{args})"
+
+
+def _restore(name: str, normalization: str, params: dict[str, np.ndarray]) -> Model:
+    """Unpickles a :class:`Model`."""
+    return Model(name, normalization=normalization, **params)
 
 
 def models() -> dict[str, dict[str, Any]]:

@@ -7,23 +7,26 @@ names, parameters and defaults must match the PyO3 signatures. Arrays are read i
 """
 
 from collections.abc import Callable
-from typing import Any, TypeAlias
+from typing import Any, TypeAlias, final
 
 import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "PreparedModel",
     "__version__",
     "albedo",
     "check_params",
     "encode_srgb8",
     "eval_f32",
     "eval_f64",
+    "eval_fast",
     "isa",
     "max_num_threads",
     "models",
     "num_threads",
     "pdf",
+    "prepare_model",
     "render_scene",
     "sample",
     "scene_counters",
@@ -61,6 +64,32 @@ def eval_f32(
     check_params: bool,
     out: _F32 | None = None,
 ) -> _F32: ...
+def eval_fast(
+    model: object,
+    wi: object,
+    wo: object,
+    n: object,
+    tangent: object,
+    params: dict[str, Any],
+    normalized: object,
+    check: object,
+    out: object,
+) -> _F64 | _F32 | None: ...
+def prepare_model(model: str, params: dict[str, _F64]) -> PreparedModel | None: ...
+
+@final
+class PreparedModel:
+    def eval(
+        self,
+        wi: object,
+        wo: object,
+        n: object,
+        tangent: object,
+        normalized: object,
+        check: object,
+        out: object,
+    ) -> _F64 | _F32 | None: ...
+
 def check_params(model: str, params: dict[str, _F64]) -> None: ...
 def models() -> list[dict[str, Any]]: ...
 def albedo(

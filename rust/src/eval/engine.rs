@@ -1,7 +1,7 @@
 //! The hot loop: blocks of rows in structure-of-arrays scratch, one model per loop,
 //! compiled once per instruction set and chosen at run time.
 //!
-//! Each task takes `TASK_BLOCKS` blocks of `BLOCK` rows. Per block it (1) copies the
+//! Each task takes up to `TASK_BLOCKS` blocks of `BLOCK` rows. Per block it (1) copies the
 //! direction rows into scratch, deinterleaved, (2) normalizes them and flags unusable
 //! rows, (3) copies varying parameters into scratch, (4) runs the model over the block
 //! and writes RGB rows into the output. Steps 2 and 4 are straight-line loops over
@@ -21,8 +21,12 @@ use crate::parallel;
 
 /// Rows per block (the scratch stays inside L1).
 pub const BLOCK: usize = 128;
-/// Blocks per parallel task.
+/// Most blocks per parallel task.
 pub const TASK_BLOCKS: usize = 16;
+/// A block of at most this many rows (a small batch, or the last block of one) is
+/// computed over this many lanes, not over the whole block: a call with a few rows does
+/// not pay for `BLOCK`.
+pub const SHORT_BLOCK: usize = 16;
 /// Outputs at least this large are written with non-temporal stores: far beyond the
 /// per-core caches (2 MiB of L2 here), caching them would only evict the inputs still to
 /// be read, and each line stored would first be read from memory. Measured, `out=`,
@@ -224,23 +228,42 @@ fn load_param<F: Real>(
     }
 }
 
+/// Runs `body` for the lanes `j` of a block: `0..SHORT_BLOCK` when `lanes` is
+/// [`SHORT_BLOCK`], else `0..BLOCK`. Either loop has a fixed trip count, which the
+/// compiler vectorizes whole (a loop to a run-time bound leaves its last lanes to scalar
+/// code, as slow for a few rows as a whole block in vectors).
+macro_rules! for_lanes {
+    ($lanes:expr, |$j:ident| $body:block) => {
+        if $lanes == SHORT_BLOCK {
+            for $j in 0..SHORT_BLOCK $body
+        } else {
+            for $j in 0..BLOCK $body
+        }
+    };
+}
+
 /// Normalizes one scratch vector in place (unless `normalized`), and clears `ok` for
 /// rows that are NaN, infinite or zero-length.
 #[inline(always)]
-fn normalize_block<F: Real>(v: &mut [[F; BLOCK]; 3], ok: &mut [bool; BLOCK], normalized: bool) {
+fn normalize_block<F: Real>(
+    v: &mut [[F; BLOCK]; 3],
+    ok: &mut [bool; BLOCK],
+    normalized: bool,
+    lanes: usize,
+) {
     let [x, y, z] = v;
     if normalized {
-        for j in 0..BLOCK {
+        for_lanes!(lanes, |j| {
             ok[j] &= F::usable(F::V3::new(x[j], y[j], z[j]));
-        }
+        });
     } else {
-        for j in 0..BLOCK {
+        for_lanes!(lanes, |j| {
             let (u, usable) = F::normalize(F::V3::new(x[j], y[j], z[j]));
             x[j] = u.x();
             y[j] = u.y();
             z[j] = u.z();
             ok[j] &= usable;
-        }
+        });
     }
 }
 
@@ -305,6 +328,12 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
     for block_start in (0..rows).step_by(BLOCK) {
         let len = BLOCK.min(rows - block_start);
         let row0 = first_row + block_start;
+        // The lanes computed (see `for_lanes`).
+        let lanes = if len <= SHORT_BLOCK {
+            SHORT_BLOCK
+        } else {
+            BLOCK
+        };
         scratch.ok = [constant_ok; BLOCK];
         // Ask for the next block's input now: it arrives while this block computes.
         let next = row0 + len;
@@ -326,15 +355,16 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                 &mut scratch.vectors[i],
                 &mut scratch.ok,
                 plan.options.normalized,
+                lanes,
             );
         }
         if check_tangent {
             let [_, _, n, t] = &scratch.vectors;
-            for j in 0..BLOCK {
+            for_lanes!(lanes, |j| {
                 let nj = F::V3::new(n[0][j], n[1][j], n[2][j]);
                 let tj = F::V3::new(t[0][j], t[1][j], t[2][j]);
                 scratch.ok[j] &= !tangent_parallel::<F>(nj, tj);
-            }
+            });
         }
         if vary {
             for p in &plan.varying {
@@ -346,9 +376,9 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
         let [r, g, b] = &mut scratch.rgb;
         let mut any_tiny = false;
         let mut bad_in_block = false;
-        // The model over the whole block (lanes past `len` compute on stale, harmless
+        // The model over the block's lanes (lanes past `len` compute on stale, harmless
         // scratch and are never written out), into structure-of-arrays RGB.
-        for j in 0..BLOCK {
+        for_lanes!(lanes, |j| {
             let d = Directions::<F> {
                 wi: F::V3::new(wi[0][j], wi[1][j], wi[2][j]),
                 wo: F::V3::new(wo[0][j], wo[1][j], wo[2][j]),
@@ -378,7 +408,7 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
             r[j] = if ok { rgb[0] } else { F::NAN };
             g[j] = if ok { rgb[1] } else { F::NAN };
             b[j] = if ok { rgb[2] } else { F::NAN };
-        }
+        });
         if wide && any_tiny {
             wide_cosine_rows::<F, K>(plan, &mut scratch, row0, len, &uniform, vary);
         }
@@ -559,8 +589,8 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
     }
 }
 
-/// Rows between two calls of the `poll` of [`run_polled`] (a multiple of the task size, so
-/// that tasks, and with them every row's instructions, are those of one undivided run).
+/// Rows between two calls of the `poll` of [`run_polled`] (a multiple of the block size,
+/// so that blocks, and with them every row's instructions, are those of one undivided run).
 pub const POLL_ROWS: usize = 128 * TASK_BLOCKS * BLOCK;
 
 /// Runs the plan into `out` (C order, `rows × 3`), in parallel for large batches.
@@ -595,21 +625,30 @@ pub fn run_polled<F: Real>(
         _float: PhantomData,
     });
     let task_rows = TASK_BLOCKS * BLOCK;
-    let serial = plan.rows <= 2 * task_rows || parallel::num_threads() == 1;
+    let threads = parallel::num_threads();
+    let serial = plan.rows <= 2 * task_rows || threads == 1;
     let mut any_bad = false;
     for (k, part) in out.chunks_mut(3 * POLL_ROWS).enumerate() {
         if k > 0 && !poll() {
             return None;
         }
         let first = k * POLL_ROWS;
+        // Tasks of at most `task_rows` rows, as many as a multiple of the thread count, so
+        // that the threads share the rows evenly (10,000 rows in tasks of 2048 made 5 tasks:
+        // 3 for one thread, 2 for the other); each a whole number of blocks, so that every
+        // row is computed in the same block, by the same instructions, whatever the split.
+        let tasks = (part.len() / 3)
+            .div_ceil(task_rows)
+            .next_multiple_of(threads);
+        let per = (part.len() / 3).div_ceil(tasks).next_multiple_of(BLOCK);
         // SAFETY: `range` was compiled for `isa`, which `isa()` checked this CPU supports.
         any_bad |= if serial {
             unsafe { range(plan, first, part) }
         } else {
             parallel::install(|| {
-                part.par_chunks_mut(3 * task_rows)
+                part.par_chunks_mut(3 * per)
                     .enumerate()
-                    .map(|(i, chunk)| unsafe { range(plan, first + i * task_rows, chunk) })
+                    .map(|(i, chunk)| unsafe { range(plan, first + i * per, chunk) })
                     .reduce(|| false, |a, b| a || b)
             })
         };

@@ -108,30 +108,8 @@ pub fn plan<'a, F: Real>(
 ) -> Result<Plan<'a, F>, BrdfError> {
     let spec: &'static ModelSpec = kind.spec();
     let matched = params::match_names(spec, inputs.params.iter().map(|(name, _)| *name))?;
-    match (spec.tangent, &inputs.tangent) {
-        (TangentUse::Required, None) => {
-            return Err(BrdfError::MissingParameter {
-                model: spec.name,
-                name: "tangent",
-            });
-        }
-        (TangentUse::None, Some(_)) => {
-            return Err(BrdfError::UnknownParameter {
-                model: spec.name,
-                name: "tangent".to_string(),
-                suggestion: None,
-                known: spec.param_names(),
-            });
-        }
-        _ => {}
-    }
     let originals = [Some(inputs.wi), Some(inputs.wo), inputs.n, inputs.tangent];
-    let mut named_shapes: Vec<(&str, Vec<usize>)> = Vec::new();
-    for (name, view) in VECTOR_NAMES.iter().zip(&originals) {
-        if let Some(v) = view {
-            named_shapes.push((name, check_vector_shape(name, v)?));
-        }
-    }
+    let mut named_shapes = checked_vectors(spec, &originals)?;
     let given: Vec<GivenParam<'a, F>> = matched
         .into_iter()
         .zip(inputs.params)
@@ -142,18 +120,6 @@ pub fn plan<'a, F: Real>(
         named_shapes.push((p.spec.name, p.own_batch.clone()));
     }
     let batch = broadcast_shapes(&named_shapes)?;
-    let rows: usize = batch.iter().product();
-
-    let default_rows = [
-        Rows::Constant([F::ZERO; 3]),
-        Rows::Constant([F::ZERO; 3]),
-        Rows::Constant([F::ZERO, F::ZERO, F::ONE]),
-        Rows::Constant([F::ONE, F::ZERO, F::ZERO]),
-    ];
-    let vectors = std::array::from_fn(|i| match &originals[i] {
-        Some(view) => Rows::new(view.clone(), true, 3, &batch),
-        None => default_rows[i].clone(),
-    });
 
     let mut uniform = resolved.uniform;
     let mut varying = Vec::new();
@@ -175,16 +141,127 @@ pub fn plan<'a, F: Real>(
             }),
         }
     }
-    Ok(Plan {
+    Ok(Plan::with_vectors(
+        kind, batch, originals, uniform, varying, options,
+    ))
+}
+
+/// [`plan`] for parameters resolved beforehand by [`uniform_params`] (`brdf_rs.Model`):
+/// only the direction arrays are checked. An error from resolving the parameters (a
+/// float32 rounding of a value beyond float32's range) is returned where [`plan`] would
+/// have found it: after the directions' shapes.
+pub fn plan_uniform<'a, F: Real>(
+    kind: ModelKind,
+    uniform: Result<&[F], &BrdfError>,
+    vectors: [Option<ArrayViewD<'a, F>>; 4],
+    options: EvalOptions,
+) -> Result<Plan<'a, F>, BrdfError> {
+    let named_shapes = checked_vectors(kind.spec(), &vectors)?;
+    let uniform = uniform.map_err(BrdfError::clone)?.to_vec();
+    let batch = broadcast_shapes(&named_shapes)?;
+    Ok(Plan::with_vectors(
         kind,
         batch,
-        rows,
         vectors,
-        originals,
         uniform,
-        varying,
+        Vec::new(),
         options,
-    })
+    ))
+}
+
+/// Checks the parameters of a model and returns their slots, if every parameter is one
+/// value with no batch axes (a number, an RGB triple, a list): `Ok(None)` when one has
+/// batch axes (its shape takes part in broadcasting).
+pub fn uniform_params<F: Real>(
+    kind: ModelKind,
+    params: Vec<(&str, ArrayViewD<'_, F>)>,
+) -> Result<Option<Vec<F>>, BrdfError> {
+    let spec = kind.spec();
+    let matched = params::match_names(spec, params.iter().map(|(name, _)| *name))?;
+    let given = matched
+        .into_iter()
+        .zip(params)
+        .map(|(spec, (_, view))| GivenParam { spec, view })
+        .collect();
+    let resolved = params::resolve(spec, given, true)?;
+    let mut uniform = resolved.uniform;
+    for p in resolved.batch {
+        if !p.own_batch.is_empty() {
+            return Ok(None);
+        }
+        let comps = p.spec.kind.slots();
+        let rows = Rows::new(p.view, p.has_component_axis, comps, &[]);
+        let row = rows.constant().expect("no batch axes: one row");
+        uniform[p.spec.slot..p.spec.slot + comps].copy_from_slice(&row[..comps]);
+    }
+    Ok(Some(uniform))
+}
+
+/// Checks the tangent against the model's use of one and each direction's shape
+/// `(..., 3)`; returns the batch shape of each given direction, named.
+fn checked_vectors<F>(
+    spec: &'static ModelSpec,
+    vectors: &[Option<ArrayViewD<'_, F>>; 4],
+) -> Result<Vec<(&'static str, Vec<usize>)>, BrdfError> {
+    match (spec.tangent, &vectors[3]) {
+        (TangentUse::Required, None) => {
+            return Err(BrdfError::MissingParameter {
+                model: spec.name,
+                name: "tangent",
+            });
+        }
+        (TangentUse::None, Some(_)) => {
+            return Err(BrdfError::UnknownParameter {
+                model: spec.name,
+                name: "tangent".to_string(),
+                suggestion: None,
+                known: spec.param_names(),
+            });
+        }
+        _ => {}
+    }
+    let mut named_shapes: Vec<(&'static str, Vec<usize>)> = Vec::with_capacity(4);
+    for (name, view) in VECTOR_NAMES.iter().zip(vectors) {
+        if let Some(v) = view {
+            named_shapes.push((name, check_vector_shape(name, v)?));
+        }
+    }
+    Ok(named_shapes)
+}
+
+impl<'a, F: Real> Plan<'a, F> {
+    /// Assembles a plan from checked parts: the direction arrays are classified against
+    /// the batch shape here.
+    fn with_vectors(
+        kind: ModelKind,
+        batch: Vec<usize>,
+        originals: [Option<ArrayViewD<'a, F>>; 4],
+        uniform: Vec<F>,
+        varying: Vec<VaryingParam<'a, F>>,
+        options: EvalOptions,
+    ) -> Plan<'a, F> {
+        let rows: usize = batch.iter().product();
+        let default_rows = [
+            Rows::Constant([F::ZERO; 3]),
+            Rows::Constant([F::ZERO; 3]),
+            Rows::Constant([F::ZERO, F::ZERO, F::ONE]),
+            Rows::Constant([F::ONE, F::ZERO, F::ZERO]),
+        ];
+        let vectors = std::array::from_fn(|i| match &originals[i] {
+            Some(view) => Rows::new(view.clone(), true, 3, &batch),
+            None => default_rows[i].clone(),
+        });
+        Plan {
+            kind,
+            batch,
+            rows,
+            vectors,
+            originals,
+            uniform,
+            varying,
+            options,
+        }
+    }
 }
 
 impl<F: Real> Plan<'_, F> {

@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::error::{BrdfError, ErrorClass, try_filled_vec};
-use crate::eval::{self, EvalInputs, EvalOptions};
+use crate::eval::{self, EvalInputs, EvalOptions, Plan};
 use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
@@ -22,6 +22,7 @@ use crate::models::{ModelKind, ParamKind, TangentUse};
 use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
 
+mod fast;
 mod scene;
 
 impl From<BrdfError> for PyErr {
@@ -84,7 +85,7 @@ impl SignalPoll {
 }
 
 /// Extracts the `{name: array}` parameter dict as read-only arrays.
-fn param_arrays<'py, F: Real + Element>(
+pub(crate) fn param_arrays<'py, F: Real + Element>(
     params: &Bound<'py, PyDict>,
 ) -> PyResult<Vec<(String, Arr<'py, F>)>> {
     params
@@ -124,16 +125,24 @@ fn eval_impl<'py, F: Real + Element>(
             .collect(),
     };
     let plan = eval::plan(kind, inputs, options)?;
-    let shape = plan.output_shape();
+    run_plan(py, &plan, out)
+}
+
+/// Batches of at least this many rows are evaluated with the GIL released (other Python
+/// threads run meanwhile, and Ctrl-C is polled); a smaller one keeps it: releasing and
+/// taking it back costs more than such a batch takes.
+pub const DETACH_ROWS: usize = 1 << 12;
+
+/// Runs `plan` into `out`, or into a new array of its output shape.
+pub(crate) fn run_plan<'py, F: Real + Element>(
+    py: Python<'py>,
+    plan: &Plan<'_, F>,
+    out: Option<Bound<'py, PyArrayDyn<F>>>,
+) -> PyResult<Bound<'py, PyArrayDyn<F>>> {
     let out = match out {
         Some(out) => out,
-        // NumPy allocates (and raises MemoryError when it cannot): `PyArrayDyn::new` would
-        // panic on the null pointer instead. Every element is written by `execute`.
-        None => py
-            .import("numpy")?
-            .call_method1("empty", (shape.clone(), numpy::dtype::<F>(py)))?
-            .cast_into::<PyArrayDyn<F>>()
-            .map_err(PyErr::from)?,
+        // Every element is written by `execute`.
+        None => empty::<F>(py, &plan.output_shape())?,
     };
     {
         let mut guard = out.try_readwrite().map_err(|e| {
@@ -142,11 +151,47 @@ fn eval_impl<'py, F: Real + Element>(
             ))
         })?;
         let view = guard.as_array_mut();
-        let mut signals = SignalPoll::new();
-        let result = py.detach(|| plan.execute_polled(view, &mut || signals.poll()));
-        signals.finish(result)?;
+        if plan.rows < DETACH_ROWS {
+            plan.execute(view)?;
+        } else {
+            let mut signals = SignalPoll::new();
+            let result = py.detach(|| plan.execute_polled(view, &mut || signals.poll()));
+            signals.finish(result)?;
+        }
     }
     Ok(out)
+}
+
+/// A new, uninitialized C-ordered array, as `numpy.empty` makes it: NumPy allocates and
+/// raises `MemoryError` (or `ValueError` for a size beyond its index type) when it cannot,
+/// where `PyArrayDyn::new` would panic on the null pointer.
+fn empty<'py, F: Element>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'py, PyArrayDyn<F>>> {
+    use numpy::PyArrayDescrMethods;
+    use numpy::npyffi::{NpyTypes, PY_ARRAY_API, get_type_object, npy_intp};
+    let mut dims = shape
+        .iter()
+        .map(|&d| npy_intp::try_from(d))
+        .collect::<Result<Vec<npy_intp>, _>>()
+        .map_err(|_| PyValueError::new_err("array is too big"))?;
+    let ndim = std::os::raw::c_int::try_from(dims.len())
+        .map_err(|_| PyValueError::new_err("too many dimensions"))?;
+    // SAFETY: the arguments are those `PyArray::new` passes (array type, a new reference
+    // to the dtype, which NumPy steals, no strides, data or base: NumPy allocates), and a
+    // null result, NumPy's error set, becomes that error.
+    unsafe {
+        let ptr = PY_ARRAY_API.PyArray_NewFromDescr(
+            py,
+            get_type_object(py, NpyTypes::PyArray_Type),
+            F::get_dtype(py).into_dtype_ptr(),
+            ndim,
+            dims.as_mut_ptr(),
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            0,
+            std::ptr::null_mut(),
+        );
+        Ok(Bound::from_owned_ptr_or_err(py, ptr)?.cast_into_unchecked())
+    }
 }
 
 /// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
@@ -523,6 +568,9 @@ mod brdf_rs_ext {
         albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads, pdf,
         sample, set_num_threads,
     };
+
+    #[pymodule_export]
+    use super::fast::{PreparedModel, eval_fast, prepare_model};
 
     #[pymodule_export]
     use super::scene::{
