@@ -15,19 +15,31 @@ For each case (model, mu, parameters) the script
    Torrance-Sparrow's G = min(1, ...), are found by refinement). It runs at two
    resolutions (n = 10 nodes, tolerance 1e-11; n = 16, 1e-13): the difference is printed
    and stored as ``cubature_diff``, and must be far below the standard errors tested.
+   At normal incidence Torrance-Sparrow and Blinn-Phong with Fresnel have a 1-D form,
+   integrated in 40-digit arithmetic (:func:`normal_incidence_albedo`): that is the
+   reference there, and ``cubature_diff`` is the cubature's distance from it.
 2. runs ``brdf_rs.albedo`` over N cells with the same mu and parameters (``cell_ids`` =
    0..N−1: N independent estimates) for each sequence (``sobol``, ``random``) and budget
-   (``samples`` = 256 and 4096 fixed; ``tol`` = 1e-4 adaptive with a first round of 256
-   samples, capped at ``--max-samples``), and reports for channel 0 the distribution of
-   z: P(|z| > 3) (0.27% for an honest Gaussian error bar), P(|z| > 2) (4.55%), mean z (0 ±
-   1/sqrt(N) if unbiased), median |z| (0.674 for a unit Gaussian), the fraction of cells
-   whose stderr is 0, and the median stderr.
+   (``samples`` = 256 and 4096 fixed, ``--samples``; ``tol`` = 1e-4 adaptive, ``--tol``,
+   with a first round of 256 samples, ``--first``, capped at ``--max-samples``), and
+   reports for channel 0 the distribution of z: P(|z| > 3) (0.27% for an honest Gaussian
+   error bar), P(|z| > 2) (4.55%), mean z (0 ± 1/sqrt(N) if unbiased), median |z| (0.674
+   for a unit Gaussian), the fraction of cells whose stderr is 0, and the median stderr.
 
 A cell with stderr 0 counts as |z| = inf unless its value equals the reference exactly.
 
     python scripts/stderr_calibration.py                 # all cases, 1000 cells
     python scripts/stderr_calibration.py --quick         # 200 cells, three cases
     python scripts/stderr_calibration.py --cells 4000 --out calibration
+    python scripts/stderr_calibration.py --cases torrance_sparrow "ggx mu=1 alpha=0.05"
+
+The deep run (benches/results/stderr_calibration_deep.md): 2^20 samples per cell, and
+tol = 1e-10 from a first round of 2^20, where the rare region G < 1 of Torrance-Sparrow
+at normal incidence (probability 4e-7 per point) decides the error bar:
+
+    python scripts/stderr_calibration.py --cases "torrance_sparrow mu=1 p=100" \
+        --cells 256 --samples 1048576 --tol 1e-10 --first 1048576 \
+        --max-samples 16777216 --out benches/results/stderr_calibration_deep
 
 Writes ``<out>.json`` and ``<out>.md`` (default benches/results/stderr_calibration).
 """
@@ -56,6 +68,8 @@ HALF_PI = 0.5 * math.pi
 TS = {"kd": 0.0, "ks": 1.0, "eta": 1.5}
 GGX = {"kd": 0.0, "ks": 1.0}
 ON = {"kd": 1.0, "sigma": 0.5}
+#: blinn_phong_fresnel with F0 = 0: the lobe is Schlick's excess alone.
+BPF = {"kd": 0.0, "ks": 0.0}
 
 
 @dataclass(frozen=True)
@@ -66,7 +80,11 @@ class Case:
 
     @property
     def label(self) -> str:
-        shown = {k: v for k, v in self.params.items() if k in ("p", "alpha", "sigma")}
+        shown = {
+            k: v
+            for k, v in self.params.items()
+            if k in ("p", "alpha", "sigma") or (k == "ks" and v != 1.0)
+        }
         extra = " ".join(f"{k}={v:g}" for k, v in shown.items())
         return f"{self.model} mu={self.mu:g} {extra}".strip()
 
@@ -75,6 +93,10 @@ CASES = (
     Case("torrance_sparrow", 1.0, {**TS, "p": 100.0}),
     Case("torrance_sparrow", 0.5, {**TS, "p": 100.0}),
     Case("torrance_sparrow", 0.7, {**TS, "p": 10.0}),
+    Case("torrance_sparrow", 0.9, {**TS, "p": 1000.0}),
+    Case("torrance_sparrow", 1.0, {**TS, "p": 20.0}),
+    Case("blinn_phong_fresnel", 1.0, {**BPF, "p": 100.0}),
+    Case("blinn_phong_fresnel", 0.5, {**BPF, "p": 100.0}),
     Case("ggx", 1.0, {**GGX, "alpha": 0.05}),
     Case("ggx", 0.2, {**GGX, "alpha": 0.05}),
     Case("ggx", 0.7, {**GGX, "alpha": 0.3}),
@@ -83,7 +105,24 @@ CASES = (
     Case("oren_nayar", 1.0, ON),
     Case("oren_nayar", 0.3, ON),
 )
-QUICK_CASES = (CASES[0], CASES[5], CASES[9])
+
+
+def select(names: Sequence[str]) -> tuple[Case, ...]:
+    """The cases named: a model name selects all its cases, anything else must be a case's
+    label (``"torrance_sparrow mu=1 p=100"``). Raises ``ValueError`` naming the unknown."""
+    chosen = []
+    for name in names:
+        found = [c for c in CASES if name in (c.model, c.label)]
+        if not found:
+            labels = ", ".join(repr(c.label) for c in CASES)
+            raise ValueError(f"unknown case {name!r}; the cases: {labels}")
+        chosen += [c for c in found if c not in chosen]
+    return tuple(chosen)
+
+
+QUICK_CASES = select(
+    ["torrance_sparrow mu=1 p=100", "ggx mu=0.7 alpha=0.3", "oren_nayar mu=0.3 sigma=0.5"]
+)
 
 #: Sobol scrambles per cell (the library's default): z then follows t with 15 d.o.f.
 REPLICATES = 16
@@ -205,10 +244,58 @@ def reference_albedo(
     return float(2.0 * outer[0])
 
 
+def normal_incidence_albedo(model: str, params: dict[str, float]) -> float | None:
+    """R(1) of ``torrance_sparrow`` or ``blinn_phong_fresnel`` (channel 0) as a 1-D integral
+    in 40-digit arithmetic, or None for other models.
+
+    At normal incidence the half vector is at θo/2 and ``wi·h = cos θh = c``; with the
+    Blinn density of c, ``(p+2)·c^(p+1) dc``, the albedo is ``∫ w(c)·(p+2)·c^(p+1) dc``
+    with the weight w = F·G, ``G = min(1, 2(2c² − 1))`` (Torrance-Sparrow) or
+    ``w = (p+8)/(p+2)·F·(2c² − 1)`` (Blinn-Phong with Fresnel), for ``c > cos 45°`` (wo
+    above the surface), plus ``kd``. ``F`` is Schlick's, with R0 (or F0) rounded to a
+    double as the kernel rounds it. Accurate far below the standard errors of cells whose
+    weights are nearly constant, where the cubature's 1e-15 is not enough.
+    """
+    import mpmath
+
+    if model not in ("torrance_sparrow", "blinn_phong_fresnel"):
+        return None
+    p = params["p"]
+    if model == "torrance_sparrow":
+        r = (params["eta"] - 1.0) / (params["eta"] + 1.0)
+        f0, ks = r * r, params["ks"]
+    else:
+        f0, ks = params["ks"], 1.0
+    with mpmath.workdps(40):
+        mp = mpmath.mpf
+
+        def weight(c: Any) -> Any:
+            fresnel = mp(f0) + (1 - mp(f0)) * (1 - c) ** 5
+            mu_o = 2 * c * c - 1
+            if model == "torrance_sparrow":
+                w = fresnel * min(mp(1), 2 * mu_o)
+            else:
+                w = (mp(p) + 8) / (mp(p) + 2) * fresnel * mu_o
+            return w * (mp(p) + 2) * c ** (mp(p) + 1)
+
+        edges = [mpmath.cos(mpmath.pi / 4), mpmath.cos(mpmath.pi / 6), mp(1)]
+        # Panels graded towards c = 1, where a sharp lobe lives.
+        width = min(mp(1) / (mp(p) + 2), mp(1) / 64)
+        edges += [1 - width * 2**k for k in range(12) if 1 - width * 2**k > edges[0]]
+        edges = sorted(set(edges))
+        value = ks * mpmath.quad(weight, edges) + params["kd"]
+        return float(value)
+
+
 def reference_with_check(case: Case) -> tuple[float, float, float]:
-    """The fine reference, |fine − coarse| (its convergence check) and the seconds taken."""
+    """The reference, a check of it, and the seconds taken: the fine cubature and
+    |fine − coarse| (its convergence check), or at normal incidence where
+    :func:`normal_incidence_albedo` applies, that value and |fine cubature − it|."""
     t = time.perf_counter()
     fine = reference_albedo(case.model, case.mu, case.params, *FINE)
+    exact = normal_incidence_albedo(case.model, case.params) if case.mu == 1.0 else None
+    if exact is not None:
+        return exact, abs(fine - exact), time.perf_counter() - t
     coarse = reference_albedo(case.model, case.mu, case.params, *COARSE)
     return fine, abs(fine - coarse), time.perf_counter() - t
 
@@ -337,7 +424,7 @@ def run(
     echo(HEADER)
     for case in cases:
         ref, diff, ref_seconds = reference_with_check(case)
-        echo(f"# {case.label}: ref = {ref:.15g}, cubature |fine − coarse| = {diff:.1e}")
+        echo(f"# {case.label}: ref = {ref:.15g}, cubature diff = {diff:.1e}")
         echo(f"#   ({ref_seconds:.1f} s)")
         for sequence in sequences:
             for budget in budgets:
@@ -387,10 +474,12 @@ def markdown(rows: list[dict[str, Any]], meta: dict[str, Any]) -> str:
         f"median |z| = {honest(REPLICATES - 1)['median_abs_z']:.3f}; for `random` "
         "(per-sample variance) about the normal, 0.0027, 0.0455, 0.674; mean z ≈ 0 "
         "(± 1/sqrt(cells)). Binomial noise on a fraction P over N cells: "
-        "sqrt(P(1−P)/N). `tol` rows: first round 256 samples, at most "
+        f"sqrt(P(1−P)/N). `tol` rows: first round {meta['first']} samples, at most "
         f"{meta['max_samples']} per cell; 'samples' is the mean per cell. Reference: "
         "iterated adaptive Gauss-Legendre cubature over (θo, φo) with `brdf_rs.eval`; "
-        "'cubature diff' is |fine − coarse| of its two resolutions. "
+        "'cubature diff' is |fine − coarse| of its two resolutions. At mu = 1 "
+        "(Torrance-Sparrow, Blinn-Phong with Fresnel) the reference is the albedo as a 1-D "
+        "integral in 40-digit arithmetic, and 'cubature diff' is |cubature − it|. "
         f"brdf-rs {meta['version']}, {meta['threads']} threads, "
         f"total {meta['seconds']:.0f} s.",
         "",
@@ -423,6 +512,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     parser.add_argument("--tol", type=float, default=1e-4, help="the adaptive budget")
     parser.add_argument(
+        "--first", type=int, default=256, help="first round of the adaptive budget (256)"
+    )
+    parser.add_argument(
+        "--cases",
+        nargs="+",
+        default=None,
+        help="model names or case labels ('torrance_sparrow mu=1 p=100'); default: all",
+    )
+    parser.add_argument(
         "--max-samples", type=int, default=1 << 16, help="cap per cell in tol mode (65536)"
     )
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="path without suffix")
@@ -433,17 +531,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     for n in args.samples:
         if n < 2:
             parser.error(f"--samples: expected integers >= 2, got {n}")
-    if args.max_samples < 256:
-        parser.error(f"--max-samples: expected at least 256, got {args.max_samples}")
+    if args.first < 2:
+        parser.error(f"--first: expected an integer >= 2, got {args.first}")
+    if args.max_samples < args.first:
+        parser.error(
+            f"--max-samples: expected at least --first ({args.first}), got {args.max_samples}"
+        )
     if not (args.tol > 0 and math.isfinite(args.tol)):
         parser.error(f"--tol: expected a positive number, got {args.tol}")
-    cases = QUICK_CASES if args.quick else CASES
-    budgets = (*(Budget(n) for n in args.samples), Budget(256, args.tol))
+    try:
+        cases = select(args.cases) if args.cases else QUICK_CASES if args.quick else CASES
+    except ValueError as e:
+        parser.error(f"--cases: {e}")
+    budgets = (*(Budget(n) for n in args.samples), Budget(args.first, args.tol))
     t = time.perf_counter()
     rows = run(cases, cells, budgets, seed=args.seed, max_samples=args.max_samples)
     seconds = time.perf_counter() - t
     meta = {
         "cells": cells,
+        "first": args.first,
         "seed": args.seed,
         "max_samples": args.max_samples,
         "replicates": REPLICATES,

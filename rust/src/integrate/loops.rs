@@ -178,6 +178,9 @@ fn directions(
         Warp::CosineHemisphere => both_folds!(Warp::CosineHemisphere, normal),
         Warp::PhongLobe { p } => both_folds!(Warp::PhongLobe { p }, mirror),
         Warp::BlinnHalf { p } => both_folds!(Warp::BlinnHalf { p }, half),
+        Warp::BlinnStratum { p, v_lo, width } => {
+            both_folds!(Warp::BlinnStratum { p, v_lo, width }, half)
+        }
         Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
         Warp::BeckmannHalf { alpha_x, alpha_y } => {
             both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
@@ -232,6 +235,9 @@ fn directions_averaged(
         Warp::CosineHemisphere => average_loop!(Warp::CosineHemisphere, normal),
         Warp::PhongLobe { p } => average_loop!(Warp::PhongLobe { p }, mirror),
         Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
+        Warp::BlinnStratum { p, v_lo, width } => {
+            average_loop!(Warp::BlinnStratum { p, v_lo, width }, half)
+        }
         Warp::GgxVisible { alpha } => average_loop!(Warp::GgxVisible { alpha }, half),
         Warp::BeckmannHalf { alpha_x, alpha_y } => {
             average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)

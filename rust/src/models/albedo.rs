@@ -56,6 +56,43 @@ pub enum Integral {
     /// BeckmannVisible`) with the closed-form weight `F·G2/G1(wi)`; `basis` serves the
     /// uniform and cosine samplers and the NDF comparison (`AlbedoOptions::beckmann_ndf`).
     BeckmannVisible { alpha: f64, f0: f64, basis: Slots },
+    /// One stratum of a lobe drawn with Blinn half vectors (`Importance::BlinnHalf
+    /// { p }`): `∫ f(wi, wo; basis)·mu_o dωo` over the half vectors with `cos θh` in
+    /// `[c_lo, c_hi]`, drawn from the Blinn density restricted to them, with an optional
+    /// control variate ([`crate::models::strata`]). The stratum with `whole` (the bulk,
+    /// `c_hi = 1`) stands for the whole lobe where strata do not apply (a uniform or
+    /// cosine sampler, or the cosine fallback); the others, which follow it in the list of
+    /// terms, are then dropped. Sobol points
+    /// draw the stratum with the exponent `p_sobol` in place of `p` (a flatter one for a
+    /// tail, see `strata`); the weights are `f·mu_o/pdf` of the density drawn from.
+    BlinnStratum {
+        basis: Slots,
+        p: f64,
+        p_sobol: f64,
+        c_lo: f64,
+        c_hi: f64,
+        whole: bool,
+        control: Option<Control>,
+    },
+}
+
+/// A control variate of a [`Integral::BlinnStratum`]: the integrator subtracts
+/// `beta·(C − mean)`, times the stratum's probability under the Blinn sampler, from each
+/// point's weight, where `C = (1 − wi·h)^5` of the point's half vector `h`, times
+/// `(wi·h)/cos θh` if `over_cos` and `mu_o = n·wo` if `mu_o`; `mean` is `E[C]` over the
+/// stratum under the lobe's Blinn density (where Sobol points draw the stratum with
+/// another exponent, `C` is weighted by the ratio of the densities).
+///
+/// Where the control makes the weights (nearly) constant, the estimate is as certain as
+/// the closed form and the weights' rounding: `rounding` bounds both (per unit `beta`),
+/// and the error bar is never below `beta·rounding` (scaled like the weights).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Control {
+    pub beta: f64,
+    pub mean: f64,
+    pub over_cos: bool,
+    pub mu_o: bool,
+    pub rounding: f64,
 }
 
 /// `colour · integral`, per channel.

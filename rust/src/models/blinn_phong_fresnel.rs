@@ -68,9 +68,24 @@ impl Kernel for BlinnPhongFresnel {
         above_both(mu_i, mu_o, rgb)
     }
 
+    /// As [`Kernel::sampling_terms`]; where the lobe is sharp and `wi` near the normal,
+    /// `I(F0 = 0)` (Schlick's excess alone) in two strata with a control variate
+    /// ([`super::strata`]), so that its error bar holds.
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        let mut terms = Self::sampling_terms(slots, mu)?;
+        let excess = basis(slots, &[(0, 0.0), (3, 0.0)]);
+        let colour = colour(slots, 3).map(|c| 1.0 - c);
+        if let Some(strata) = super::strata::blinn_phong_fresnel_terms(colour, excess, mu, slots[6])
+        {
+            terms.truncate(2);
+            terms.extend(strata);
+        }
+        Some(terms)
+    }
+
     /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`: F is affine in F0, so two scalar
     /// integrals (the lobe, and the lobe times Schlick's weight) give every RGB F0.
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = colour(slots, 3);
         let importance = Importance::BlinnHalf { p: slots[6] };
         Some(vec![

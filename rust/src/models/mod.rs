@@ -11,6 +11,7 @@
 pub mod albedo;
 pub mod lobes;
 pub mod spec;
+pub mod strata;
 pub mod tables;
 
 pub mod ashikhmin_shirley;
@@ -121,6 +122,13 @@ pub trait Kernel: 'static {
     /// are not integrated.
     fn albedo_terms(_slots: &[f64], _mu: f64) -> Option<Vec<albedo::Term>> {
         None
+    }
+
+    /// The decomposition `brdf_rs.sample` draws from: [`Kernel::albedo_terms`], except
+    /// for models whose albedo terms split a lobe into strata for the integrator
+    /// ([`strata`]); those return the whole lobes here (a sampler draws whole lobes).
+    fn sampling_terms(slots: &[f64], mu: f64) -> Option<Vec<albedo::Term>> {
+        Self::albedo_terms(slots, mu)
     }
 }
 

@@ -9,7 +9,7 @@
 //! cos_th/(2 cos_b mu_o))`: the same value, but finite at grazing angles where
 //! `4 mu_i mu_o` underflows (no 0·∞).
 
-use super::albedo::{Importance, Term, diffuse_and_lobe};
+use super::albedo::{Importance, Term, basis, colour, diffuse_and_lobe};
 use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
@@ -100,7 +100,24 @@ impl Kernel for TorranceSparrow {
         above_both(mu_i, mu_o, rgb)
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+    /// The diffuse term and the specular lobe; where the lobe is sharp and `wi` near the
+    /// normal, the lobe in two strata with a control variate for Schlick's excess
+    /// ([`super::strata`]), so that its error bar holds.
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        let mut terms = Self::sampling_terms(slots, mu)?;
+        let eta = slots[7];
+        let r = (eta - 1.0) / (eta + 1.0);
+        let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
+        if let Some(strata) =
+            super::strata::torrance_sparrow_terms(colour(slots, 3), lobe, mu, slots[6], r * r)
+        {
+            terms.truncate(1);
+            terms.extend(strata);
+        }
+        Some(terms)
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             1.0,

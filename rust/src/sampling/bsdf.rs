@@ -64,6 +64,10 @@ impl Mixture {
                 Integral::BeckmannVisible { alpha, .. } => {
                     (Warp::BeckmannVisible { alpha }, strength)
                 }
+                // A sampler draws whole lobes: the whole lobe for the stratum that stands
+                // for it, nothing for the others.
+                Integral::BlinnStratum { p, whole: true, .. } => (Warp::BlinnHalf { p }, strength),
+                Integral::BlinnStratum { whole: false, .. } => continue,
             };
             if !(weight > 0.0) {
                 continue;
@@ -307,7 +311,7 @@ pub mod batch {
                         y: n_v.0.cross(x),
                         z: n_v.0,
                     };
-                    let terms = K::albedo_terms(&slots, wi_v.dot(n_v.0)).unwrap_or_default();
+                    let terms = K::sampling_terms(&slots, wi_v.dot(n_v.0)).unwrap_or_default();
                     let mixture = Mixture::new(&terms, sampler);
                     let (wo, pdf, ok) = if sampling {
                         let u = [

@@ -194,6 +194,11 @@ pub enum Warp {
     /// A half vector from the Blinn NDF: pdf_h `= (p+2)/(2π)·cos^(p+1) θh`, i.e.
     /// `D(h)·cos θh` with `D = (p+2)/(2π)·cos^p θh`.
     BlinnHalf { p: f64 },
+    /// [`Warp::BlinnHalf`] restricted to one stratum, `v = cos^(p+2) θh` in
+    /// `(v_lo, v_lo + width]`: `v = v_lo + (1 − u0)·width` (with `v_lo = 0`, `width = 1`
+    /// bitwise `BlinnHalf`'s `v = 1 − u0`), pdf_h `= (p+2)/(2π)·cos^(p+1) θh / width`
+    /// inside the stratum.
+    BlinnStratum { p: f64, v_lo: f64, width: f64 },
     /// A half vector from GGX's distribution of visible normals for `wi` (Heitz 2018,
     /// "Sampling the GGX Distribution of Visible Normals"): pdf_h `= G1(wi)·(wi·h)·D(h)/mu_i`.
     GgxVisible { alpha: f64 },
@@ -216,6 +221,7 @@ impl Warp {
         matches!(
             self,
             Warp::BlinnHalf { .. }
+                | Warp::BlinnStratum { .. }
                 | Warp::GgxVisible { .. }
                 | Warp::BeckmannHalf { .. }
                 | Warp::BeckmannVisible { .. }
@@ -262,6 +268,13 @@ impl Warp {
                 let omc = one_minus_root(v, p + 2.0);
                 let cos = 1.0 - omc;
                 let pdf = (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos);
+                spherical(cos, omc, azimuth(a, full), pdf)
+            }
+            Warp::BlinnStratum { p, v_lo, width } => {
+                let v = v_lo + v * width;
+                let omc = one_minus_root(v, p + 2.0);
+                let cos = 1.0 - omc;
+                let pdf = (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos) / width;
                 spherical(cos, omc, azimuth(a, full), pdf)
             }
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
@@ -322,6 +335,12 @@ impl Warp {
             }
             Warp::BlinnHalf { p } => {
                 (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p + 1.0)
+            }
+            Warp::BlinnStratum { p, v_lo, width } => {
+                let v = pow_unit_f64(c, one_minus_cos, p + 2.0);
+                let inside = v > v_lo && v <= v_lo + width;
+                let density = (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p + 1.0);
+                if inside { density / width } else { 0.0 }
             }
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 let e = ((d.x / alpha_x).powi(2) + (d.y / alpha_y).powi(2)) / (c * c);
@@ -406,6 +425,11 @@ mod tests {
             Warp::PhongLobe { p: 300.0 },
             Warp::BlinnHalf { p: 1.0 },
             Warp::BlinnHalf { p: 300.0 },
+            Warp::BlinnStratum {
+                p: 0.0,
+                v_lo: 0.0,
+                width: 1.0,
+            },
             Warp::GgxVisible { alpha: 0.5 },
             Warp::BeckmannVisible { alpha: 0.5 },
             Warp::BeckmannHalf {
@@ -490,6 +514,16 @@ mod tests {
             Warp::PhongLobe { p: 1e5 },
             Warp::BlinnHalf { p: 0.0 },
             Warp::BlinnHalf { p: 700.0 },
+            Warp::BlinnStratum {
+                p: 100.0,
+                v_lo: 4e-7,
+                width: 1.0 - 4e-7,
+            },
+            Warp::BlinnStratum {
+                p: 40.0,
+                v_lo: 1e-6,
+                width: 3e-3,
+            },
             Warp::GgxVisible { alpha: 0.3 },
             Warp::BeckmannVisible { alpha: 0.3 },
             Warp::BeckmannVisible { alpha: 1e-3 },
@@ -513,6 +547,31 @@ mod tests {
                     s.pdf
                 );
             }
+        }
+    }
+
+    /// A stratum draws the Blinn lobe restricted to its range of `v = cos^(p+2) θh`; the
+    /// whole range is bitwise [`Warp::BlinnHalf`].
+    #[test]
+    fn blinn_strata_are_the_lobe_restricted() {
+        let (p, v_lo, width) = (30.0, 0.25, 0.5);
+        let stratum = Warp::BlinnStratum { p, v_lo, width };
+        let whole = Warp::BlinnStratum {
+            p,
+            v_lo: 0.0,
+            width: 1.0,
+        };
+        for i in 0..500 {
+            let u = [(i as f64 + 0.5) / 500.0, (i * 37 % 500) as f64 / 500.0];
+            let a = Warp::BlinnHalf { p }.sample(DVec3::Z, u);
+            let b = whole.sample(DVec3::Z, u);
+            assert_eq!((a.dir, a.pdf), (b.dir, b.pdf));
+            let s = stratum.sample(DVec3::Z, u);
+            let v = s.dir.z.powf(p + 2.0);
+            assert!(v > v_lo * (1.0 - 1e-12) && v <= (v_lo + width) * (1.0 + 1e-12));
+            assert!(
+                (s.pdf * width - a.pdf * (s.dir.z / a.dir.z).powf(p + 1.0)).abs() < 1e-9 * s.pdf
+            );
         }
     }
 

@@ -1,0 +1,807 @@
+//! Strata and a control variate for Schlick lobes drawn with Blinn half vectors
+//! (`torrance_sparrow`, `blinn_phong_fresnel`): the integrator's decomposition of those
+//! lobes.
+//!
+//! With the incidence `wi` fixed (`mu = cos θi`) and the half vector `h` drawn from the
+//! Blinn density `pdf_h = (p+2)/(2π)·cos^(p+1) θh` (`Warp::BlinnHalf`: `v = cos^(p+2) θh`
+//! uniform), the lobe's weight `f·mu_o/pdf` is
+//!
+//! - Torrance-Sparrow: `F·G·cos_b/(mu·c)`, with `c = cos θh`, `cos_b = wi·h`,
+//!   `F = R0 + (1 − R0)·X^5`, `X = 1 − cos_b` (Schlick);
+//! - Blinn-Phong with Fresnel, the F0 = 0 integral: `κ·X^5·cos_b·mu_o/c`,
+//!   `κ = (p+8)/(p+2)`, `mu_o = 2·cos_b·c − mu`;
+//!
+//! and 0 where `wo` lies below the surface. Two things make its error bar fail when the
+//! lobe is sharp (large `p`) and `wi` near the normal:
+//!
+//! 1. *Schlick's excess is heavy-tailed.* `X ≈ (1 − mu) + mu·t − B cos φ` (`t = 1 − c`,
+//!    `B = sin θi·sin θh`) is tiny near the lobe's centre and `X^5 ∝ θh^10` at normal
+//!    incidence, while `θh²` is about exponentially distributed: a cell of a few hundred
+//!    points rarely sees the part of the tail that carries the mean, and its sample
+//!    variance is too small.
+//! 2. *The rare region where the weight has a kink.* The V-cavity `G` is 1 for every
+//!    azimuth while `θh < θc = (90° − θi)/3` (with `h` tilted away from `wi`, `G < 1`
+//!    once `θi + 3θh > 90°`; tilted towards it, once `θh > 90° − θi`; `wo` leaves the
+//!    hemisphere once `θi + 2θh > 90°`). Beyond `θc` the weight drops; the region's
+//!    probability `q = cos^(p+2) θc` is 4e-7 at normal incidence and p = 100, so most
+//!    cells never see it. For Blinn-Phong the only kink is the horizon, from
+//!    `θh = (90° − θi)/2`.
+//!
+//! The remedy, where `q` is below [`SPLIT_BELOW`] (`θe` is `θc` for Torrance-Sparrow,
+//! `(90° − θi)/2` for Blinn-Phong):
+//!
+//! - **Two strata of the Blinn sampler**, the *bulk* `θh ≤ θe` (`v ∈ [q, 1]`) and the
+//!   *tail* `θe < θh < (90° + θi)/2` (beyond which every `wo` is below the surface and the
+//!   weight is 0), each integrated on all points of the cell (a linear map of the first
+//!   number into its range of `v`; the weight carries the stratum's probability). They are
+//!   two lobes of one cell, so the integrator's cross sums give the variance of their sum
+//!   for both estimators (per point, and over Sobol replicates). A fixed allocation: a
+//!   random choice between the strata would add their between-strata variance, of the
+//!   order of the value squared. Where the tail cannot matter (its weight is at most
+//!   `2q`, below 2^-60 of the bulk's mean) it is left out.
+//! - **A control variate in the bulk**: `C = X^5·cos_b/c` (Torrance-Sparrow) or
+//!   `X^5·cos_b·mu_o/c` (Blinn-Phong), whose mean over the bulk is known in closed form
+//!   ([`Bulk::expect`]), is subtracted as `β·(C − E[C])`. With `β = (1 − R0)/mu`
+//!   (Torrance-Sparrow) it removes Schlick's excess from the bulk's weight, leaving
+//!   `R0·cos_b/(mu·c)` (constant at normal incidence); with `β = κ` (Blinn-Phong) the
+//!   bulk's weight becomes the constant `κ·E[C]`. For Torrance-Sparrow the control is
+//!   used only where it lowers the per-point variance (closed-form second moments): away
+//!   from the normal `R0·cos_b/(mu·c)` and Schlick's excess can partly cancel, and
+//!   removing the excess then adds variance (5× at mu = 0.7, p = 100). At exactly normal
+//!   incidence the tail's weight is `F·2·mu_o` and the control `X^5·mu_o` removes its
+//!   Schlick excess too ([`Bulk::tail_expect`]).
+//! - **A flatter tail for Sobol points** where the tail carries the cell's error (the
+//!   bulk's weights nearly constant): see [`Bulk::flat_tail`].
+//!
+//! Elsewhere (`q ≥ SPLIT_BELOW`: wide lobes, or `wi` far from the normal) the lobe is
+//! one plain Blinn lobe, as before.
+//!
+//! What remains: where `R0` is 0 or nearly (`eta` near 1 for Torrance-Sparrow) and `wi`
+//! is near but not at the normal, the bulk is integrated exactly and the tail, whose
+//! weight is then Schlick's excess alone, carries the error; for lobes as wide as p = 20
+//! its growth across the tail still skews the replicates of Sobol cells of 256 samples
+//! (about 4% of cells beyond 3 standard errors at mu = 0.99–0.999; honest from 4096).
+
+use std::f64::consts::FRAC_PI_2;
+
+use super::albedo::{Control, Integral, Slots, Term};
+
+/// Split a lobe into strata where the tail's probability `q` is below this. Unsplit, a
+/// Sobol replicate of 16 points (256 samples per cell) has its last point in `u0` in the
+/// tail, where `G`'s kinks and the horizon make the weights differ most; once `q` is
+/// below about a quarter that point's share of the replicate's error skews the replicate
+/// means: unsplit, Torrance-Sparrow at mu = 0.5, p = 100 (`q = 0.21`) put 3.6% of its
+/// cells beyond 3 standard errors (0.9% is honest), at mu = 0.7, p = 10 (`q = 0.67`)
+/// 0.5% (`scripts/stderr_calibration.py`). The split costs a second evaluation per point.
+pub const SPLIT_BELOW: f64 = 0.25;
+
+/// A tail whose weight is at most this fraction of the bulk's mean is left out (its
+/// contribution is far below the value's rounding).
+const NEGLIGIBLE: f64 = 1.0 / (1u64 << 60) as f64;
+
+/// The flattened tail's range in units of its exponential scale (`L'`), and the most its
+/// exponent may be flattened (`(p+2)/(p'+2)`); see [`Bulk::flat_tail`]. A flatter tail
+/// trades importance for smoothness in `u0`: `L' = 8` keeps the error bar of 4096
+/// samples at normal incidence, p = 100, that of the unflattened tail; a longer tail
+/// flattened without limit (mu = 0.5–0.7, p = 300) sends the points away from where the
+/// weight is, and the limit keeps them there.
+const TAIL_L: f64 = 8.0;
+const TAIL_FLATTEST: f64 = 3.0;
+
+/// A control's [`Control::rounding`], in units of `f64::EPSILON` times the magnitudes of
+/// the closed form's terms: the closed forms are within a few ulps (the unit tests'
+/// quadrature: 5e-15 of their scale), and the estimates of cells whose weights the
+/// control makes constant scatter by a few ulps about the exact value.
+const ROUNDING_ULPS: f64 = 16.0;
+
+/// Polynomials in `t = 1 − cos θh` of degree below this.
+const N: usize = 16;
+
+/// A polynomial in `t`, coefficients from the constant term up.
+#[derive(Clone, Copy, Debug)]
+struct Poly([f64; N]);
+
+impl Poly {
+    const ZERO: Poly = Poly([0.0; N]);
+
+    fn constant(v: f64) -> Poly {
+        let mut p = Poly::ZERO;
+        p.0[0] = v;
+        p
+    }
+
+    fn mul(&self, other: &Poly) -> Poly {
+        let mut out = Poly::ZERO;
+        for (i, &a) in self.0.iter().enumerate() {
+            if a == 0.0 {
+                continue;
+            }
+            for (j, &b) in other.0.iter().enumerate().take(N - i) {
+                out.0[i + j] += a * b;
+            }
+        }
+        out
+    }
+
+    fn pow(&self, n: u32) -> Poly {
+        (0..n).fold(Poly::constant(1.0), |acc, _| acc.mul(self))
+    }
+
+    fn add_scaled(&mut self, other: &Poly, s: f64) {
+        for (a, b) in self.0.iter_mut().zip(other.0) {
+            *a += s * b;
+        }
+    }
+}
+
+/// `E[cos^k φ]` over the circle: `(k−1)!!/k!!` for even `k`, 0 for odd.
+fn cos_moment(k: u32) -> f64 {
+    if k % 2 == 1 {
+        return 0.0;
+    }
+    (1..k)
+        .step_by(2)
+        .fold(1.0, |r, i| r * i as f64 / (i + 1) as f64)
+}
+
+/// `C(n, k)`.
+fn binomial(n: u32, k: u32) -> f64 {
+    (0..k).fold(1.0, |r, i| r * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// The bulk `θh ≤ θe` of a Blinn lobe (`cos θh ∈ [ce, 1]`) at incidence `mu`, and the
+/// closed-form means over it.
+#[derive(Clone, Copy, Debug)]
+pub struct Bulk {
+    mu: f64,
+    /// `sin² θi`.
+    s2: f64,
+    p: f64,
+    /// `cos θe` and `1 − cos θe`.
+    pub ce: f64,
+    te: f64,
+    /// `cos^(p+2) θe`: the tail's probability, and the bulk's, `1 − q`.
+    pub q: f64,
+    bulk: f64,
+    /// `cos θ` of the horizon edge `θ = (90° + θi)/2`, beyond which every `wo` is below
+    /// the surface, and `1 − cos θ`.
+    pub c_horizon: f64,
+    t_horizon: f64,
+}
+
+impl Bulk {
+    /// The bulk of the Blinn lobe of exponent `p` at incidence `mu`, up to `θe` given as
+    /// a function of `θi`; `None` where the split does not apply (`q ≥ SPLIT_BELOW`, or
+    /// `mu` outside `(0, 1]`, or `p` not finite).
+    pub fn new(mu: f64, p: f64, edge: impl Fn(f64) -> f64) -> Option<Bulk> {
+        Bulk::with_edge(mu, p, edge).filter(|b| b.q < SPLIT_BELOW)
+    }
+
+    /// [`Bulk::new`] for any `q`.
+    fn with_edge(mu: f64, p: f64, edge: impl Fn(f64) -> f64) -> Option<Bulk> {
+        if !(mu > 0.0 && mu <= 1.0 && p.is_finite() && p >= 0.0) {
+            return None;
+        }
+        let s2 = (1.0 - mu) * (1.0 + mu);
+        let theta_i = s2.sqrt().atan2(mu);
+        let theta_e = edge(theta_i);
+        let ce = theta_e.cos();
+        let half = (0.5 * theta_e).sin();
+        let te = 2.0 * half * half;
+        let ln_q = (p + 2.0) * (-te).ln_1p();
+        let theta_h = 0.5 * (FRAC_PI_2 + theta_i);
+        let half_h = (0.5 * theta_h).sin();
+        Some(Bulk {
+            mu,
+            s2,
+            p,
+            ce,
+            te,
+            q: ln_q.exp(),
+            bulk: -ln_q.exp_m1(),
+            c_horizon: theta_h.cos(),
+            t_horizon: 2.0 * half_h * half_h,
+        })
+    }
+
+    /// `∫_ce^1 t^k c^m dc = ∫_0^te t^k (1 − t)^m dt`, the incomplete beta function
+    /// `B(te; k+1, m+1)`, in one of two forms with positive terms only:
+    ///
+    /// - where the bulk is narrow on the lobe's scale (`te·(m+k+2) ≤ 40`), its series
+    ///   `te^a (1−te)^b / a · Σ_n (a+b)_n/(a+1)_n te^n` (`a = k+1`, `b = m+1`, rising
+    ///   factorials; the ratio of terms falls to `te < 1`);
+    /// - elsewhere the whole range's `B(k+1, m+1) = k!/((m+1)…(m+1+k))` less the tail's
+    ///   `∫_0^ce`, expanded about `ce` (`c = ce(1 − r)`, `t = te + ce·r`):
+    ///   `ce^(m+1) Σ_j C(k,j) te^(k−j) ce^j B(j+1, m+1)`. There `ce^(m+1) < e^−40`
+    ///   relative, so the difference loses nothing.
+    fn integral(&self, m: f64, k: usize) -> f64 {
+        let (a, b) = (k as f64 + 1.0, m + 1.0);
+        if self.te * (a + b) <= 40.0 {
+            let x = self.te;
+            let (mut term, mut sum, mut n) = (1.0, 1.0, 0.0);
+            while term > 1e-17 * sum {
+                term *= (a + b + n) / (a + 1.0 + n) * x;
+                sum += term;
+                n += 1.0;
+            }
+            return (a * x.ln() + b * (-x).ln_1p()).exp() / a * sum;
+        }
+        // r_j = j!/((m+1)(m+2)…(m+1+j)) = B(j+1, m+1).
+        let mut r = [0.0; N];
+        r[0] = 1.0 / b;
+        for j in 1..=k {
+            r[j] = r[j - 1] * j as f64 / (b + j as f64);
+        }
+        let below: f64 = (0..=k)
+            .map(|j| {
+                binomial(k as u32, j as u32)
+                    * self.te.powi((k - j) as i32)
+                    * self.ce.powi(j as i32)
+                    * r[j]
+            })
+            .sum();
+        let ce_pow = (b * (-self.te).ln_1p()).exp();
+        r[k] - ce_pow * below
+    }
+
+    /// `E_φ[X^a·(B cos φ)^j]` over the azimuth, a polynomial in `t`, with
+    /// `X = A − B cos φ`, `A = (1 − mu) + mu·t`, `B² = sin²θi·t(2 − t)`.
+    fn azimuth_mean(&self, a: u32, j: u32) -> Poly {
+        let mut big_a = Poly::ZERO;
+        big_a.0[0] = 1.0 - self.mu;
+        big_a.0[1] = self.mu;
+        let mut b2 = Poly::ZERO;
+        b2.0[1] = 2.0 * self.s2;
+        b2.0[2] = -self.s2;
+        let mut out = Poly::ZERO;
+        // X^a (B cos)^j = Σ_i C(a,i) A^(a−i) (−1)^i B^(i+j) cos^(i+j) φ.
+        for i in 0..=a {
+            let k = i + j;
+            if k % 2 == 1 {
+                continue;
+            }
+            let term = big_a.pow(a - i).mul(&b2.pow(k / 2));
+            let sign = if i % 2 == 1 { -1.0 } else { 1.0 };
+            out.add_scaled(&term, sign * binomial(a, i) * cos_moment(k));
+        }
+        out
+    }
+
+    /// `E[X^a·(B cos φ)^j·c^e]` over the bulk under the Blinn density (`e ≥ −2`).
+    pub fn expect(&self, a: u32, j: u32, e: i32) -> f64 {
+        let mut poly = self.azimuth_mean(a, j);
+        if e > 0 {
+            let mut c = Poly::ZERO;
+            c.0[0] = 1.0;
+            c.0[1] = -1.0;
+            poly = poly.mul(&c.pow(e as u32));
+        }
+        let m = self.p + 1.0 + f64::from(e.min(0));
+        let sum: f64 = (0..N)
+            .filter(|&k| poly.0[k] != 0.0)
+            .map(|k| poly.0[k] * self.integral(m, k))
+            .sum();
+        (self.p + 2.0) / self.bulk * sum
+    }
+
+    /// `∫_0^x t^k c^m dc` for `x = cos θ` (`t_x = 1 − x`), expanded about `x` with
+    /// positive terms only (`c = x(1 − r)`, `t = t_x + x·r`):
+    /// `x^(m+1) Σ_j C(k,j) t_x^(k−j) x^j B(j+1, m+1)`.
+    fn below(x: f64, t_x: f64, m: f64, k: usize) -> f64 {
+        let b = m + 1.0;
+        let mut r = 1.0 / b;
+        let mut sum = 0.0;
+        for j in 0..=k {
+            if j > 0 {
+                r *= j as f64 / (b + j as f64);
+            }
+            sum += binomial(k as u32, j as u32) * t_x.powi((k - j) as i32) * x.powi(j as i32) * r;
+        }
+        (b * (-t_x).ln_1p()).exp() * sum
+    }
+
+    /// `E[X^a·(B cos φ)^j·c^e]` over the tail (`cos θh` from `c_horizon` to `ce`) under
+    /// the Blinn density of exponent `p_draw` (the lobe's, or the flatter one Sobol
+    /// points draw the tail with), `e ≥ 0`. The tail's integral is the difference of
+    /// [`Bulk::below`] at its two edges, the lower one smaller by about
+    /// `(c_horizon/ce)^(p_draw+2)`.
+    pub fn tail_expect(&self, p_draw: f64, a: u32, j: u32, e: u32) -> f64 {
+        let mut poly = self.azimuth_mean(a, j);
+        if e > 0 {
+            let mut c = Poly::ZERO;
+            c.0[0] = 1.0;
+            c.0[1] = -1.0;
+            poly = poly.mul(&c.pow(e));
+        }
+        let m = p_draw + 1.0;
+        let (hi, lo) = ((self.ce, self.te), (self.c_horizon, self.t_horizon));
+        let sum: f64 = (0..N)
+            .filter(|&k| poly.0[k] != 0.0)
+            .map(|k| poly.0[k] * (Bulk::below(hi.0, hi.1, m, k) - Bulk::below(lo.0, lo.1, m, k)))
+            .sum();
+        let mass = Bulk::below(hi.0, hi.1, m, 0) - Bulk::below(lo.0, lo.1, m, 0);
+        sum / mass
+    }
+
+    /// A stratum term of the lobe at `basis`: the bulk (`cos θh ∈ [ce, 1]`, which stands
+    /// for the whole lobe where strata do not apply) or the tail, with `control`, drawn
+    /// with the exponent `p_sobol` for Sobol points.
+    fn term(
+        &self,
+        colour: [f64; 3],
+        basis: Slots,
+        bulk: bool,
+        control: Option<Control>,
+        p_sobol: f64,
+    ) -> Term {
+        let (c_lo, c_hi) = if bulk {
+            (self.ce, 1.0)
+        } else {
+            (self.c_horizon, self.ce)
+        };
+        Term {
+            colour,
+            integral: Integral::BlinnStratum {
+                basis,
+                p: self.p,
+                p_sobol,
+                c_lo,
+                c_hi,
+                whole: bulk,
+                control,
+            },
+        }
+    }
+
+    /// The strata of a lobe whose weight is at most `bound` in the tail and whose bulk
+    /// has mean `bulk_mean`: the bulk with `control`, and the tail with `tail_control`
+    /// unless negligible, flattened for Sobol points if `flatten` ([`Bulk::flat_tail`]).
+    /// `None` if neither the control nor the tail is needed (the plain lobe is the same).
+    #[allow(clippy::too_many_arguments)]
+    pub fn terms(
+        &self,
+        colour: [f64; 3],
+        basis: Slots,
+        control: Option<Control>,
+        bound: f64,
+        bulk_mean: f64,
+        flatten: bool,
+        tail_control: Option<Control>,
+    ) -> Option<Vec<Term>> {
+        let tail = !(bound * self.q <= NEGLIGIBLE * bulk_mean);
+        if !tail && control.is_none() {
+            return None;
+        }
+        let mut terms = vec![self.term(colour, basis, true, control, self.p)];
+        if tail {
+            let p_sobol = if flatten { self.flat_tail() } else { self.p };
+            terms.push(self.term(colour, basis, false, tail_control, p_sobol));
+        }
+        Some(terms)
+    }
+
+    /// The exponent that draws the tail for Sobol points where the tail carries the
+    /// cell's error (the bulk's weights nearly constant). Drawn with the lobe's own
+    /// exponent, `s = (p+2)·ln(ce/c)` is exponentially distributed on `[0, L]`,
+    /// `L = (p+2)·ln(ce/c_horizon)`, and `u0 ↦ s` has a logarithmic end: each replicate's
+    /// last point lies in an exponential tail of `s` where the weight runs down to 0 at
+    /// the horizon, whatever the number of points: that point dominates the replicate's
+    /// error and skews the replicate means (at normal incidence, p = 100, about 3% of
+    /// cells beyond 3 standard errors at 256 and at 4096 samples, against 0.9%). A flatter
+    /// exponent, `L' = max(TAIL_L, L/TAIL_FLATTEST)`, makes the weights (which carry the
+    /// ratio of the two densities) a smooth function of `u0` on the whole range.
+    fn flat_tail(&self) -> f64 {
+        let l = (self.p + 2.0) * (self.ce / self.c_horizon).ln();
+        if !(l > TAIL_L) {
+            return self.p;
+        }
+        (self.p + 2.0) * (TAIL_L / l).max(1.0 / TAIL_FLATTEST) - 2.0
+    }
+}
+
+/// Torrance-Sparrow's bulk: `θh ≤ (90° − θi)/3`, where `G = 1` for every azimuth.
+pub fn torrance_sparrow_bulk(mu: f64, p: f64) -> Option<Bulk> {
+    Bulk::new(mu, p, |theta_i| (FRAC_PI_2 - theta_i) / 3.0)
+}
+
+/// Blinn-Phong's bulk: `θh ≤ (90° − θi)/2`, where `wo` is above the surface for every
+/// azimuth.
+pub fn blinn_phong_bulk(mu: f64, p: f64) -> Option<Bulk> {
+    Bulk::new(mu, p, |theta_i| (FRAC_PI_2 - theta_i) / 2.0)
+}
+
+/// The bulk moments of Torrance-Sparrow's weight `(R0·J + (1 − R0)·C)/mu`, with
+/// `C = X^5·cos_b/c` and `J = cos_b/c = mu + B cos φ/c` (`E[J] = mu`).
+struct TorranceSparrowBulk {
+    /// `E[C]` as the sum of its two parts (`mu·E[X^5]` and `E[X^5·B cos φ/c]`).
+    e_c: [f64; 2],
+    var_c: f64,
+    /// `Cov(J, C) = E[(B cos φ/c)·C]`.
+    cov: f64,
+    /// `Var(J) = E[(B cos φ/c)²]`.
+    var_j: f64,
+}
+
+impl TorranceSparrowBulk {
+    fn new(bulk: &Bulk, mu: f64) -> Self {
+        let e_c = [mu * bulk.expect(5, 0, 0), bulk.expect(5, 1, -1)];
+        let e_c2 = mu * mu * bulk.expect(10, 0, 0)
+            + 2.0 * mu * bulk.expect(10, 1, -1)
+            + bulk.expect(10, 2, -2);
+        let mean = e_c[0] + e_c[1];
+        TorranceSparrowBulk {
+            e_c,
+            var_c: e_c2 - mean * mean,
+            cov: mu * bulk.expect(5, 1, -1) + bulk.expect(5, 2, -2),
+            var_j: bulk.expect(0, 2, -2),
+        }
+    }
+
+    /// The per-point variance of the weight, times `mu²`: plain, and with Schlick's
+    /// excess removed by the control (`R0²·Var(J)`).
+    fn variances(&self, r0: f64) -> (f64, f64) {
+        let with = r0 * r0 * self.var_j;
+        let plain = with + 2.0 * r0 * (1.0 - r0) * self.cov + (1.0 - r0) * (1.0 - r0) * self.var_c;
+        (plain, with)
+    }
+}
+
+/// Torrance-Sparrow's specular lobe (basis `ks = 1`, `R0` from `eta`) at incidence `mu`
+/// in strata, with the control where it lowers the variance; `None` where the plain lobe
+/// is used.
+pub fn torrance_sparrow_terms(
+    colour: [f64; 3],
+    basis: Slots,
+    mu: f64,
+    p: f64,
+    r0: f64,
+) -> Option<Vec<Term>> {
+    if colour.iter().all(|&c| c == 0.0) {
+        return None;
+    }
+    let bulk = torrance_sparrow_bulk(mu, p)?;
+    let moments = TorranceSparrowBulk::new(&bulk, mu);
+    let e_c = moments.e_c[0] + moments.e_c[1];
+    // Subtracting (1 − R0)/mu·(C − E[C]) leaves R0·J/mu: used where that lowers the
+    // variance, (1 − R0)·Var(C) + 2·R0·Cov(J, C) > 0.
+    let (plain, with) = moments.variances(r0);
+    let helps = with < plain;
+    let control = helps.then_some(Control {
+        beta: (1.0 - r0) / mu,
+        mean: e_c,
+        over_cos: true,
+        mu_o: false,
+        rounding: ROUNDING_ULPS * f64::EPSILON * (moments.e_c[0].abs() + moments.e_c[1].abs()),
+    });
+    // The bulk's mean weight (E[J] = mu); in the tail F ≤ 1 and G·cos_b/(mu·c) ≤ 2.
+    let bulk_mean = bulk.bulk * (r0 + (1.0 - r0) * e_c / mu);
+    let var_w = if helps { with } else { plain } / (mu * mu);
+    // The tail carries the error where the bulk's spread is below a tenth of the tail's
+    // scale (its probability times the bulk's mean weight).
+    let sd_bulk = bulk.bulk * var_w.max(0.0).sqrt();
+    let flatten = sd_bulk <= 0.1 * bulk.q * bulk_mean;
+    // At normal incidence the tail's weight is F·2·mu_o (G = 2·mu_o, every wo above the
+    // surface up to the horizon edge): the control C = X^5·mu_o with β = 2(1 − R0)
+    // removes its Schlick excess too, which otherwise grows 50× across the tail (X^5 from
+    // θh = 30° to 45°).
+    // Away from the normal it would not: there wo leaves the surface inside the tail for
+    // some azimuths, where the weight is 0 and the control is not (a rare point then
+    // carries a large residual).
+    let tail_control = (helps && mu == 1.0).then(|| {
+        let parts = [
+            2.0 * bulk.tail_expect(bulk.p, 5, 0, 2),
+            2.0 * bulk.tail_expect(bulk.p, 5, 1, 1),
+            -bulk.tail_expect(bulk.p, 5, 0, 0),
+        ];
+        Control {
+            beta: 2.0 * (1.0 - r0),
+            mean: parts.iter().sum(),
+            over_cos: false,
+            mu_o: true,
+            rounding: ROUNDING_ULPS * f64::EPSILON * parts.iter().map(|t| t.abs()).sum::<f64>(),
+        }
+    });
+    bulk.terms(
+        colour,
+        basis,
+        control,
+        2.0,
+        bulk_mean,
+        flatten,
+        tail_control,
+    )
+}
+
+/// Blinn-Phong-with-Fresnel's F0 = 0 lobe (Schlick's excess alone, basis `ks = 0`) at
+/// incidence `mu` in strata, its bulk integrated exactly by the control; `None` where the
+/// plain lobe is used.
+pub fn blinn_phong_fresnel_terms(
+    colour: [f64; 3],
+    basis: Slots,
+    mu: f64,
+    p: f64,
+) -> Option<Vec<Term>> {
+    if colour.iter().all(|&c| c == 0.0) {
+        return None;
+    }
+    let bulk = blinn_phong_bulk(mu, p)?;
+    let kappa = (p + 8.0) / (p + 2.0);
+    // C = X^5·cos_b·mu_o/c = 2·X^5·cos_b² − mu·X^5·cos_b/c, cos_b = mu·c + B cos φ.
+    let terms = [
+        2.0 * mu * mu * bulk.expect(5, 0, 2),
+        4.0 * mu * bulk.expect(5, 1, 1),
+        2.0 * bulk.expect(5, 2, 0),
+        -mu * mu * bulk.expect(5, 0, 0),
+        -mu * bulk.expect(5, 1, -1),
+    ];
+    let e_c: f64 = terms.iter().sum();
+    let control = Control {
+        beta: kappa,
+        mean: e_c,
+        over_cos: true,
+        mu_o: true,
+        rounding: ROUNDING_ULPS * f64::EPSILON * terms.iter().map(|t| t.abs()).sum::<f64>(),
+    };
+    // In the tail X^5 ≤ 1 and cos_b·mu_o/c ≤ 2·cos_b² ≤ 2.
+    let bulk_mean = bulk.bulk * kappa * e_c;
+    bulk.terms(
+        colour,
+        basis,
+        Some(control),
+        2.0 * kappa,
+        bulk_mean,
+        false,
+        None,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    /// `∫ g(c, φ)` over the bulk under the normalized Blinn density, by Gauss-Legendre
+    /// panels in `s = (p+2)·ln(1/c)` on `[0, (p+2)·ln(1/ce)]` (the density is `e^(−s)`
+    /// there, up to normalization; panels of width doubling from 1/4, each cut in 8),
+    /// and midpoints in `φ`.
+    fn quadrature(b: &Bulk, g: impl Fn(f64, f64, f64) -> f64) -> f64 {
+        let (x, w) = gauss_legendre_16();
+        let s_max = -(b.p + 2.0) * (-b.te).ln_1p();
+        let mut edges = vec![0.0];
+        let mut e = 0.25;
+        while e < s_max {
+            edges.push(e);
+            e *= 2.0;
+        }
+        edges.push(s_max);
+        let mut sum = 0.0;
+        for pair in edges.windows(2) {
+            for k in 0..8 {
+                let s0 = pair[0] + (pair[1] - pair[0]) * k as f64 / 8.0;
+                let s1 = pair[0] + (pair[1] - pair[0]) * (k + 1) as f64 / 8.0;
+                for (xs, ws) in x.iter().zip(w) {
+                    let s = 0.5 * (s0 + s1) + 0.5 * (s1 - s0) * xs;
+                    // c = cos θh and t = 1 − c, accurately (t is tiny for wide bulks).
+                    let t = -(-s / (b.p + 2.0)).exp_m1();
+                    let c = 1.0 - t;
+                    // Midpoints in φ: exact for the trigonometric polynomials here
+                    // (even in φ, of degree below 64).
+                    let inner: f64 = (0..32)
+                        .map(|k| g(c, t, PI * (k as f64 + 0.5) / 32.0))
+                        .sum::<f64>()
+                        / 32.0;
+                    sum += 0.5 * (s1 - s0) * ws * (-s).exp() * inner;
+                }
+            }
+        }
+        sum / b.bulk
+    }
+
+    fn gauss_legendre_16() -> ([f64; 16], [f64; 16]) {
+        // Nodes by Newton's method on P_16.
+        let n = 16;
+        let mut x = [0.0; 16];
+        let mut w = [0.0; 16];
+        for i in 0..n {
+            let mut z = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, z);
+                for k in 2..=n {
+                    let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                let dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
+                let dz = p1 / dp;
+                z -= dz;
+                if dz.abs() < 1e-16 {
+                    let dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
+                    x[i] = z;
+                    w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
+                    break;
+                }
+            }
+        }
+        (x, w)
+    }
+
+    /// The closed-form means over the bulk against quadrature, over p from 0 to 1e4 and mu
+    /// from 0.01 to 1, for the Torrance-Sparrow edge, relative to the integrand's scale
+    /// (the mean of its magnitude).
+    #[test]
+    fn bulk_means_match_quadrature() {
+        for mu in [1.0, 0.999, 0.97, 0.9, 0.7, 0.5, 0.2, 0.05, 0.01] {
+            for p in [0.0, 1.0, 5.0, 20.0, 100.0, 1e3, 1e4] {
+                let b = Bulk::with_edge(mu, p, |ti| (FRAC_PI_2 - ti) / 3.0).unwrap();
+                let s = (1.0 - mu) * (1.0 + mu);
+                for (a, j, e) in [
+                    (5, 0, 0),
+                    (5, 1, -1),
+                    (5, 2, -2),
+                    (5, 0, 2),
+                    (5, 1, 1),
+                    (5, 2, 0),
+                    (0, 2, -2),
+                    (10, 0, 0),
+                    (10, 1, -1),
+                    (10, 2, -2),
+                ] {
+                    let g = |c: f64, t: f64, phi: f64| {
+                        let bcos = (s * t * (2.0 - t)).sqrt() * phi.cos();
+                        let x = 1.0 - mu * c - bcos;
+                        x.powi(a as i32) * bcos.powi(j as i32) * c.powi(e)
+                    };
+                    let want = quadrature(&b, g);
+                    let scale = quadrature(&b, |c, t, phi| g(c, t, phi).abs());
+                    let got = b.expect(a, j, e);
+                    // Measured: at most 5e-15 of the scale, 5e-14 for the X^10 moments
+                    // (only the control's choice reads them).
+                    let tol = if a == 10 { 1e-12 } else { 1e-14 };
+                    assert!(
+                        (got - want).abs() <= tol * scale,
+                        "mu={mu} p={p} ({a},{j},{e}): {got} vs {want} (scale {scale})"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The tail's means against quadrature in `s = (p_draw+2)·ln(ce/c)` (density
+    /// `e^(−s)` on `[0, L]`) and midpoints in `φ`.
+    #[test]
+    fn tail_means_match_quadrature() {
+        let (x, w) = gauss_legendre_16();
+        for mu in [1.0, 0.999, 0.9, 0.5] {
+            for p in [20.0, 100.0, 1e3] {
+                let Some(b) = torrance_sparrow_bulk(mu, p) else {
+                    continue;
+                };
+                let s2 = (1.0 - mu) * (1.0 + mu);
+                for p_draw in [p, 0.4 * p] {
+                    let l = (p_draw + 2.0) * (b.ce / b.c_horizon).ln();
+                    for (a, j, e) in [(5, 0, 0), (5, 0, 2), (5, 1, 1), (0, 0, 0)] {
+                        let g = |c: f64, phi: f64| {
+                            let bcos = (s2 * (1.0 - c * c)).sqrt() * phi.cos();
+                            let xx = 1.0 - mu * c - bcos;
+                            xx.powi(a as i32) * bcos.powi(j as i32) * c.powi(e as i32)
+                        };
+                        let (mut num, mut den, mut abs) = (0.0, 0.0, 0.0);
+                        let panels = 256;
+                        for i in 0..panels {
+                            let (s0, s1) = (
+                                l * i as f64 / panels as f64,
+                                l * (i + 1) as f64 / panels as f64,
+                            );
+                            for (xs, ws) in x.iter().zip(w) {
+                                let sv = 0.5 * (s0 + s1) + 0.5 * (s1 - s0) * xs;
+                                let c = b.ce * (-sv / (p_draw + 2.0)).exp();
+                                let d = 0.5 * (s1 - s0) * ws * (-sv).exp();
+                                let inner: f64 = (0..32)
+                                    .map(|k| g(c, PI * (k as f64 + 0.5) / 32.0))
+                                    .sum::<f64>()
+                                    / 32.0;
+                                num += d * inner;
+                                abs += d * inner.abs();
+                                den += d;
+                            }
+                        }
+                        let (want, scale) = (num / den, abs / den);
+                        let got = b.tail_expect(p_draw, a, j, e);
+                        assert!(
+                            (got - want).abs() <= 1e-12 * scale,
+                            "mu={mu} p={p} p_draw={p_draw} ({a},{j},{e}): {got} vs {want}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The controls' means are those of their defining `C` over the bulk, and the
+    /// strata apply where they should.
+    #[test]
+    fn controls_and_strata() {
+        let basis = [0.0; crate::eval::engine::MAX_VARYING_SLOTS];
+        let grey = [1.0; 3];
+        let stratum = |t: &Term| match t.integral {
+            Integral::BlinnStratum {
+                p,
+                p_sobol,
+                c_lo,
+                c_hi,
+                whole,
+                control,
+                ..
+            } => (p, p_sobol, c_lo, c_hi, whole, control),
+            _ => panic!("{t:?}"),
+        };
+        for mu in [1.0, 0.999, 0.99, 0.9, 0.7, 0.5] {
+            for p in [20.0, 100.0, 1000.0] {
+                let s2 = (1.0 - mu) * (1.0 + mu);
+                let cos_b =
+                    |c: f64, t: f64, phi: f64| mu * c + (s2 * t * (2.0 - t)).sqrt() * phi.cos();
+                if let Some(terms) = torrance_sparrow_terms(grey, basis, mu, p, 0.0) {
+                    let b = torrance_sparrow_bulk(mu, p).unwrap();
+                    let (_, _, c_lo, c_hi, whole, control) = stratum(&terms[0]);
+                    assert!(whole && c_lo == b.ce && c_hi == 1.0);
+                    // R0 = 0: the control removes the whole weight, always a gain.
+                    let k = control.unwrap();
+                    assert_eq!(k.beta, 1.0 / mu);
+                    let want = quadrature(&b, |c, t, phi| {
+                        let cb = cos_b(c, t, phi);
+                        (1.0 - cb).powi(5) * cb / c
+                    });
+                    assert!(
+                        (k.mean - want).abs() <= 1e-13 * want,
+                        "{mu} {p}: {k:?} {want}"
+                    );
+                }
+                if let Some(terms) = blinn_phong_fresnel_terms(grey, basis, mu, p) {
+                    let b = blinn_phong_bulk(mu, p).unwrap();
+                    let k = stratum(&terms[0]).5.unwrap();
+                    assert_eq!(k.beta, (p + 8.0) / (p + 2.0));
+                    let want = quadrature(&b, |c, t, phi| {
+                        let cb = cos_b(c, t, phi);
+                        (1.0 - cb).powi(5) * cb * (2.0 * cb * c - mu) / c
+                    });
+                    assert!(
+                        (k.mean - want).abs() <= 1e-13 * want,
+                        "{mu} {p}: {k:?} {want}"
+                    );
+                }
+            }
+        }
+        let ts = |mu, p, r0| torrance_sparrow_terms(grey, basis, mu, p, r0);
+        // Normal incidence, p = 100: bulk and tail with controls, the tail flattened for
+        // Sobol points; the tail's control is the mean of X^5·mu_o over the tail.
+        let terms = ts(1.0, 100.0, 0.04).unwrap();
+        assert_eq!(terms.len(), 2);
+        assert!(stratum(&terms[0]).5.is_some());
+        let (p, p_sobol, c_lo, c_hi, whole, control) = stratum(&terms[1]);
+        assert!(!whole && p_sobol < p);
+        let k = control.unwrap();
+        assert_eq!((k.beta, k.over_cos, k.mu_o), (2.0 * 0.96, false, true));
+        let b = torrance_sparrow_bulk(1.0, 100.0).unwrap();
+        let want = b.tail_expect(100.0, 5, 0, 2) * 2.0 - b.tail_expect(100.0, 5, 0, 0);
+        assert!((k.mean - want).abs() <= 1e-15 * want, "{k:?} {want}");
+        // Away from the normal the tail has no control.
+        assert!(stratum(&ts(0.999, 100.0, 0.04).unwrap()[1]).5.is_none());
+        assert!((c_lo - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-15);
+        assert!((c_hi - 0.75_f64.sqrt()).abs() < 1e-15);
+        // p = 1000: the tail (probability 6e-63) is left out.
+        assert_eq!(ts(1.0, 1000.0, 0.04).unwrap().len(), 1);
+        // Away from the normal the control would add variance (5× at mu = 0.7, p = 100):
+        // strata without it.
+        let b = torrance_sparrow_bulk(0.7, 100.0).unwrap();
+        let (plain, with) = TorranceSparrowBulk::new(&b, 0.7).variances(0.04);
+        assert!(with > 4.0 * plain && with < 6.0 * plain, "{plain} {with}");
+        let terms = ts(0.7, 100.0, 0.04).unwrap();
+        assert!(stratum(&terms[0]).5.is_none());
+        assert_eq!(stratum(&terms[1]).1, 100.0, "R0·J keeps the bulk's spread");
+        // Wide lobes: the plain lobe.
+        assert!(ts(0.7, 10.0, 0.04).is_none());
+        assert!(ts(0.9, 1000.0, 0.04).is_none());
+        // A zero colour: nothing to split.
+        assert!(torrance_sparrow_terms([0.0; 3], basis, 1.0, 100.0, 0.04).is_none());
+    }
+}
