@@ -83,7 +83,7 @@ class Case:
         shown = {
             k: v
             for k, v in self.params.items()
-            if k in ("p", "alpha", "sigma") or (k == "ks" and v != 1.0)
+            if k in ("p", "alpha", "sigma") or (k == "ks" and v != 1.0) or (k == "eta" and v != 1.5)
         }
         extra = " ".join(f"{k}={v:g}" for k, v in shown.items())
         return f"{self.model} mu={self.mu:g} {extra}".strip()
@@ -95,6 +95,7 @@ CASES = (
     Case("torrance_sparrow", 0.7, {**TS, "p": 10.0}),
     Case("torrance_sparrow", 0.9, {**TS, "p": 1000.0}),
     Case("torrance_sparrow", 1.0, {**TS, "p": 20.0}),
+    Case("torrance_sparrow", 0.99, {**TS, "eta": 1.0, "p": 20.0}),
     Case("blinn_phong_fresnel", 1.0, {**BPF, "p": 100.0}),
     Case("blinn_phong_fresnel", 0.5, {**BPF, "p": 100.0}),
     Case("ggx", 1.0, {**GGX, "alpha": 0.05}),

@@ -1,4 +1,6 @@
-"""Why Torrance-Sparrow's error bar fails at normal incidence with few samples.
+"""Why the plain half-vector estimator's error bar fails for Torrance-Sparrow at normal
+incidence with few samples (the reason ``brdf_rs.albedo`` integrates such lobes in strata
+with a control variate for Schlick's excess: rust/src/models/strata.rs, docs/error_bars.md).
 
 At mu = 1 the lobe's own half-vector sampler gives the weight F·G (Schlick's F grows as
 θh^10 in the far tail of the lobe). This script draws those weights directly (θh from the
@@ -6,7 +8,7 @@ Blinn half-vector distribution, f from ``brdf_rs.eval``), groups them into cells
 ``--samples`` points, and reports the fraction of cells more than 3 standard errors
 from the true albedo, the median standard error, and the weights' quantiles; then the
 same for defensive mixtures (a fraction ``eps`` of points from a wider Blinn lobe,
-weights under the one-sample mixture density), the remedy that does not work here.
+weights under the one-sample mixture density), a remedy that does not work here.
 
     python scripts/torrance_sparrow_tail.py [--p 100] [--samples 256] [--cells 3000]
 """

@@ -464,6 +464,10 @@ impl<K: Kernel> CellIntegrand<K> {
                                 beta: c.beta * width_p,
                                 ..c
                             });
+                            if !(width > 0.0) {
+                                // An empty stratum integrates to 0.
+                                continue;
+                            }
                             let tilt = (p_draw != p).then(|| {
                                 ((p + 2.0) / (p_draw + 2.0) * width / width_p, p - p_draw)
                             });

@@ -355,7 +355,7 @@ impl Bulk {
 
     /// The strata of a lobe whose weight is at most `bound` in the tail and whose bulk
     /// has mean `bulk_mean`: the bulk with `control`, and the tail with `tail_control`
-    /// unless negligible, flattened for Sobol points if `flatten` ([`Bulk::flat_tail`]).
+    /// unless empty or negligible, flattened for Sobol points if `flatten` ([`Bulk::flat_tail`]).
     /// `None` if neither the control nor the tail is needed (the plain lobe is the same).
     #[allow(clippy::too_many_arguments)]
     pub fn terms(
@@ -368,7 +368,9 @@ impl Bulk {
         flatten: bool,
         tail_control: Option<Control>,
     ) -> Option<Vec<Term>> {
-        let tail = !(bound * self.q <= NEGLIGIBLE * bulk_mean);
+        // No tail where it is empty (Blinn-Phong at normal incidence: every wo of the
+        // lobe is above the surface up to 45°, where the tail would start) or negligible.
+        let tail = self.c_horizon < self.ce && !(bound * self.q <= NEGLIGIBLE * bulk_mean);
         if !tail && control.is_none() {
             return None;
         }
@@ -801,6 +803,15 @@ mod tests {
         // Wide lobes: the plain lobe.
         assert!(ts(0.7, 10.0, 0.04).is_none());
         assert!(ts(0.9, 1000.0, 0.04).is_none());
+        // Blinn-Phong at normal incidence: the bulk is the whole lobe (no empty tail).
+        let bpf = blinn_phong_fresnel_terms(grey, basis, 1.0, 100.0).unwrap();
+        assert_eq!(bpf.len(), 1);
+        assert_eq!(
+            blinn_phong_fresnel_terms(grey, basis, 0.9, 100.0)
+                .unwrap()
+                .len(),
+            2
+        );
         // A zero colour: nothing to split.
         assert!(torrance_sparrow_terms([0.0; 3], basis, 1.0, 100.0, 0.04).is_none());
     }
