@@ -20,7 +20,7 @@ beside this one and its ``brdf_rs.eval`` and ``Model.eval`` columns are timed in
 rounds.
 
     python benches/eval_small.py
-    python benches/eval_small.py --rounds 15 --baseline /tmp/old/python
+    python benches/eval_small.py --rounds 15 --baseline ../old/python --baseline-label "..."
 
 Writes benches/results/eval_small.{md,json,png}.
 """
@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import os
 import platform
 import statistics
 import sys
@@ -136,6 +137,11 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=9, help="interleaved rounds per N")
     parser.add_argument("--sizes", type=int, nargs="*", default=list(SIZES))
     parser.add_argument("--baseline", type=Path, help="folder holding another brdf_rs build")
+    parser.add_argument(
+        "--baseline-label",
+        default="another build of brdf-rs",
+        help="what the baseline is, for the table (e.g. 'the previous release')",
+    )
     parser.add_argument("--out", type=Path, default=RESULTS / "eval_small")
     args = parser.parse_args()
 
@@ -151,8 +157,9 @@ def main() -> None:
         "model": MODEL,
         "params": PARAMS,
         "rounds": args.rounds,
-        "baseline": str(args.baseline) if args.baseline else None,
+        "baseline": args.baseline_label if args.baseline else None,
         "date": time.strftime("%Y-%m-%d %H:%M:%S"),
+        "load_before": os.getloadavg()[0],
     }
     if numba_models.available():
         worst = check_numba(np.random.default_rng(0))
@@ -168,6 +175,7 @@ def main() -> None:
         rows.append({"n": n, "us_per_call": {k: s * 1e6 for k, s in seconds.items()}})
         print(f"N = {n:>9,}: " + ", ".join(f"{k} {s * 1e6:.3g} µs" for k, s in seconds.items()))
 
+    meta["load_after"] = os.getloadavg()[0]
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.with_suffix(".json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1))
     table = markdown(meta, rows)
@@ -199,7 +207,9 @@ def markdown(meta: dict, rows: list) -> str:
         " `wo` in, RGB out. Microseconds per call, median of "
         f"{meta['rounds']} interleaved rounds (M evaluations/s in brackets).",
         "`Model.eval out=` is `check=False` with a preallocated `out=`; the Numba kernels "
-        "write into a preallocated array.",
+        "write into a preallocated array. Load average (1 min) "
+        f"{meta['load_before']:.2f} before, {meta['load_after']:.2f} after: above 0, other "
+        "work shared the machine's cores (Numba's parallel kernels suffer most from that).",
         "",
         "| N | " + " | ".join(columns) + " |",
         "|---:|" + "---:|" * len(columns),
@@ -212,7 +222,7 @@ def markdown(meta: dict, rows: list) -> str:
         ]
         lines.append(f"| {n:,} | " + " | ".join(cells) + " |")
     if meta.get("baseline"):
-        lines += ["", "'baseline' columns: another build of brdf-rs timed in the same rounds."]
+        lines += ["", f"'baseline' columns: {meta['baseline']}, timed in the same rounds."]
     return "\n".join(lines) + "\n"
 
 
@@ -228,11 +238,22 @@ def write_plot(path: Path, meta: dict, rows: list) -> None:
     ns = np.array([r["n"] for r in rows], dtype=float)
     columns = list(rows[0]["us_per_call"])
     fig, (left, right) = plt.subplots(1, 2, figsize=(13, 5.2))
+    # A column and its baseline twin share a colour; the baseline is dotted, Numba dashed.
+    kinds = list(dict.fromkeys(name.removeprefix("baseline ") for name in columns))
     for name in columns:
         us = np.array([r["us_per_call"][name] for r in rows])
-        style = "--" if name.startswith("Numba") else ":" if name.startswith("baseline") else "-"
-        left.loglog(ns, us, style, marker="o", markersize=4, label=name)
-        right.loglog(ns, ns / us, style, marker="o", markersize=4, label=name)
+        linestyle = (
+            ":" if name.startswith("baseline") else "--" if name.startswith("Numba") else "-"
+        )
+        style = {
+            "linestyle": linestyle,
+            "color": f"C{kinds.index(name.removeprefix('baseline '))}",
+            "marker": "o",
+            "markersize": 4,
+            "label": name,
+        }
+        left.loglog(ns, us, **style)
+        right.loglog(ns, ns / us, **style)
     left.set_xlabel("N (direction pairs per call)")
     left.set_ylabel("time per call (µs, log)")
     left.set_title("time per call")
