@@ -54,13 +54,14 @@
 //!   bulk's weights nearly constant): see [`Bulk::flat_tail`].
 //!
 //! Elsewhere (`q ≥ SPLIT_BELOW`: wide lobes, or `wi` far from the normal) the lobe is
-//! one plain Blinn lobe, as before.
+//! the plain Blinn lobe (`Integral::Lobe`), and so are the lobes of the other models.
 //!
 //! What remains: where `R0` is 0 or nearly (`eta` near 1 for Torrance-Sparrow) and `wi`
 //! is near but not at the normal, the bulk is integrated exactly and the tail, whose
 //! weight is then Schlick's excess alone, carries the error; for lobes as wide as p = 20
 //! its growth across the tail still skews the replicates of Sobol cells of 256 samples
-//! (about 4% of cells beyond 3 standard errors at mu = 0.99–0.999; honest from 4096).
+//! (3.9% of cells beyond 3 standard errors at mu = 0.99, where 0.9% is honest; 0.9% at
+//! 4096 samples: `scripts/stderr_calibration.py`).
 
 use std::f64::consts::FRAC_PI_2;
 
