@@ -107,14 +107,9 @@ pub fn plan<'a, F: Real>(
     options: EvalOptions,
 ) -> Result<Plan<'a, F>, BrdfError> {
     let spec: &'static ModelSpec = kind.spec();
-    let matched = params::match_names(spec, inputs.params.iter().map(|(name, _)| *name))?;
+    let given = given_params(spec, inputs.params)?;
     let originals = [Some(inputs.wi), Some(inputs.wo), inputs.n, inputs.tangent];
     let mut named_shapes = checked_vectors(spec, &originals)?;
-    let given: Vec<GivenParam<'a, F>> = matched
-        .into_iter()
-        .zip(inputs.params)
-        .map(|(spec, (_, view))| GivenParam { spec, view })
-        .collect();
     let resolved = params::resolve(spec, given, options.check_params)?;
     for p in &resolved.batch {
         named_shapes.push((p.spec.name, p.own_batch.clone()));
@@ -177,13 +172,7 @@ pub fn uniform_params<F: Real>(
     params: Vec<(&str, ArrayViewD<'_, F>)>,
 ) -> Result<Option<Vec<F>>, BrdfError> {
     let spec = kind.spec();
-    let matched = params::match_names(spec, params.iter().map(|(name, _)| *name))?;
-    let given = matched
-        .into_iter()
-        .zip(params)
-        .map(|(spec, (_, view))| GivenParam { spec, view })
-        .collect();
-    let resolved = params::resolve(spec, given, true)?;
+    let resolved = params::resolve(spec, given_params(spec, params)?, true)?;
     let mut uniform = resolved.uniform;
     for p in resolved.batch {
         if !p.own_batch.is_empty() {
@@ -384,11 +373,19 @@ pub fn check_params<F: Real>(
     params: Vec<(&str, ArrayViewD<'_, F>)>,
 ) -> Result<(), BrdfError> {
     let spec = kind.spec();
+    params::resolve(spec, given_params(spec, params)?, true).map(|_| ())
+}
+
+/// Pairs each named parameter array with its spec (unknown or misspelt names are an
+/// error naming them), in the order given.
+fn given_params<'a, F>(
+    spec: &'static ModelSpec,
+    params: Vec<(&str, ArrayViewD<'a, F>)>,
+) -> Result<Vec<GivenParam<'a, F>>, BrdfError> {
     let matched = params::match_names(spec, params.iter().map(|(name, _)| *name))?;
-    let given = matched
+    Ok(matched
         .into_iter()
         .zip(params)
         .map(|(spec, (_, view))| GivenParam { spec, view })
-        .collect();
-    params::resolve(spec, given, true).map(|_| ())
+        .collect())
 }
