@@ -171,7 +171,7 @@ def main() -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     out.with_suffix(".md").write_text("\n".join(lines) + "\n")
     out.with_suffix(".json").write_text(
-        json.dumps({"builds": builds, "results": best, "speedup": ratios}, indent=1)
+        json.dumps({"builds": list(builds), "results": best, "speedup": ratios}, indent=1)
     )
     try:
         import matplotlib
