@@ -83,7 +83,9 @@ class Case:
         shown = {
             k: v
             for k, v in self.params.items()
-            if k in ("p", "alpha", "sigma") or (k == "ks" and v != 1.0) or (k == "eta" and v != 1.5)
+            if k in ("p", "alpha", "alpha_x", "sigma")
+            or (k == "ks" and v != 1.0)
+            or (k == "eta" and v != 1.5)
         }
         extra = " ".join(f"{k}={v:g}" for k, v in shown.items())
         return f"{self.model} mu={self.mu:g} {extra}".strip()
@@ -96,9 +98,15 @@ CASES = (
     Case("torrance_sparrow", 0.9, {**TS, "p": 1000.0}),
     Case("torrance_sparrow", 1.0, {**TS, "p": 20.0}),
     Case("torrance_sparrow", 0.99, {**TS, "eta": 1.0, "p": 20.0}),
+    Case("torrance_sparrow", 0.99, {**TS, "eta": 1.05, "p": 50.0}),
+    Case("torrance_sparrow", 0.997, {**TS, "eta": 1.0, "p": 1000.0}),
     Case("blinn_phong_fresnel", 1.0, {**BPF, "p": 100.0}),
     Case("blinn_phong_fresnel", 0.5, {**BPF, "p": 100.0}),
+    Case("normalized_blinn_phong", 1.0, {**GGX, "p": 20.0}),
+    Case("phong", 1.0, {**GGX, "p": 20.0}),
+    Case("ward", 1.0, {**GGX, "alpha_x": 0.1, "alpha_y": 0.1}),
     Case("ggx", 1.0, {**GGX, "alpha": 0.05}),
+    Case("ggx", 0.7, {**GGX, "alpha": 0.1}),
     Case("ggx", 0.2, {**GGX, "alpha": 0.05}),
     Case("ggx", 0.7, {**GGX, "alpha": 0.3}),
     Case("ggx", 0.2, {**GGX, "alpha": 1.0}),

@@ -240,6 +240,16 @@ pub struct Progress {
 const POINTS: usize = 256;
 /// Most scalar integrals one cell estimates together.
 const MAX_LOBES: usize = 3;
+/// Bins of the unit square for the stratified variance of a skewed lobe, and the
+/// partitions of the square into them ([`LobeSums::skewed_stderr`]).
+const BINS: usize = 16;
+const SHAPES: usize = 5;
+/// The bins of one lobe: `[points, Σ(w − shift), Σ(w − shift)²]` per bin, per partition.
+type Bins = [[[f64; 3]; BINS]; SHAPES];
+/// Replicates of this many points or more have means that are not skewed, and their
+/// spread alone is the error bar (`scripts/stderr_calibration.py`: the stratified bound
+/// is then several times the error).
+const SKEWED_FROM: u64 = 64;
 /// An importance sampler must give a nonzero weight to at least one point in this many
 /// of its first round, or its lobe falls back to cosine sampling
 /// ([`CellIntegrand::fall_back`]).
@@ -272,6 +282,19 @@ struct Lobe<P> {
     /// whole lobe), and whether it is that stratum ([`Integral::BlinnStratum`]): strata
     /// fall back together.
     stratum: Option<(usize, bool)>,
+}
+
+impl<P> Lobe<P> {
+    /// A tail stratum ([`crate::models::strata`]): its weights are skewed (they grow
+    /// towards the far end of the tail, where `G` and the horizon cut them per azimuth),
+    /// and a Sobol replicate of a few points has one point there, so the replicates'
+    /// means are skewed and their spread understates the error (Torrance-Sparrow near the
+    /// normal with `R0` near 0: 4–6% of the cells of 256 samples beyond 3 standard errors
+    /// against 0.9%, `scripts/stderr_calibration.py`). [`LobeSums::skewed_stderr`]
+    /// bounds its error from every point of the cell.
+    fn skewed(&self) -> bool {
+        matches!(self.warp, Warp::BlinnStratum { .. }) && matches!(self.stratum, Some((_, false)))
+    }
 }
 
 /// Returns `(sin φ, cos φ)`, exact at the multiples of π/2 (as `φ` rounds them), so
@@ -639,6 +662,11 @@ fn control_value(control: Control, tilt: Option<(f64, f64)>, wi: DVec3, wo: DVec
     let x = 0.5 * (wi - h).length_squared();
     let x2 = x * x;
     let c = x2 * x2 * x;
+    let c = if control.r0 != 0.0 {
+        control.r0 + (1.0 - control.r0) * c
+    } else {
+        c
+    };
     let c = if control.over_cos {
         c * wi.dot(h) / h.z
     } else {
@@ -660,7 +688,7 @@ fn control_value(control: Control, tilt: Option<(f64, f64)>, wi: DVec3, wo: DVec
 /// are nearly constant by design, and a plain running sum of 2^16 such weights per
 /// replicate is off by about 1e-13 of the mean (each addition rounds the same way),
 /// the same for every replicate, far above the replicates' spread.
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 struct LobeSums {
     n: u64,
     /// Points with a nonzero weight, per lobe.
@@ -668,31 +696,62 @@ struct LobeSums {
     shift: [f64; MAX_LOBES],
     sum: [[f64; LANES]; MAX_LOBES],
     cross: [[[f64; LANES]; MAX_LOBES]; MAX_LOBES],
+    /// Per skewed lobe ([`Lobe::skewed`]), its index and its weights in bins of the unit
+    /// square of `(u0, u1)`: for each of the [`SHAPES`] partitions into [`BINS`] equal
+    /// rectangles, per bin, the points and the sums of the shifted weights and of their
+    /// squares. Kept while the replicates have fewer than [`SKEWED_FROM`] points.
+    bins: Vec<(usize, Bins)>,
 }
 
 impl LobeSums {
-    fn new() -> Self {
+    /// Empty sums; `skewed` lists the lobes kept in bins.
+    fn new(skewed: &[usize]) -> Self {
         LobeSums {
             n: 0,
             hits: [0; MAX_LOBES],
             shift: [0.0; MAX_LOBES],
             sum: [[0.0; LANES]; MAX_LOBES],
             cross: [[[0.0; LANES]; MAX_LOBES]; MAX_LOBES],
+            bins: skewed
+                .iter()
+                .map(|&k| (k, [[[0.0; 3]; BINS]; SHAPES]))
+                .collect(),
         }
     }
 
+    /// Adds the weights of the first `len` points of `block` (its `u0`, `u1` for the
+    /// bins) for `lobes` lobes.
     #[inline(always)]
     fn add_block(
         &mut self,
-        w: &[[f64; POINTS]; MAX_LOBES],
+        block: &PointBlock,
         lobes: usize,
         len: usize,
         cross: bool,
         shifted: [bool; MAX_LOBES],
     ) {
+        let (w, u0, u1) = (&block.w, &block.u0[..len], &block.u1[..len]);
         if self.n == 0 {
             for k in (0..lobes).filter(|&k| shifted[k]) {
                 self.shift[k] = w[k][..len].iter().sum::<f64>() / len as f64;
+            }
+        }
+        if self.n < SKEWED_FROM {
+            for (k, shapes) in self.bins.iter_mut() {
+                let (k, ck) = (*k, self.shift[*k]);
+                for (shape, bins) in shapes.iter_mut().enumerate() {
+                    // 2^(4 − shape) rows in u0 by 2^shape columns in u1.
+                    let rows = BINS >> shape;
+                    let columns = 1usize << shape;
+                    for ((&x, &u), &v) in w[k][..len].iter().zip(u0).zip(u1) {
+                        let row = ((u * rows as f64) as usize).min(rows - 1);
+                        let column = ((v * columns as f64) as usize).min(columns - 1);
+                        let bin = &mut bins[row * columns + column];
+                        bin[0] += 1.0;
+                        bin[1] += x - ck;
+                        bin[2] += (x - ck) * (x - ck);
+                    }
+                }
             }
         }
         self.n += len as u64;
@@ -725,6 +784,53 @@ impl LobeSums {
 
     fn total(lanes: &[f64; LANES]) -> f64 {
         lanes.iter().sum()
+    }
+
+    /// The standard error of the skewed lobes' sum ([`Lobe::skewed`]) as a sample
+    /// stratified over the points of all `replicates`: per lobe, the least over the
+    /// [`SHAPES`] partitions of the unit square into [`BINS`] equal rectangles (16 × 1,
+    /// 8 × 2, …, 1 × 16 in `(u0, u1)`) of `sqrt(Σ_b s_b²/n_b)/BINS`, with `s_b²` the
+    /// variance of the weights in bin `b` pooled over the replicates; the lobes' errors
+    /// added (a bound whatever their correlation). A replicate of `2^k ≥ BINS` Sobol
+    /// points puts the same number in every rectangle of every such partition (and is more
+    /// finely stratified still), so each bounds its error; it pools every point of the
+    /// cell where the replicates' spread rests on one point per replicate near the
+    /// skewed end. Zero where no lobe is skewed, from [`SKEWED_FROM`] points per replicate
+    /// on, and for a lobe with a bin of fewer than two points.
+    fn skewed_stderr<P>(replicates: &[LobeSums], lobes: &[Lobe<P>]) -> [f64; 3] {
+        let mut se = [0.0; 3];
+        if replicates[0].n >= SKEWED_FROM {
+            return se;
+        }
+        for (i, &(k, _)) in replicates[0].bins.iter().enumerate() {
+            // Pool the bins about one shift (the first replicate's).
+            let c0 = replicates[0].shift[k];
+            let mut bins = [[[0.0f64; 3]; BINS]; SHAPES];
+            for s in replicates {
+                let d = s.shift[k] - c0;
+                for (pooled, own) in bins.iter_mut().zip(&s.bins[i].1) {
+                    for (p, b) in pooled.iter_mut().zip(own) {
+                        p[0] += b[0];
+                        p[1] += b[1] + b[0] * d;
+                        p[2] += b[2] + 2.0 * d * b[1] + b[0] * d * d;
+                    }
+                }
+            }
+            let var = |[n, s1, s2]: [f64; 3]| ((s2 - s1 * s1 / n) / (n - 1.0)).max(0.0);
+            let Some(var_mean) = bins
+                .iter()
+                .filter(|shape| shape.iter().all(|b| b[0] >= 2.0))
+                .map(|shape| shape.iter().map(|&b| var(b) / b[0]).sum::<f64>())
+                .min_by(f64::total_cmp)
+            else {
+                continue;
+            };
+            let sd = var_mean.sqrt() / BINS as f64;
+            for (e, c) in se.iter_mut().zip(lobes[k].colour) {
+                *e += c.abs() * sd;
+            }
+        }
+        se
     }
 
     /// The RGB mean `Σ colour_k · mean(w_k)` and, if cross sums were kept, the standard
@@ -827,8 +933,12 @@ unsafe fn accumulate<K: Kernel, I: Loops>(
     cross: bool,
 ) {
     // Shifted sums: every lobe for the cross sums, and lobes with a control variate.
+    // Shifted sums: every lobe for the cross sums, lobes kept in bins, and lobes with a
+    // control variate.
     let shifted: [bool; MAX_LOBES] = std::array::from_fn(|k| {
-        cross || integrand.lobes.get(k).is_some_and(|l| l.control.is_some())
+        cross
+            || sums.bins.iter().any(|&(b, _)| b == k)
+            || integrand.lobes.get(k).is_some_and(|l| l.control.is_some())
     });
     let mut left = count;
     while left > 0 {
@@ -855,7 +965,7 @@ unsafe fn accumulate<K: Kernel, I: Loops>(
                 )
             };
         }
-        sums.add_block(&block.w, integrand.lobes.len(), len, cross, shifted);
+        sums.add_block(block, integrand.lobes.len(), len, cross, shifted);
         left -= len as u64;
     }
 }
@@ -910,15 +1020,23 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
     } else {
         first.div_ceil(streams_count).next_power_of_two()
     };
-    // The cell's streams from their start, and empty sums for them.
-    let fresh = || {
+    // The cell's streams from their start, and empty sums for them (the skewed lobes
+    // kept in bins for Sobol points).
+    let fresh = |integrand: &CellIntegrand<K>| {
         let streams: Vec<Stream> = (0..streams_count)
             .map(|r| Stream::new(options.sequence, options.seed, cell, r))
             .collect();
-        let sums = vec![LobeSums::new(); streams.len()];
+        let skewed: Vec<usize> = if random {
+            Vec::new()
+        } else {
+            (0..integrand.lobes.len())
+                .filter(|&k| integrand.lobes[k].skewed())
+                .collect()
+        };
+        let sums = vec![LobeSums::new(&skewed); streams.len()];
         (streams, sums)
     };
-    let (mut streams, mut sums) = fresh();
+    let (mut streams, mut sums) = fresh(&integrand);
     let mut done_per_stream = 0u64;
     let mut checked_hits = false;
     let (mean, stderr, samples) = loop {
@@ -936,7 +1054,7 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
             checked_hits = true;
             if integrand.fall_back(&sums, total) {
                 // Start again with the new samplers, on fresh streams.
-                (streams, sums) = fresh();
+                (streams, sums) = fresh(&integrand);
                 done_per_stream = 0;
                 continue;
             }
@@ -946,7 +1064,9 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
         } else {
             // Replicate means, then their mean and spread.
             let means: Vec<[f64; 3]> = sums.iter().map(|s| s.rgb(&integrand.lobes).0).collect();
-            mean_and_stderr(&means)
+            let (mean, se) = mean_and_stderr(&means);
+            let floor = LobeSums::skewed_stderr(&sums, &integrand.lobes);
+            (mean, std::array::from_fn(|c| se[c].max(floor[c])))
         };
         let done = match options.tol {
             None => true,
@@ -1325,7 +1445,7 @@ mod tests {
             CellIntegrand::<TorranceSparrow>::new(1.0, 0.0, false, &terms, &Default::default());
         assert_eq!(integrand.lobes.len(), 2, "bulk and tail");
         assert!(integrand.lobes[0].control.is_some());
-        let mut sums = LobeSums::new();
+        let mut sums = LobeSums::new(&[]);
         sums.hits = [1000, 0, 0];
         assert!(integrand.fall_back(&[sums], 1000));
         assert_eq!(integrand.lobes.len(), 1);

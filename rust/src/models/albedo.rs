@@ -78,8 +78,10 @@ pub enum Integral {
 
 /// A control variate of a [`Integral::BlinnStratum`]: the integrator subtracts
 /// `beta·(C − mean)`, times the stratum's probability under the Blinn sampler, from each
-/// point's weight, where `C = (1 − wi·h)^5` of the point's half vector `h`, times
-/// `(wi·h)/cos θh` if `over_cos` and `mu_o = n·wo` if `mu_o`; `mean` is `E[C]` over the
+/// point's weight, where `C = r0 + (1 − r0)·(1 − wi·h)^5` (Schlick's `F` for the
+/// normal-incidence reflectance `r0`, or its excess alone where `r0` is 0) of the
+/// point's half vector `h`, times `(wi·h)/cos θh` if `over_cos` and `mu_o = n·wo` if
+/// `mu_o`; `mean` is `E[C]` over the
 /// stratum under the lobe's Blinn density (where Sobol points draw the stratum with
 /// another exponent, `C` is weighted by the ratio of the densities).
 ///
@@ -90,6 +92,7 @@ pub enum Integral {
 pub struct Control {
     pub beta: f64,
     pub mean: f64,
+    pub r0: f64,
     pub over_cos: bool,
     pub mu_o: bool,
     pub rounding: f64,
