@@ -2,9 +2,7 @@
 //!
 //! Public API (f64 and f32 each):
 //! * `pow_unit_f64(x, one_minus_x, p)` / `pow_unit_f32`: x^p for x in [0, 1],
-//!   accurate even when x is within 1e-12 of 1 (uses the caller's 1 - x);
-//!   `pow_unit_f64_fma` / `pow_unit_f32_fma`: the same with fused
-//!   multiply-adds, for loops compiled with the `fma` target feature only.
+//!   accurate even when x is within 1e-12 of 1 (uses the caller's 1 - x).
 //! * `exp_f64` / `exp_f32`: e^x for all x (overflow to +inf, gradual underflow).
 //! * `log_f64` / `log_f32`: ln x for x >= 0, subnormals included.
 //!
@@ -13,7 +11,7 @@
 //! loop that calls it per element auto-vectorizes for whatever the enclosing
 //! function is compiled for (SSE2, AVX2, AVX-512: 8 f64 / 16 f32 lanes).
 //! No FMA is required: exact products come from splitting operands with bit
-//! masks (the fdlibm `e_pow.c` technique), so the non-`_fma` functions give
+//! masks (the fdlibm `e_pow.c` technique), so the functions give
 //! bit-identical results on every ISA.
 //!
 //! Algorithm of `pow_unit_*` (x^p):
@@ -371,16 +369,6 @@ pub fn pow_unit_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_unit_impl_f64::<false>(x, one_minus_x, p)
 }
 
-/// [`pow_unit_f64`] with fused multiply-adds in the polynomial and
-/// correction terms (same accuracy, a little faster). Call it ONLY from code
-/// compiled with the `fma` target feature (e.g. inside a
-/// `#[target_feature(enable = "avx2,fma")]` function): without it every
-/// `mul_add` becomes a slow libm `fma` call.
-#[inline(always)]
-pub fn pow_unit_f64_fma(x: f64, one_minus_x: f64, p: f64) -> f64 {
-    pow_unit_impl_f64::<true>(x, one_minus_x, p)
-}
-
 /// e^x for every f64 x: overflows to +inf above ~709.78, goes through the
 /// subnormals to +0 below ~-708.4 (0 below ~-745.13), NaN -> NaN.
 /// Accuracy vs mpmath (110k points over [-745, 710] and |x| in [1e-20, 1]):
@@ -572,13 +560,6 @@ pub fn pow_unit_over_f32(x: f32, one_minus_x: f32, p: f32, d: f32) -> f32 {
 #[inline(always)]
 pub fn pow_unit_f32(x: f32, one_minus_x: f32, p: f32) -> f32 {
     pow_unit_impl_f32::<false>(x, one_minus_x, p)
-}
-
-/// [`pow_unit_f32`] with fused multiply-adds; same caveat as
-/// [`pow_unit_f64_fma`]: only call it from code compiled with `fma`.
-#[inline(always)]
-pub fn pow_unit_f32_fma(x: f32, one_minus_x: f32, p: f32) -> f32 {
-    pow_unit_impl_f32::<true>(x, one_minus_x, p)
 }
 
 /// f32 e^x for every x: +inf above ~88.72, subnormals then +0 below
