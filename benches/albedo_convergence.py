@@ -4,7 +4,7 @@ the azimuth fold, a natural NumPy Monte Carlo baseline and, for GGX, Mitsuba 3.
 Samplers: "importance" is each lobe's own sampler; "auto" is the library's default (the
 same, except that diffuse lobes are drawn uniformly with Sobol points, measured faster).
 
-Tables (as the albedo issue specifies):
+Tables:
 - torrance_sparrow 64x64: mu_j = (j+0.5)/64, p log-spaced in [1, 1e4], kd=0, ks=1, eta=1.5
 - normalized_phong 64x64: the same grid, kd=0, ks=1
 - oren_nayar 32x32: mu_j = (j+0.5)/32, sigma in [0, pi/2], kd=1
