@@ -4,7 +4,7 @@ the azimuth fold, a natural NumPy Monte Carlo baseline and, for GGX, Mitsuba 3.
 Samplers: "importance" is each lobe's own sampler; "auto" is the library's default (the
 same, except that diffuse lobes are drawn uniformly with Sobol points, measured faster).
 
-Tables (as the albedo issue specifies):
+Tables:
 - torrance_sparrow 64x64: mu_j = (j+0.5)/64, p log-spaced in [1, 1e4], kd=0, ks=1, eta=1.5
 - normalized_phong 64x64: the same grid, kd=0, ks=1
 - oren_nayar 32x32: mu_j = (j+0.5)/32, sigma in [0, pi/2], kd=1
@@ -12,12 +12,11 @@ Tables (as the albedo issue specifies):
   kd=0, ks=1 (F = 1): the table of Kulla-Conty energy compensation. Methods: the
   library's VNDF sampler with Sobol points (fixed samples and adaptive `tol`), random
   points, no azimuth fold, the uniform sampler, and Mitsuba 3 (below); no NumPy baseline.
-- beckmann 64x64: the same grid and parameters. Methods: the visible-normal sampler
-  (the default) against the NDF sampler (Walter 2005; the environment variable
-  BRDF_RS_BECKMANN_NDF=1 selects it), each with fixed samples and adaptive `tol`
-  (Sobol points). Also reported per method: ns per sample (wall time x threads /
-  samples) and the fraction of cells whose |error| exceeds 3 standard errors at its
-  most accurate point (an honest error bar leaves ~0.3%).
+- beckmann 64x64: the same grid and parameters. Methods: the library's visible-normal
+  sampler with Sobol points, with fixed samples and adaptive `tol`. Also reported per
+  method: ns per sample (wall time x threads / samples) and the fraction of cells whose
+  |error| exceeds 3 standard errors at its most accurate point (an honest error bar
+  leaves ~0.3%).
 
 The error is the RMS over the table against a converged deterministic quadrature
 (tests/quadrature.py, refined until successive resolutions agree to 1e-9; cached in
@@ -172,23 +171,14 @@ class _SeparableGgx:
         return f * np.where(up_i & up_o, ratio, 0.0)[..., None]
 
 
-_OPTIONS = ("samples", "sampler", "sequence", "tol", "max_samples", "fold_azimuth", "beckmann_ndf")
+_OPTIONS = ("samples", "sampler", "sequence", "tol", "max_samples", "fold_azimuth")
 
 
-def run_brdf_rs(model, spec, ref, beckmann_ndf=None, **options):
-    """One table; `beckmann_ndf` (True / False) sets BRDF_RS_BECKMANN_NDF for the call."""
-    saved = os.environ.get("BRDF_RS_BECKMANN_NDF")
-    if beckmann_ndf is not None:
-        os.environ["BRDF_RS_BECKMANN_NDF"] = "1" if beckmann_ndf else "0"
-    try:
-        t = time.perf_counter()
-        table = brdf_rs.albedo_table(model, spec["axes"], **spec["fixed"], **options)
-        seconds = time.perf_counter() - t
-    finally:
-        if saved is None:
-            os.environ.pop("BRDF_RS_BECKMANN_NDF", None)
-        else:
-            os.environ["BRDF_RS_BECKMANN_NDF"] = saved
+def run_brdf_rs(model, spec, ref, **options):
+    """One table."""
+    t = time.perf_counter()
+    table = brdf_rs.albedo_table(model, spec["axes"], **spec["fixed"], **options)
+    seconds = time.perf_counter() - t
     err = table.value[..., 0] - ref
     stderr = table.stderr[..., 0]
     samples = float(table.samples.sum())
@@ -403,17 +393,13 @@ def main() -> None:
         run = functools.partial(run_brdf_rs, model, spec, ref)
         tols = [1e-3 / 2**k for k in range(16)]
         if model == "beckmann":
-            # Visible normals (the default) against the NDF sampler, Sobol points only.
-            for name, ndf in (("VNDF", False), ("NDF", True)):
-                label = f"{name} + sobol"
-                runs = [{"samples": n, "beckmann_ndf": ndf} for n in sizes]
-                methods[label] = series(label, runs, run, args.budget)
-                label = f"{name} + sobol + adaptive tol"
-                runs = [
-                    {"samples": 256, "tol": t, "max_samples": 1 << 24, "beckmann_ndf": ndf}
-                    for t in tols
-                ]
-                methods[label] = series(label, runs, run, args.budget)
+            # The visible-normal sampler (the default), Sobol points only.
+            label = "VNDF + sobol"
+            runs = [{"samples": n} for n in sizes]
+            methods[label] = series(label, runs, run, args.budget)
+            label = "VNDF + sobol + adaptive tol"
+            runs = [{"samples": 256, "tol": t, "max_samples": 1 << 24} for t in tols]
+            methods[label] = series(label, runs, run, args.budget)
             combos = []
         elif model == "ggx":
             # GGX has no diffuse lobe: "auto" is "importance" (VNDF); cosine is uniform's

@@ -1,7 +1,7 @@
 """Plain vectorized NumPy versions of the brdf-rs models: the baseline for the benchmark.
 
 Each function is what a competent NumPy user would write in an afternoon from
-``MODELS.md``: dot products with ``np.einsum``, ``np.power``, ``np.where``, ``np.maximum``,
+``docs/models.md``: dot products with ``np.einsum``, ``np.power``, ``np.where``, ``np.maximum``,
 ``np.arccos``/``np.tan`` for Oren-Nayar as the formula reads, RGB broadcast with
 ``[:, None]``. No numexpr, numba, in-place buffer reuse or other micro-optimization, and
 no Python loops over rows.

@@ -226,7 +226,7 @@ def main() -> None:
         "",
         "The 8-light frame runs exactly as many kernels as the 1-light frame. Its 7 lights",
         "behind the surfaces do contribute on the toon sphere, whose darkest band is lit from",
-        "behind (MODELS.md: toon_diffuse counts thresholds against the signed n·l); that band",
+        "behind (docs/models.md: toon_diffuse counts thresholds against the signed n·l); that band",
         "is one colour there, added without a kernel ('constant' pairs).",
     ]
     table = "\n".join(lines) + "\n"

@@ -1,7 +1,7 @@
 """Generates docs/: one page per model, the conventions, an index and the benchmark page.
 
     python scripts/make_docs.py                                  # docs/ (committed)
-    python scripts/make_docs.py --resolution small --out /tmp/d  # quick check (the tests)
+    python scripts/make_docs.py --resolution small --out DIR     # quick check (the tests)
 
 Every page comes from ``brdf_rs.models()`` (formula, source, parameters with kinds,
 defaults and ranges) and every image from the library: a sphere rendered by
@@ -156,7 +156,8 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         spec["formula"],
         "```",
         "",
-        f"Source: {spec['source']}. The kernel, its formula and source equation:"
+        f"Source: {spec['source']}. The definition, its degenerate cases and the"
+        f" published sources: [the model reference](../models.md#{name}). The kernel:"
         f" [`rust/src/models/{name}.rs`](../../rust/src/models/{name}.rs).",
         "",
         "## Parameters",
@@ -258,7 +259,8 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
 CONVENTIONS = """# Conventions
 
 These hold everywhere in brdf-rs: `eval`, `sample`, `pdf`, the albedo integrators, the
-scenes and the command line. `MODELS.md` defines every model in these terms.
+scenes and the command line. [The model reference](models.md) defines every model in
+these terms.
 
 ## Directions
 
@@ -335,6 +337,8 @@ def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
         " bake albedo tables, with the work done in Rust. Start with the"
         " [README](../README.md) (install, a five-minute tour), then:",
         "",
+        "- [Model reference](models.md): every model's formula, parameters, degenerate cases"
+        " and published source.",
         "- [Conventions](conventions.md): directions, units, what `f` includes, RGB, dtypes.",
         "- [Example scenes](scenes.md): scan-line rendering with the models as materials.",
         "- [Error bars](error_bars.md): what an albedo's `stderr` means, how it is measured,"

@@ -4,15 +4,16 @@
 
 Checks that the package imported is the installed one (not the source tree), that the
 compiled core evaluates and integrates with known exact answers, that the typing files
-ship, that the console script works (rendering an example scene that ships in the
-wheel), and that the optional extras stay optional: without pypng, writing PNG gives its
-one-line error naming the ``png`` extra (with pypng, a PNG render and a table's PNG preview
-that reads back), and without matplotlib plotting names the ``plot`` extra. Exits non-zero
-on the first failure.
+and both licence texts ship, that the console script works (rendering an example scene
+that ships in the wheel), and that the optional extras stay optional: without pypng,
+writing PNG gives its one-line error naming the ``png`` extra (with pypng, a PNG render
+and a table's PNG preview that reads back), and without matplotlib plotting names the
+``plot`` extra. Exits non-zero on the first failure.
 """
 
 from __future__ import annotations
 
+import importlib.metadata
 import json
 import math
 import subprocess
@@ -29,6 +30,9 @@ site = Path(sysconfig.get_paths()["purelib"]).resolve()
 assert package.parent == site, f"imported {package}, not the installed wheel in {site}"
 assert (package / "py.typed").exists() and (package / "_brdf_rs.pyi").exists()
 assert list(package.glob("_brdf_rs*.so")) or list(package.glob("_brdf_rs*.pyd"))
+# The licence texts (pyproject's license-files) in the wheel's metadata.
+shipped = {Path(str(f)).name for f in importlib.metadata.files("brdf-rs") or []}
+assert {"LICENSE-MIT", "LICENSE-APACHE"} <= shipped, sorted(shipped)
 
 # eval: Lambert is kd/π, in float64 and float32.
 f = brdf_rs.eval("lambert", [0.3, 0.2, 1.0], [-0.1, 0.4, 1.0], kd=1.0)

@@ -1,4 +1,4 @@
-"""The identities MODELS.md lists, and reciprocity where (and only where) it holds."""
+"""The identities docs/models.md lists, and reciprocity where (and only where) it holds."""
 
 from __future__ import annotations
 

@@ -472,7 +472,7 @@ def test_culled_lights_are_not_evaluated():
 
 def test_toon_dark_bands_are_added_for_lights_behind_without_a_kernel():
     # toon_diffuse counts thresholds against the signed n·l: a light behind the surface
-    # shows the darkest band (MODELS.md). With no threshold in (-1, 0] that band is one
+    # shows the darkest band (docs/models.md). With no threshold in (-1, 0] that band is one
     # constant colour, added as L·colour without running the kernel.
     toon = (
         'diffuse = { model = "toon_diffuse", thresholds = [0.5], colors = [[0.1, 0.2, 0.3], 0.8] }'
@@ -865,7 +865,7 @@ def test_cli_tables_are_cached_by_content(tmp_path, capsys):
     # the unused torrance_sparrow and the family-B material get none.
     assert [(t["material"], t["cached"]) for t in first] == [("m", False), ("same", True)]
     assert first[0]["path"] == first[1]["path"]
-    # normalized_blinn_phong's (p+8)/(8π) gains energy near normal incidence (MODELS.md).
+    # normalized_blinn_phong's (p+8)/(8π) gains energy near normal incidence (docs/models.md).
     assert first[0]["gains_energy"]
     mtime = Path(first[0]["path"]).stat().st_mtime_ns
     assert cli_main(args) == 0

@@ -220,7 +220,7 @@ def test_missing_mpmath_is_a_clear_error(monkeypatch):
 # --------------------------------------------------------- regression tests: kernels
 
 
-def test_s1_phong_lobe_does_not_underflow_before_dividing_by_mu_i():
+def test_phong_lobe_does_not_underflow_before_dividing_by_mu_i():
     # cos_ar^p = 5.9e-427 is below the float range; divided by mu_i = 1e-300 it is not.
     args = ("phong", [0.6, 0.8, 1e-300], [-0.5, -0.7, 0.4])
     want = exact(*args, p=1e4)
@@ -240,7 +240,7 @@ def test_s1_phong_lobe_does_not_underflow_before_dividing_by_mu_i():
     assert got32[0] == pytest.approx(want32[0], rel=1e-5) and want32[0] > 1e-10
 
 
-def test_s2_zero_specular_channel_times_infinite_lobe_is_not_nan():
+def test_zero_specular_channel_times_infinite_lobe_is_not_nan():
     # lobe / mu_i with mu_i = 5e-324 is beyond the float range: inf, except where ks = 0.
     params = {"kd": 0.3, "ks": [1.0, 0.0, 2.0]}
     for model, p in (("phong", 0.0), ("blinn_phong", 32.0)):
@@ -250,7 +250,7 @@ def test_s2_zero_specular_channel_times_infinite_lobe_is_not_nan():
 
 
 @pytest.mark.parametrize("graze", [1e-300, 1e-200, 5e-324])
-def test_s3_half_vector_of_grazing_opposite_directions_is_the_normal(graze):
+def test_half_vector_of_grazing_opposite_directions_is_the_normal(graze):
     # wi + wo = (0, 0, 2·graze): |wi + wo|² underflows, its direction does not: h = n.
     wi, wo = [1.0, 0.0, graze], [-1.0, 0.0, graze]
     assert kernel("modified_blinn_phong", wi, wo) == exact("modified_blinn_phong", wi, wo)
@@ -259,7 +259,7 @@ def test_s3_half_vector_of_grazing_opposite_directions_is_the_normal(graze):
     assert got == exact("torrance_sparrow", wi, wo, p=0.0) == (math.inf,) * 3
 
 
-def test_s4_schlick_complement_without_cancellation_when_wi_is_nearly_minus_wo():
+def test_schlick_complement_without_cancellation_when_wi_is_nearly_minus_wo():
     # |wi + wo| = 1e-3: 1 − cos_b from |wi − h|²/2 carried h's rounding (995 and 950 ulps
     # here before); κ is 0.005 and 6.
     args = ("blinn_phong_fresnel", [1.0, 0.0, 1e-16], [-1.0, 1e-3, 1e-16])
@@ -272,7 +272,7 @@ def test_s4_schlick_complement_without_cancellation_when_wi_is_nearly_minus_wo()
     assert_within(kernel(*args, ks=0.0), exact(*args, ks=0.0), kappa, "F0 = 0")
 
 
-def test_s5_kajiya_kay_sine_of_a_fibre_next_to_the_light():
+def test_kajiya_kay_sine_of_a_fibre_next_to_the_light():
     # |l × t| = 1e-200: its square underflows, the sine does not.
     args = ("kajiya_kay", [1.0, 0.0, 1e-200], [0.3, -0.2, 0.9], (0.0, 0.0, 1.0), [1.0, 0.0, 0.0])
     want = exact(*args, kd=0.5, ks=0.0)
@@ -280,10 +280,10 @@ def test_s5_kajiya_kay_sine_of_a_fibre_next_to_the_light():
     assert_within(kernel(*args, kd=0.5, ks=0.0), want, 1.0, "kajiya_kay")
 
 
-def test_s6_kajiya_kay_highlight_with_a_huge_exponent():
+def test_kajiya_kay_highlight_with_a_huge_exponent():
     # l·t + v·t cancels (l ≈ −v): forming the sum of the cosines lost 125 ulps here; the
     # sum of the vectors first left 39, which came from the length error of the
-    # normalized v (|l + v| = 1e-3); the sum of the exact unit vectors (S8) leaves 0.
+    # normalized v (|l + v| = 1e-3); the sum of the exact unit vectors leaves 0.
     args = ("kajiya_kay", [1.0, 0.0, 1e-300], [-1.0, 1e-3, 1e-300], (0.0, 0.0, 1.0))
     want = exact(*args, [0.3, 0.4, 0.5], p=1e6)
     assert mpref.condition(*args, [0.3, 0.4, 0.5], p=1e6) < 2
@@ -332,7 +332,7 @@ GGX_WORST = [
 
 
 @pytest.mark.parametrize("wi, wo, n, params, before", GGX_WORST)
-def test_s7_ggx_well_conditioned_within_4_ulps(wi, wo, n, params, before):
+def test_ggx_well_conditioned_within_4_ulps(wi, wo, n, params, before):
     # The rounded unit vectors' lengths are off by an ulp or so, and the lobe moves with
     # |n| as its 6th power (|h|: 4th): most of these ulps (5 of the 8 in the first case)
     # were there before the first rounding of the kernel itself. The kernel now takes the
@@ -342,7 +342,7 @@ def test_s7_ggx_well_conditioned_within_4_ulps(wi, wo, n, params, before):
     assert got <= 4, f"{got} ulps (before: {before})"
 
 
-def test_s8_half_vector_of_nearly_opposite_directions_from_the_exact_unit_vectors():
+def test_half_vector_of_nearly_opposite_directions_from_the_exact_unit_vectors():
     # |wi + wo| = 1e-3: the rounded vectors' length errors (1e-16) moved h's azimuth by
     # 1e-13, and with nu = 0, nv = 100 the exponent with it: 1.4e-11 at κ = 4.6e3
     # (27 κu) before.
@@ -372,7 +372,7 @@ def test_s8_half_vector_of_nearly_opposite_directions_from_the_exact_unit_vector
         ),
     ],
 )
-def test_s10_subnormal_half_cosine_keeps_its_digits(model, wi, wo, params):
+def test_subnormal_half_cosine_keeps_its_digits(model, wi, wo, params):
     # n·h = (mu_i + mu_o)/|wi + wo| ≈ 1e-320 is a subnormal with ~10 significant bits;
     # p = 0.5 (and blinn_phong's division by mu_i = 5e-324) bring the result back to the
     # normal range: 2.1e-8 relative error before (1e5 κu), now the cosine is formed from
@@ -397,9 +397,9 @@ def test_s10_subnormal_half_cosine_keeps_its_digits(model, wi, wo, params):
         ),
     ],
 )
-def test_s11_ward_cosine_below_the_range_of_its_unit_vector(tangent, params):
+def test_ward_cosine_below_the_range_of_its_unit_vector(tangent, params):
     # wi = (1e300, 0, 1e-300): mu_i = 1e-600, not representable even as a subnormal, so
-    # normalization keeps only its sign (B1). Ward's 1/sqrt(mu_i·mu_o) depends on its
+    # normalization keeps only its sign. Ward's 1/sqrt(mu_i·mu_o) depends on its
     # size: 1.2e151 for 2.8e289 before; now the engine takes the cosines of such rows
     # from the raw vectors with an extended exponent.
     wi, wo = [1e300, 0.0, 1e-300], [1e-300, 1e-300, 1e300]
@@ -419,7 +419,7 @@ def test_s11_ward_cosine_below_the_range_of_its_unit_vector(tangent, params):
         assert tuple(batch[i]) == tuple(single)
 
 
-def test_s11_ward_subnormal_cosines_keep_their_digits():
+def test_ward_subnormal_cosines_keep_their_digits():
     # |wi| = 0.58: normalization rounds mu_i = 5.1e-320 to the subnormal grid (~14
     # significant bits), and Ward's sqrt(mu_i) kept that error (1.9e-5 relative before).
     # The wide cosine is formed from the raw vector.
@@ -432,10 +432,10 @@ def test_s11_ward_subnormal_cosines_keep_their_digits():
     assert_within(kernel("ward", wi, wo, **params), want, kappa, "ward")
 
 
-def test_s11_ward_side_of_the_surface_from_the_wide_cosine():
+def test_ward_side_of_the_surface_from_the_wide_cosine():
     # n·wi for the normalized wi rounds to a tiny positive number while the raw one is
     # negative (below the surface: 0), or exactly 0 while the raw one is positive (the
-    # lobe), found by review of S11: NaN and 0 before. And the largest products
+    # lobe): NaN and 0 before. And the largest products
     # cancelling exactly, leaving the small one whole.
     s = 2.0**-74
     n = [0.6, -0.8, 0.0]
@@ -487,7 +487,7 @@ def test_ward_large_roughness_lobe_does_not_underflow_before_its_division(wi):
         ),
     ],
 )
-def test_s11_oren_nayar_wide_cosines(wi, wo, params):
+def test_oren_nayar_wide_cosines(wi, wo, params):
     want = exact("oren_nayar", wi, wo, **params)
     kappa = mpref.condition("oren_nayar", wi, wo, **params)
     got = kernel("oren_nayar", wi, wo, **params)
@@ -507,10 +507,10 @@ def test_s11_oren_nayar_wide_cosines(wi, wo, params):
     ],
 )
 def test_wide_cosine_models_across_the_whole_float_range(model, params):
-    # The models whose value depends on the size of a cosine below the range (S11).
-    # Every component 0 or ±m·10^u (u uniform in [-320, 307], or one of -300, -200, 0,
-    # 200, 300), normals +z, two tilted ones with a zero component, or random: the fuzz
-    # that checked S11's review fixes. Every row is within the float64 goal, except
+    # The models whose value depends on the size of a cosine below the range
+    # (docs/numerics.md, "Wide cosines"). Every component 0 or ±m·10^u (u uniform in
+    # [-320, 307], or one of -300, -200, 0, 200, 300), normals +z, two tilted ones with a
+    # zero component, or random. Every row is within the float64 goal, except
     # directions opposite to within far less than a unit vector's rounding
     # (docs/numerics.md, known limit 3), whose half vector is lost in any model.
     rng = np.random.default_rng(11)
@@ -572,7 +572,7 @@ def test_reference_ward_denominator_does_not_underflow():
     assert kernel("ward", wi, wo, **params) == want
 
 
-def test_b1_component_below_the_range_keeps_the_direction_above_the_surface():
+def test_component_below_the_range_keeps_the_direction_above_the_surface():
     # (1e300, 0, 1e-300) is above the surface by 1e-600 of its length: lambert is kd/π.
     wi, wo = [1e300, 0.0, 1e-300], [1e-300, 1e-300, 1e300]
     assert kernel("lambert", wi, wo) == exact("lambert", wi, wo)
@@ -582,7 +582,7 @@ def test_b1_component_below_the_range_keeps_the_direction_above_the_surface():
     assert got == (math.inf, 0.3, math.inf)  # ks/mu_i with mu_i = 1e-600: beyond the range
 
 
-def test_b2_toon_thresholds_at_the_ends_are_decided_exactly():
+def test_toon_thresholds_at_the_ends_are_decided_exactly():
     # v·r rounds to 1 for a viewer 1e-8 off the mirror direction; at threshold 1 only the
     # mirror direction itself is inside the highlight.
     wi = [0.5940744523855959, 0.5702737953449653, 0.5673300127488435]
@@ -633,7 +633,7 @@ def test_oren_nayar_shading_stays_finite_at_the_horizon():
 # ------------------------------------------------------ regression tests: reference
 
 
-def test_r1_reference_oren_nayar_without_tan_of_acos():
+def test_reference_oren_nayar_without_tan_of_acos():
     args = ("oren_nayar", [1.0, 0.0, 1e-300], [1.0, 1e-3, 1e-300])
     want = exact(*args, sigma=math.pi / 2)
     assert want[0] == pytest.approx(6.909925016782869e298, rel=1e-15)
@@ -642,7 +642,7 @@ def test_r1_reference_oren_nayar_without_tan_of_acos():
     assert_within(reference.eval(*args, sigma=math.pi / 2), exact(*args, sigma=math.pi / 2))
 
 
-def test_r2_reference_powers_use_the_complement_of_the_cosine():
+def test_reference_powers_use_the_complement_of_the_cosine():
     # wo is the exact mirror of wi: cos_ar = 1 - 1e-17-ish; p = 1e6 needs 1 - cos_ar.
     wi = [-0.25710489334793807, -0.29363779387286026, 0.920692087413607]
     wo = [0.25710489334793807, 0.29363779387286026, 0.920692087413607]
@@ -654,7 +654,7 @@ def test_r2_reference_powers_use_the_complement_of_the_cosine():
     assert_within(reference.eval("phong", wi, near, p=1e6), exact("phong", wi, near, p=1e6), kappa)
 
 
-def test_r3_reference_schlick_without_subtracting_cos_b():
+def test_reference_schlick_without_subtracting_cos_b():
     for wi, wo in [
         ([0.3, 0.1, 0.8], [0.3, -0.2, 0.9]),
         ([5e-324, 0.0, 1e-310], [1e-320, 3e-321, 1e-310]),
@@ -669,7 +669,7 @@ def test_r3_reference_schlick_without_subtracting_cos_b():
         assert_within(got, exact("torrance_sparrow", wi, wo, eta=1.0), kappa, "reference ts")
 
 
-def test_r4_reference_kajiya_kay_sines_from_cross_products():
+def test_reference_kajiya_kay_sines_from_cross_products():
     for graze in (1e-16, 1e-300):
         args = ("kajiya_kay", [1.0, 0.0, graze], [0.3, -0.2, 0.9], (0.0, 0.0, 1.0), [1.0, 0, 0])
         want = exact(*args, p=1.0)

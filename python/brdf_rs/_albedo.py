@@ -1,7 +1,7 @@
 """Directional albedo, albedo tables, split-sum (DFG) tables and energy checks.
 
 The directional albedo of a family-A BRDF is ``R(mu) = ∫ f(wi, wo)·cos θo dωo`` with
-``cos θi = mu`` (MODELS.md, the Summary's eq. 4). The Rust core computes it by
+``cos θi = mu`` (docs/models.md, "Directional albedo"). The Rust core computes it by
 randomized quasi-Monte Carlo or Monte Carlo with the lobe's own importance sampler,
 exact terms added in closed form, and an honest standard error per cell.
 """
@@ -219,7 +219,7 @@ def albedo(
             the plane of incidence (default), where it holds: isotropic models at any
             ``phi``, anisotropic ones at ``sin φ = 0``; ``False`` covers the full circle.
         normalization: ``"exact"`` for the exactly normalized lobe (see ``eval``).
-        **params: the model's parameters (MODELS.md names), scalars or arrays
+        **params: the model's parameters (docs/models.md names), scalars or arrays
             broadcasting against ``mu``.
 
     Returns:

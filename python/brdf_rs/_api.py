@@ -51,7 +51,7 @@ def eval(
             ``ward`` (whose albedo is unbounded at grazing incidence: exactly 1 at
             normal incidence, from a table the library computed). Details and
             accuracy: ``brdf_rs._normalization``.
-        **params: the model's parameters (MODELS.md names). Scalars, RGB triples for
+        **params: the model's parameters (docs/models.md names). Scalars, RGB triples for
             colours, or arrays broadcasting against the batch (colours with a trailing
             axis of 3) for spatially varying parameters.
 

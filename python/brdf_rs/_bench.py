@@ -7,7 +7,7 @@ Two measurements a user can run anywhere the wheel installs, in a few seconds:
   array with ``out=``), the best of ``repeat`` timed calls after a warm-up.
 - **albedo table**: ``normalized_phong`` (kd = 0, ks = 1) over mu × p to a standard-error
   tolerance, timed, with a correctness check: at mu = 1 its albedo is exactly 1
-  (MODELS.md), so the largest ``|R − 1|`` is reported against the stated standard error;
+  (docs/models.md), so the largest ``|R − 1|`` is reported against the stated standard error;
   the check passes when it is within ``CHECK_STDERRS`` standard errors.
 
 The full benchmarks (every model, NumPy baselines, convergence against a quadrature)

@@ -1,13 +1,13 @@
-"""High-precision (mpmath) reference for the family-A and family-B models of ``MODELS.md``.
+"""High-precision (mpmath) reference for the family-A and family-B models of ``docs/models.md``.
 
-This is the yardstick of the stress suite. It is written from ``MODELS.md`` alone,
+This is the yardstick of the stress suite. It is written from ``docs/models.md`` alone,
 independently of :mod:`brdf_rs.reference`, so the two can be checked against each other.
 
 How it stays accurate everywhere, not only at ordinary inputs:
 
 - Every input float is taken exactly. Each direction (``wi``, ``wo``, ``n``, ``tangent``)
   is scaled by a power of two to an integer vector (same direction, exact), and every
-  quantity MODELS.md builds from directions is rewritten in terms of exact integer dot
+  quantity docs/models.md builds from directions is rewritten in terms of exact integer dot
   products: ``a = n·wi``, ``b = n·wo``, ``c = wi·wo``, ``|n|²``, ``|wi|²``, ... For example
   ``mu_i = a / sqrt(|n|²|wi|²)`` and ``r·wo = (2ab − |n|²c) / (|n|² sqrt(|wi|²|wo|²))``.
 - So every decision is exact: the signs of ``mu_i``, ``mu_o`` (family-A gate, family-B
@@ -23,7 +23,7 @@ How it stays accurate everywhere, not only at ordinary inputs:
   far beyond float64, so :func:`eval_float` is the correctly rounded float64 value.
 
 Public functions: :func:`eval_mp`, :func:`eval_float` and :func:`condition`. Parameters
-take the ``MODELS.md`` names and the package defaults; ranges are not checked (so that
+take the ``docs/models.md`` names and the package defaults; ranges are not checked (so that
 :func:`condition` may step a parameter past its bound), only names and required ones are.
 """
 
@@ -151,7 +151,7 @@ def _power(x: mpf, p: mpf) -> mpf:
 
 
 class _Geometry:
-    """MODELS.md's notation for one (``wi``, ``wo``, ``n``[, tangent]) set.
+    """docs/models.md's notation for one (``wi``, ``wo``, ``n``[, tangent]) set.
 
     Integer attributes are exact; ``mpf`` properties are computed lazily at the working
     precision with full relative accuracy.
@@ -291,7 +291,7 @@ class _Geometry:
 
 
 # ---------------------------------------------------------------------------------------
-# The models, formula by formula from MODELS.md
+# The models, formula by formula from docs/models.md
 # ---------------------------------------------------------------------------------------
 
 

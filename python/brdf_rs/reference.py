@@ -1,11 +1,11 @@
 """Pure-Python reference implementation of the brdf-rs models (families A and B).
 
 This module is deliberately slow and readable: one function per model, each written
-formula by formula after ``MODELS.md`` (same symbols: ``mu_i``, ``mu_o``, ``r``,
+formula by formula after ``docs/models.md`` (same symbols: ``mu_i``, ``mu_o``, ``r``,
 ``cos_ar``, ``h``, ``cos_th``, ``cos_b``), so a reader can check it against the page.
 The Rust kernels are tested against it. It uses only :mod:`math` (no NumPy).
 
-Conventions (the same as in ``MODELS.md``):
+Conventions (the same as in ``docs/models.md``):
 
 - ``wi`` points toward the light and ``wo`` toward the viewer; both point *away* from
   the surface. ``n`` is the surface normal. Vectors need not be unit length: every input
@@ -21,7 +21,7 @@ Conventions (the same as in ``MODELS.md``):
   (grey) or a 3-sequence (RGB). Every model returns an RGB tuple of three floats.
 - ``x**p`` with ``x = 0`` and ``p = 0`` is 1.
 - ``wi + wo = 0`` leaves ``h`` undefined; a model that uses ``h`` then returns 0 for its
-  whole value (``MODELS.md``: "every model that uses h returns 0 there"). In family A
+  whole value (``docs/models.md``: "every model that uses h returns 0 there"). In family A
   this cannot happen (``mu_i, mu_o > 0`` give ``n·(wi + wo) > 0``), so in practice it
   concerns ``blinn_specular`` alone; the family-A checks are kept for the rule's sake.
 
@@ -145,7 +145,7 @@ def _one_minus_cos_b(wi: Vector, wo: Vector, cos_b: float) -> float:
 
 def _cos_phi_difference(wi: Vector, wo: Vector, n: Vector) -> float:
     """Returns ``cos(phi_i - phi_o)``: the cosine between the tangent-plane projections
-    of ``wi`` and ``wo``; 0 when either projection has zero length (``MODELS.md``).
+    of ``wi`` and ``wo``; 0 when either projection has zero length (``docs/models.md``).
 
     The projections are taken as ``n × wi`` and ``n × wo`` (the projections turned by 90°
     about ``n``: same angle between them), which do not cancel near the normal the way
@@ -188,7 +188,7 @@ def _pow(x: float, p: float, one_minus: float | None = None) -> float:
     ``p = 1e6``) into the power.
     """
     if p == 0.0:
-        return 1.0  # MODELS.md: x^p with x = 0, p = 0 is 1
+        return 1.0  # docs/models.md: x^p with x = 0, p = 0 is 1
     if x == 0.0:
         return 0.0
     if one_minus is not None and x > 0.5:
@@ -231,7 +231,7 @@ def _product_quotient(
     if x == 0.0:
         if p != 0.0:
             return 0.0
-        x, one_minus = 1.0, 0.0  # MODELS.md: x^p with x = 0, p = 0 is 1
+        x, one_minus = 1.0, 0.0  # docs/models.md: x^p with x = 0, p = 0 is 1
     if any(factor == 0.0 for factor in numerators):
         return 0.0
     if any(factor == 0.0 for factor in denominators):
@@ -260,7 +260,7 @@ def _oren_nayar_factor(
     cos_phi: float,
     weight: float = 1.0,
 ) -> float:
-    """Returns ``weight·(A + B·max(0, cos(phi_i - phi_o))·sin a·tan b)`` (``MODELS.md``).
+    """Returns ``weight·(A + B·max(0, cos(phi_i - phi_o))·sin a·tan b)`` (``docs/models.md``).
 
     ``a = max(theta_i, theta_o)``, ``b = min(theta_i, theta_o)``,
     ``A = 1 - 0.5 sigma²/(sigma² + 0.33)``, ``B = 0.45 sigma²/(sigma² + 0.09)``.
@@ -839,7 +839,7 @@ def blinn_specular(
         return BLACK
     h = _half_vector(l, v)
     if h is None:
-        return BLACK  # l = -v: h undefined, the model returns 0 (MODELS.md)
+        return BLACK  # l = -v: h undefined, the model returns 0 (docs/models.md)
     cos_th, one_minus = _clamped_cosine(n, h)
     lobe = _pow(cos_th, p, one_minus)
     return _three(ks_c * lobe for ks_c in _rgb(ks))

@@ -11,8 +11,9 @@
 //!   is `R(wi) = ∫ f(wi, wo)·mu_o dωo`.
 //! - Family-B models return the scan-line shading term `s(l, v)` with `l = wi`,
 //!   `v = wo`, which already **includes** the light's cosine.
-//! - `../shared/MODELS.md` (shipped as the docs' model pages) defines every model
-//!   exactly; each model's file in [`models`] cites its source equation.
+//! - `docs/models.md` defines every model exactly (formulas, parameters, degenerate
+//!   cases, published sources); each model's file in [`models`] cites its source
+//!   equation.
 //!
 //! # Layout
 //!

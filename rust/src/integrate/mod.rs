@@ -139,11 +139,6 @@ pub struct AlbedoOptions {
     pub fold_azimuth: bool,
     /// Estimate the average over the azimuth of `wi` (the cells' `phi` is then unused).
     pub average_azimuth: bool,
-    /// Draw the `beckmann` lobe from its NDF (`Warp::BeckmannHalf`, Walter 2005) instead
-    /// of its visible normals (`integrate/beckmann.rs`): kept for
-    /// benches/albedo_convergence.py, which compares the two in one run. [`albedo`] also turns it on when the environment variable
-    /// `BRDF_RS_BECKMANN_NDF` is set (to anything but `0` or empty).
-    pub beckmann_ndf: bool,
 }
 
 impl Default for AlbedoOptions {
@@ -158,7 +153,6 @@ impl Default for AlbedoOptions {
             replicates: 16,
             fold_azimuth: true,
             average_azimuth: false,
-            beckmann_ndf: false,
         }
     }
 }
@@ -396,16 +390,12 @@ impl<K: Kernel> CellIntegrand<K> {
                     let importance =
                         matches!(sampler, SamplerChoice::Auto | SamplerChoice::Importance);
                     // Isotropic: never averaged over azimuth (kept for completeness).
-                    let closed_form = importance && !average && !options.beckmann_ndf;
+                    let closed_form = importance && !average;
                     let beckmann =
                         closed_form.then(|| beckmann::VisibleLobe::new(alpha, f0, wi, sobol));
                     let warp = match sampler {
                         SamplerChoice::Cosine => Warp::CosineHemisphere,
                         SamplerChoice::Uniform => Warp::UniformHemisphere,
-                        _ if options.beckmann_ndf => Warp::BeckmannHalf {
-                            alpha_x: alpha,
-                            alpha_y: alpha,
-                        },
                         _ => Warp::BeckmannVisible { alpha },
                     };
                     lobes.push(Lobe {
@@ -1263,12 +1253,9 @@ pub fn albedo<C: Cells>(
         )));
     }
     options.validate(cells.count())?;
-    let mut options = *options;
-    options.beckmann_ndf |=
-        std::env::var_os("BRDF_RS_BECKMANN_NDF").is_some_and(|v| !v.is_empty() && v != "0");
     kind.visit(RunAlbedo {
         cells,
-        options: &options,
+        options,
         progress,
         out,
     });

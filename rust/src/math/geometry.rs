@@ -1,4 +1,5 @@
-//! The angles of MODELS.md, computed so they stay accurate where naive formulas lose digits.
+//! The angles of docs/models.md, computed so they stay accurate where naive formulas lose
+//! digits.
 //!
 //! Every cosine that is raised to a large power comes with its complement `1 - cos`
 //! computed from a vector difference, `1 - u·v = |u - v|^2 / 2` for unit `u`, `v`. That
@@ -75,7 +76,7 @@ pub fn mirror<F: Real>(wi: F::V3, n: F::V3, mu_i: F) -> F::V3 {
     n * (F::TWO * mu_i) - wi
 }
 
-/// The half vector of MODELS.md with the angle β between it and `wi` (and `wo`).
+/// The half vector of docs/models.md with the angle β between it and `wi` (and `wo`).
 #[derive(Clone, Copy, Debug)]
 pub struct HalfVector<F: Real> {
     /// `h = (wi + wo) / |wi + wo|`.
@@ -167,7 +168,7 @@ pub fn schlick_weight<F: Real>(c: Cosine<F>) -> F {
 /// With `sin θ = |n × w|` and `cos(φi − φo) = (n × wi)·(n × wo) / (sin θi sin θo)`:
 /// `sin a · sin b = sin θi sin θo` cancels the projections' lengths and
 /// `cos b = max(mu_i, mu_o)`, so the product is `max(0, (n × wi)·(n × wo)) / max(mu_i, mu_o)`.
-/// A zero-length projection gives 0, as MODELS.md requires. Valid whenever
+/// A zero-length projection gives 0, as docs/models.md requires. Valid whenever
 /// `max(mu_i, mu_o) > 0`; returns 0 otherwise.
 #[inline(always)]
 pub fn oren_nayar_angular<F: Real>(wi: F::V3, wo: F::V3, n: F::V3, mu_i: F, mu_o: F) -> F {

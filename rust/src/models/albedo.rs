@@ -54,7 +54,7 @@ pub enum Integral {
     /// Beckmann's specular lobe, likewise (`integrate/beckmann.rs`): the lobe of the
     /// `beckmann` model at `basis`, drawn from its visible normals (`Importance::
     /// BeckmannVisible`) with the closed-form weight `F·G2/G1(wi)`; `basis` serves the
-    /// uniform and cosine samplers and the NDF comparison (`AlbedoOptions::beckmann_ndf`).
+    /// uniform and cosine samplers.
     BeckmannVisible { alpha: f64, f0: f64, basis: Slots },
     /// One stratum of a lobe drawn with Blinn half vectors (`Importance::BlinnHalf
     /// { p }`): `∫ f(wi, wo; basis)·mu_o dωo` over the half vectors with `cos θh` in

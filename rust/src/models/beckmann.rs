@@ -28,7 +28,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "f = kd/π + D·G2·F/(4·mu_i·mu_o), D = exp(−tan²θh/α²)/(π α² cos⁴θh), \
               G2 = 1/(1+Λ(mu_i)+Λ(mu_o)), Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π)), \
               c = μ/(α·sqrt(1−μ²)), F = ks + (1−ks)(1−cos_b)^5",
-    source: "Beckmann & Spizzichino 1963; Walter et al. 2007; MODELS.md",
+    source: "Beckmann & Spizzichino 1963; Walter et al. 2007 (Smith Λ); Heitz 2014 (height-correlated G2)",
     params: &[
         spec::kd(0.0, 0),
         spec::f0(1.0, 3),
@@ -62,7 +62,7 @@ fn smith_parts<F: Real>(c: F) -> (F, F, F) {
 
 /// `μ·Λ(μ)` of the Beckmann Smith function, from `μ` and `sin²θ`.
 ///
-/// `μ·Λ = α·s·e/(2√π) − μ·erfc(c)/2` (`s = sinθ`, `c = μ/(α s)`, `e = exp(−c²)`; MODELS.md's
+/// `μ·Λ = α·s·e/(2√π) − μ·erfc(c)/2` (`s = sinθ`, `c = μ/(α s)`, `e = exp(−c²)`; docs/models.md's
 /// `(erf(c) − 1)/2` as `−erfc(c)/2`, which does not cancel as `c` grows). For `|c| ≥ 1.25`
 /// erfc comes in parts, `erfc(c) = v + exp(−c² − 0.5625 + r)/c`, and `μ/c = α s` turns
 /// its exponential term into `α s·e·exp(r − 0.5625)`: with the `e` already at hand, one

@@ -27,7 +27,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "f = kd/π + D·G2·F/(4·mu_i·mu_o), D = α²/(π(cos_th²(α²−1)+1)²), \
               G2 = 1/(1+Λ(mu_i)+Λ(mu_o)), Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2, \
               F = ks + (1−ks)(1−cos_b)^5",
-    source: "Walter et al. 2007 (GGX); Heitz 2014 (height-correlated Smith); MODELS.md",
+    source: "Walter et al. 2007 (GGX); Heitz 2014 (height-correlated Smith)",
     params: &[
         spec::kd(0.0, 0),
         spec::f0(1.0, 3),

@@ -1,4 +1,4 @@
-//! Pieces the Phong and Blinn-Phong families share: the lobe cosines of MODELS.md and the
+//! Pieces the Phong and Blinn-Phong families share: the lobe cosines of docs/models.md and the
 //! prepared "diffuse colour + specular colour + exponent" triple.
 
 use super::{Directions, ParamSource};

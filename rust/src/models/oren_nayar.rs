@@ -68,7 +68,7 @@ impl Kernel for OrenNayar {
 
     /// `(n × wi)·(n × wo) = wi·wo − mu_i·mu_o` (unit vectors) from the raw vectors: with
     /// both cosines below the range the normalized vectors hold it as a multiple of
-    /// 2^-1074 (1.2e275 for 0.15, a review found). Each channel's `kd·B` multiplies before
+    /// 2^-1074 (1.2e275 for 0.15 before). Each channel's `kd·B` multiplies before
     /// the division by the larger cosine, which is then one scaling (rounded once): `g`
     /// alone can overflow where `kd·B·g` does not. The wide cosines' signs decide the
     /// side of the surface.

@@ -1,7 +1,7 @@
 //! Model and parameter specs: the one table behind validation, `brdf_rs.models()`, the
 //! CLI and the docs.
 
-/// Which kind of function a model computes (MODELS.md).
+/// Which kind of function a model computes (docs/models.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Family {
     /// A radiometric BRDF `f(wi, wo)` in 1/sr, cosine excluded, zero unless both
@@ -166,7 +166,7 @@ impl ValidRange {
 /// One parameter of a model.
 #[derive(Clone, Copy, Debug)]
 pub struct ParamSpec {
-    /// The MODELS.md name (`kd`, `ks`, `p`, `eta`, `sigma`, ...).
+    /// The docs/models.md name (`kd`, `ks`, `p`, `eta`, `sigma`, ...).
     pub name: &'static str,
     pub kind: ParamKind,
     /// Default value (a grey level for colours); `None` means required.
@@ -263,7 +263,7 @@ pub struct ModelSpec {
     pub family: Family,
     /// One line: what the model is.
     pub summary: &'static str,
-    /// The formula, as MODELS.md writes it.
+    /// The formula, as docs/models.md writes it.
     pub formula: &'static str,
     /// Where it comes from (book / paper equation numbers).
     pub source: &'static str,

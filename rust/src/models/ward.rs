@@ -19,7 +19,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     family: Family::A,
     summary: "Ward's anisotropic Gaussian lobe of the half vector, plus Lambert",
     formula: "f = kd/π + ks·exp(−((h·x/αx)² + (h·y/αy)²)/cos_th²)/(4π·αx·αy·sqrt(mu_i·mu_o))",
-    source: "Ward 1992 (SIGGRAPH), anisotropic form; RTR 3rd ed. §7.6; MODELS.md",
+    source: "Ward 1992 (SIGGRAPH), anisotropic form; RTR 3rd ed. §7.6",
     params: &[
         spec::kd(0.0, 0),
         spec::ks(1.0, 3),

@@ -382,7 +382,6 @@ fn albedo<'py>(
         replicates,
         fold_azimuth,
         average_azimuth,
-        beckmann_ndf: false,
     };
     let params = param_arrays::<f64>(params)?;
     let views = params

@@ -3,7 +3,7 @@
 //!
 //! A pixel's radiance is `Σ_lights L·s(l, v)` for a family-B material (its diffuse and
 //! specular terms, each including the light's cosine) and `Σ_lights L·f(l, v)·(n·l)` for
-//! a family-A BRDF (MODELS.md, "Family B", last paragraph), with `l = wi` toward the
+//! a family-A BRDF (docs/models.md, "Scenes"), with `l = wi` toward the
 //! light and `v = wo` toward the camera. One sample per pixel, no shadows, no
 //! interreflection: the shading assignment's scan-line model.
 //!

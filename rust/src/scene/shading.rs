@@ -3,7 +3,7 @@
 //!
 //! A material is one family-A BRDF (a light contributes `L·f(l, v)·(n·l)`) or a pair of
 //! family-B shading terms, diffuse and specular (a light contributes `L·s(l, v)`), as
-//! MODELS.md defines them. Preparing a material turns it into *parts*, each one kernel
+//! docs/models.md defines them. Preparing a material turns it into *parts*, each one kernel
 //! with its prepared constants ([`Kernel::prepare`] runs once per part, never per pixel):
 //!
 //! - a part whose colour parameters are all zero is dropped ([`is_zero_weight`]): a
@@ -235,7 +235,7 @@ pub enum Unlit {
 
 /// Returns what a term is for lights behind the surface. Every family-A model is zero
 /// there (zero unless `mu_i > 0`), and so is every family-B term but `toon_diffuse`,
-/// whose bands count thresholds against the signed `n·l` (MODELS.md): when no threshold
+/// whose bands count thresholds against the signed `n·l` (docs/models.md): when no threshold
 /// lies in `(−1, 0]` every `n·l` in `[−1, 0]` falls in the same band, whose colour (read
 /// from the kernel itself at `n·l = −1`) is the term's constant value there.
 pub fn unlit_behaviour(term: &Term) -> Unlit {
@@ -295,8 +295,10 @@ pub enum DiffuseTerm {
 }
 
 /// Returns how a family-A model's diffuse term is evaluated alone (`None` for family B).
-/// Every family-A model is `diffuse(kd) + rest(other parameters)` (MODELS.md); the tests
-/// check `f(kd, ...) − f(0, ...) = lambert(scale·kd)` for each.
+/// A family-A model with a `kd` is `diffuse(kd) + rest(other parameters)`
+/// (docs/models.md); the tests check `f(kd, ...) − f(0, ...) = lambert(scale·kd)` for
+/// each. The multiple-scattering lobes have no diffuse term, and Ashikhmin-Shirley's is
+/// coupled to its specular reflectance.
 pub fn family_a_diffuse(kind: ModelKind) -> Option<DiffuseTerm> {
     use ModelKind::*;
     match kind {
