@@ -153,6 +153,35 @@ FURNACE_BOUND = 5e-4
 
 
 @pytest.mark.parametrize(
+    ("model", "scale"),
+    [("phong", "1/mu"), ("modified_phong", "1"), ("normalized_phong", "1/pi")],
+)
+def test_phong_lobe_with_p_0_covers_the_whole_hemisphere(model, scale):
+    """At p = 0 the Phong lobe cos_ar^0 is 1 over the whole hemisphere above the surface,
+    also beyond 90° from the mirror direction, which the Phong lobe's density does not
+    reach: the albedo (ks·π times the lobe's scale) was estimated from that cap alone
+    (modified_phong at mu = 0.5: 41 standard errors low), and the sampler never drew
+    the rest."""
+    mu = np.array([1.0, 0.9, 0.5, 0.2])
+    a = {"1/mu": 1 / mu, "1": np.ones_like(mu), "1/pi": np.full_like(mu, 1 / np.pi)}[scale]
+    want = np.pi * a
+    r = brdf_rs.albedo(model, mu, kd=0.0, ks=1.0, p=0.0)
+    np.testing.assert_allclose(r.value[:, 0], want, rtol=1e-15)
+    n = 1 << 16
+    u = np.random.default_rng(3).random((n, 2))
+    for m, w in zip(mu, want, strict=True):
+        wi = [np.sqrt(1 - m * m), 0.0, m]
+        wo, weight, _ = brdf_rs.sample(model, wi, u, kd=0.0, ks=1.0, p=0.0)
+        assert (wo[:, 2] > 0).all()
+        # Beyond 90° from the mirror direction (there is such a sky wherever mu < 1).
+        mirror = np.array([-wi[0], 0.0, m])
+        if m < 1:
+            assert (wo @ mirror < 0).any()
+        se = weight[:, 0].std() / np.sqrt(n)
+        assert abs(weight[:, 0].mean() - w) <= 5 * se + 1e-12 * w, (m, weight[:, 0].mean(), w)
+
+
+@pytest.mark.parametrize(
     ("model", "params"),
     [
         ("ggx", {"alpha": 100.0}),
@@ -227,7 +256,7 @@ def _normal_incidence_albedo(model: str, params: dict[str, float]) -> float:
 def _z(model: str, params: dict[str, float], cells: int, mu: float = 1.0, **options) -> np.ndarray:
     """z of `cells` independent cells against the exact albedo (at mu = 1) or the
     calibration script's adaptive cubature of ``eval`` (elsewhere)."""
-    if mu == 1.0:
+    if mu == 1.0 and model in ("torrance_sparrow", "blinn_phong_fresnel"):
         want = _normal_incidence_albedo(model, params)
     else:
         calibration = _calibration()
@@ -279,6 +308,30 @@ def test_torrance_sparrow_error_bars_near_normal_incidence_with_little_reflectan
     z = _z("torrance_sparrow", params, 400, mu=mu, samples=256)
     assert np.sum(np.abs(z) > 3) <= 12, np.sort(np.abs(z))[-14:]
     assert abs(np.mean(z)) <= 0.3, np.mean(z)
+
+
+@pytest.mark.parametrize("mu", [1.0, 0.99])
+@pytest.mark.parametrize(
+    ("model", "params"),
+    [
+        ("normalized_blinn_phong", {}),
+        ("blinn_phong", {}),
+        ("blinn_phong_fresnel", {"ks": 0.5}),
+        ("phong", {}),
+        ("normalized_phong", {}),
+    ],
+)
+def test_power_cosine_lobe_error_bars_near_normal_incidence(model, params, mu):
+    """Drawn whole from its own density, a Phong or Blinn-Phong lobe's weight runs to its
+    horizon value along a logarithmic end of the sampler's first number, and Sobol
+    replicates of 16 points are skewed by it: 2–3% of cells beyond 3 standard errors at
+    and near normal incidence (0.9% is honest), with a mean z of 0.15–0.2. The lobe's bulk is now integrated exactly and
+    only the tail, where the horizon cuts the lobe, is sampled."""
+    params = {"kd": 0.0, "ks": 1.0, "p": 20.0} | params
+    z = _z(model, params, 2000, mu=mu, samples=256)
+    # Honest: 18 expected (standard deviation 4); skewed at 2.5%: 50.
+    assert np.sum(np.abs(z) > 3) <= 32, np.sort(np.abs(z))[-34:]
+    assert abs(np.mean(z)) <= 0.15, np.mean(z)
 
 
 @pytest.mark.parametrize("mu", [0.997, 0.999])

@@ -181,6 +181,9 @@ fn directions(
         Warp::BlinnStratum { p, v_lo, width } => {
             both_folds!(Warp::BlinnStratum { p, v_lo, width }, half)
         }
+        Warp::PhongStratum { p, v_lo, width } => {
+            both_folds!(Warp::PhongStratum { p, v_lo, width }, mirror)
+        }
         Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
         Warp::BeckmannHalf { alpha_x, alpha_y } => {
             both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
@@ -237,6 +240,9 @@ fn directions_averaged(
         Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
         Warp::BlinnStratum { p, v_lo, width } => {
             average_loop!(Warp::BlinnStratum { p, v_lo, width }, half)
+        }
+        Warp::PhongStratum { p, v_lo, width } => {
+            average_loop!(Warp::PhongStratum { p, v_lo, width }, mirror)
         }
         Warp::GgxVisible { alpha } => average_loop!(Warp::GgxVisible { alpha }, half),
         Warp::BeckmannHalf { alpha_x, alpha_y } => {

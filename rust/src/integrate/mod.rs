@@ -74,7 +74,7 @@ use rayon::prelude::*;
 
 use crate::error::BrdfError;
 use crate::eval::engine::{self, Isa};
-use crate::models::albedo::{Control, Importance, Integral, Term};
+use crate::models::albedo::{Control, Importance, Integral, StratumLobe, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
@@ -233,7 +233,7 @@ pub struct Progress {
 /// Points per block: the unit of vectorized work.
 const POINTS: usize = 256;
 /// Most scalar integrals one cell estimates together.
-const MAX_LOBES: usize = 3;
+const MAX_LOBES: usize = 4;
 /// Bins of the unit square for the stratified variance of a skewed lobe, and the
 /// partitions of the square into them ([`LobeSums::skewed_stderr`]).
 const BINS: usize = 16;
@@ -273,7 +273,7 @@ struct Lobe<P> {
     /// the power of `cos θh` of the ratio of the two densities.
     control: Option<(Control, Option<(f64, f64)>)>,
     /// The lobe a stratum belongs to (the term index of the stratum that stands for the
-    /// whole lobe), and whether it is that stratum ([`Integral::BlinnStratum`]): strata
+    /// whole lobe), and whether it is that stratum ([`Integral::Stratum`]): strata
     /// fall back together.
     stratum: Option<(usize, bool)>,
 }
@@ -287,7 +287,10 @@ impl<P> Lobe<P> {
     /// against 0.9%, `scripts/stderr_calibration.py`). [`LobeSums::skewed_stderr`]
     /// bounds its error from every point of the cell.
     fn skewed(&self) -> bool {
-        matches!(self.warp, Warp::BlinnStratum { .. }) && matches!(self.stratum, Some((_, false)))
+        matches!(
+            self.warp,
+            Warp::BlinnStratum { .. } | Warp::PhongStratum { .. }
+        ) && matches!(self.stratum, Some((_, false)))
     }
 }
 
@@ -447,7 +450,8 @@ impl<K: Kernel> CellIntegrand<K> {
                         stratum: None,
                     });
                 }
-                Integral::BlinnStratum {
+                Integral::Stratum {
+                    lobe,
                     basis,
                     p,
                     p_sobol,
@@ -456,12 +460,13 @@ impl<K: Kernel> CellIntegrand<K> {
                     whole,
                     control,
                 } => {
-                    // Strata belong to the Blinn sampler: another sampler integrates the
-                    // whole lobe once, through the stratum that stands for it.
+                    // Strata belong to the lobe's own sampler: another sampler integrates
+                    // the whole lobe once, through the stratum that stands for it.
+                    let offset = lobe.offset();
                     let (warp, control, stratum) = match sampler {
                         SamplerChoice::Auto | SamplerChoice::Importance => {
                             let range = |p: f64| {
-                                let v = |c: f64| if c >= 1.0 { 1.0 } else { c.powf(p + 2.0) };
+                                let v = |c: f64| if c >= 1.0 { 1.0 } else { c.powf(p + offset) };
                                 (v(c_lo), v(c_hi) - v(c_lo))
                             };
                             let (v_lo_p, width_p) = range(p);
@@ -472,7 +477,8 @@ impl<K: Kernel> CellIntegrand<K> {
                             };
                             // The control's mean is under the lobe's own density: drawn
                             // with another exponent, C is weighted by the ratio of the
-                            // two densities, `(p+2)/(p'+2)·(width'/width)·c^(p − p')`.
+                            // two densities, `(p+2)/(p'+2)·(width'/width)·c^(p − p')`
+                            // (Blinn tails only: `c` is `cos θh`).
                             let control = control.map(|c| Control {
                                 beta: c.beta * width_p,
                                 ..c
@@ -481,13 +487,26 @@ impl<K: Kernel> CellIntegrand<K> {
                                 // An empty stratum integrates to 0.
                                 continue;
                             }
-                            let tilt = (p_draw != p).then(|| {
-                                ((p + 2.0) / (p_draw + 2.0) * width / width_p, p - p_draw)
+                            // The ratio's `c` is `cos θh`: only Blinn strata have controls
+                            // drawn with another exponent.
+                            let tilt = (p_draw != p && control.is_some()).then(|| {
+                                debug_assert_eq!(lobe, StratumLobe::Blinn);
+                                (
+                                    (p + offset) / (p_draw + offset) * width / width_p,
+                                    p - p_draw,
+                                )
                             });
-                            let warp = Warp::BlinnStratum {
-                                p: p_draw,
-                                v_lo,
-                                width,
+                            let warp = match lobe {
+                                StratumLobe::Blinn => Warp::BlinnStratum {
+                                    p: p_draw,
+                                    v_lo,
+                                    width,
+                                },
+                                StratumLobe::Phong => Warp::PhongStratum {
+                                    p: p_draw,
+                                    v_lo,
+                                    width,
+                                },
                             };
                             if whole {
                                 group = index;
@@ -1433,7 +1452,7 @@ mod tests {
         assert_eq!(integrand.lobes.len(), 2, "bulk and tail");
         assert!(integrand.lobes[0].control.is_some());
         let mut sums = LobeSums::new(&[]);
-        sums.hits = [1000, 0, 0];
+        sums.hits = [1000, 0, 0, 0];
         assert!(integrand.fall_back(&[sums], 1000));
         assert_eq!(integrand.lobes.len(), 1);
         let lobe = &integrand.lobes[0];
@@ -1473,17 +1492,18 @@ mod tests {
 
     #[test]
     fn adaptive_stopping_reaches_the_tolerance() {
-        let base = [("kd", 0.0), ("ks", 1.0), ("p", 200.0)];
+        // A lobe without a closed-form bulk (power-cosine lobes now have one).
+        let base = [("kd", 1.0), ("sigma", 0.5)];
         for sequence in [Sequence::Sobol, Sequence::Random] {
             let opts = AlbedoOptions {
                 samples: 256,
-                tol: Some(1e-4),
+                tol: Some(1e-3),
                 max_samples: 1 << 22,
                 sequence,
                 ..Default::default()
             };
-            let r = albedo_one("normalized_phong", 0.5, &base, opts);
-            assert!(r.stderr.iter().all(|&s| s <= 1e-4), "{r:?}");
+            let r = albedo_one("oren_nayar", 0.5, &base, opts);
+            assert!(r.stderr.iter().all(|&s| s <= 1e-3), "{r:?}");
             assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
         }
     }

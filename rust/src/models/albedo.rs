@@ -56,16 +56,19 @@ pub enum Integral {
     /// BeckmannVisible`) with the closed-form weight `F·G2/G1(wi)`; `basis` serves the
     /// uniform and cosine samplers.
     BeckmannVisible { alpha: f64, f0: f64, basis: Slots },
-    /// One stratum of a lobe drawn with Blinn half vectors (`Importance::BlinnHalf
-    /// { p }`): `∫ f(wi, wo; basis)·mu_o dωo` over the half vectors with `cos θh` in
-    /// `[c_lo, c_hi]`, drawn from the Blinn density restricted to them, with an optional
+    /// One stratum of a power-cosine lobe drawn from its own density (`lobe`: Blinn half
+    /// vectors, `Importance::BlinnHalf { p }`, or the Phong lobe about the mirror
+    /// direction, `Importance::PhongLobe { p }`): `∫ f(wi, wo; basis)·mu_o dωo` over the
+    /// directions whose lobe cosine (`cos θh`, or `cos α` about the mirror direction) is in
+    /// `[c_lo, c_hi]`, drawn from the lobe's density restricted to them, with an optional
     /// control variate ([`crate::models::strata`]). The stratum with `whole` (the bulk,
     /// `c_hi = 1`) stands for the whole lobe where strata do not apply (a uniform or
     /// cosine sampler, or the cosine fallback); the others, which follow it in the list of
-    /// terms, are then dropped. Sobol points
-    /// draw the stratum with the exponent `p_sobol` in place of `p` (a flatter one for a
-    /// tail, see `strata`); the weights are `f·mu_o/pdf` of the density drawn from.
-    BlinnStratum {
+    /// terms, are then dropped. Sobol points draw the stratum with the exponent `p_sobol`
+    /// in place of `p` (a flatter one for a Blinn tail, see `strata`); the weights are
+    /// `f·mu_o/pdf` of the density drawn from.
+    Stratum {
+        lobe: StratumLobe,
         basis: Slots,
         p: f64,
         p_sobol: f64,
@@ -76,7 +79,36 @@ pub enum Integral {
     },
 }
 
-/// A control variate of a [`Integral::BlinnStratum`]: the integrator subtracts
+/// The lobe density an [`Integral::Stratum`] restricts: `v = cos^(p + offset)` of the
+/// lobe's angle is uniform under it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StratumLobe {
+    /// Blinn half vectors: `pdf_h = (p+2)/(2π)·cos^(p+1) θh`, `v = cos^(p+2) θh`.
+    Blinn,
+    /// The Phong lobe about the mirror direction: `pdf = (p+1)/(2π)·cos^p α`,
+    /// `v = cos^(p+1) α`.
+    Phong,
+}
+
+impl StratumLobe {
+    /// The power of the lobe's cosine that is uniform under its density, less `p`.
+    pub fn offset(self) -> f64 {
+        match self {
+            StratumLobe::Blinn => 2.0,
+            StratumLobe::Phong => 1.0,
+        }
+    }
+
+    /// The importance of the whole lobe of exponent `p`.
+    pub fn importance(self, p: f64) -> Importance {
+        match self {
+            StratumLobe::Blinn => Importance::BlinnHalf { p },
+            StratumLobe::Phong => Importance::PhongLobe { p },
+        }
+    }
+}
+
+/// A control variate of a [`Integral::Stratum`]: the integrator subtracts
 /// `beta·(C − mean)`, times the stratum's probability under the Blinn sampler, from each
 /// point's weight, where `C = r0 + (1 − r0)·(1 − wi·h)^5` (Schlick's `F` for the
 /// normal-incidence reflectance `r0`, or its excess alone where `r0` is 0) of the
@@ -124,6 +156,66 @@ pub fn colour(slots: &[f64], slot: usize) -> [f64; 3] {
 /// Returns `[s·c for c in colour]`.
 pub fn scaled(colour: [f64; 3], s: f64) -> [f64; 3] {
     colour.map(|c| c * s)
+}
+
+/// A diffuse colour at slot 0 with a known albedo, and a Blinn-Phong lobe
+/// `A·cos^p θh` (`A = lobe_scale` for a unit colour, `p` at slot 6) with the specular
+/// colour at slot 3: in strata with its bulk exact where those apply
+/// ([`super::strata::blinn_terms`]), else drawn whole with Blinn half vectors.
+pub fn diffuse_and_blinn_lobe(
+    slots: &[f64],
+    diffuse_albedo: f64,
+    lobe_scale: f64,
+    mu: f64,
+) -> Vec<Term> {
+    let mut terms = diffuse_and_lobe(slots, diffuse_albedo, Importance::BlinnHalf { p: slots[6] });
+    let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
+    if let Some(strata) =
+        super::strata::blinn_terms(colour(slots, 3), lobe, mu, slots[6], lobe_scale)
+    {
+        terms.truncate(1);
+        terms.extend(strata);
+    }
+    terms
+}
+
+/// A diffuse colour at slot 0 with a known albedo, and a Phong lobe `A·cos^p α` about
+/// the mirror direction (`A = lobe_scale` for a unit colour, `p` at slot 6) with the
+/// specular colour at slot 3: in strata with its bulk exact where those apply
+/// ([`super::strata::phong_terms`]), else drawn whole from its density.
+pub fn diffuse_and_phong_lobe(
+    slots: &[f64],
+    diffuse_albedo: f64,
+    lobe_scale: f64,
+    mu: f64,
+) -> Vec<Term> {
+    let p = slots[6];
+    let mut terms = diffuse_and_lobe(slots, diffuse_albedo, phong_importance(p));
+    if p == 0.0 {
+        // cos_ar^0 = 1 wherever wo is above the surface (also where cos_ar ≤ 0).
+        terms[1].integral = Integral::Exact(lobe_scale * std::f64::consts::PI);
+        return terms;
+    }
+    let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
+    if let Some(strata) =
+        super::strata::phong_terms(colour(slots, 3), lobe, mu, slots[6], lobe_scale)
+    {
+        terms.truncate(1);
+        terms.extend(strata);
+    }
+    terms
+}
+
+/// The importance of a Phong lobe `cos_ar^p`: the lobe about the mirror direction, but
+/// at `p = 0`, where `cos_ar^0 = 1` over the whole hemisphere above the surface (also
+/// beyond 90° from the mirror direction, which the Phong lobe's density does not reach),
+/// the cosine.
+pub fn phong_importance(p: f64) -> Importance {
+    if p == 0.0 {
+        Importance::Cosine
+    } else {
+        Importance::PhongLobe { p }
+    }
 }
 
 /// The usual pair: a diffuse colour at slot 0 with a known albedo, and a specular colour

@@ -68,18 +68,22 @@ impl Kernel for BlinnPhongFresnel {
         above_both(mu_i, mu_o, rgb)
     }
 
-    /// As [`Kernel::sampling_terms`]; where the lobe is sharp and `wi` near the normal,
-    /// `I(F0 = 0)` (Schlick's excess alone) in two strata with a control variate
-    /// ([`super::strata`]), so that its error bar holds.
+    /// As [`Kernel::sampling_terms`]; where the lobe is sharp or `wi` near the normal,
+    /// `I(F0 = 1)` and `I(F0 = 0)` (Schlick's excess alone) each in strata with their
+    /// bulks exact ([`super::strata`]), so that the error bar holds.
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
         let mut terms = Self::sampling_terms(slots, mu)?;
+        let p = slots[6];
         let excess = basis(slots, &[(0, 0.0), (3, 0.0)]);
-        let colour = colour(slots, 3).map(|c| 1.0 - c);
-        if let Some(strata) = super::strata::blinn_phong_fresnel_terms(colour, excess, mu, slots[6])
-        {
-            terms.truncate(2);
-            terms.extend(strata);
-        }
+        let colour_excess = colour(slots, 3).map(|c| 1.0 - c);
+        let excess = super::strata::blinn_phong_fresnel_terms(colour_excess, excess, mu, p);
+        let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
+        let scale = (p + 8.0) / (8.0 * std::f64::consts::PI);
+        let f0 = super::strata::blinn_terms(colour(slots, 3), lobe, mu, p, scale);
+        let [diffuse, whole_f0, whole_excess]: [Term; 3] = terms.try_into().ok()?;
+        terms = vec![diffuse];
+        terms.extend(f0.unwrap_or_else(|| vec![whole_f0]));
+        terms.extend(excess.unwrap_or_else(|| vec![whole_excess]));
         Some(terms)
     }
 

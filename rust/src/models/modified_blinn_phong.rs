@@ -2,7 +2,7 @@
 //!
 //! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
 
-use super::albedo::{Importance, Term, diffuse_and_lobe};
+use super::albedo::{Importance, Term, diffuse_and_blinn_lobe, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -45,7 +45,13 @@ impl Kernel for ModifiedBlinnPhong {
         above_both(mu_i, mu_o, rgb)
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+    /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
+    /// the lobe in strata with its bulk exact ([`super::strata::blinn_terms`]).
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_blinn_lobe(slots, std::f64::consts::PI, 1.0, mu))
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             std::f64::consts::PI,

@@ -3,7 +3,7 @@
 //! `f = kd + ks·cos_ar^p`. Reciprocal; `kd` without `1/π` as the Summary writes it.
 //! Directional albedo at normal incidence with kd = 0, ks = 1: `2π/(p+2)`.
 
-use super::albedo::{Importance, Term, diffuse_and_lobe};
+use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -43,11 +43,17 @@ impl Kernel for ModifiedPhong {
         above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+    /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
+    /// the lobe in strata with its bulk exact ([`super::strata::phong_terms`]).
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_phong_lobe(slots, std::f64::consts::PI, 1.0, mu))
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             std::f64::consts::PI,
-            Importance::PhongLobe { p: slots[6] },
+            phong_importance(slots[6]),
         ))
     }
 }

@@ -4,7 +4,7 @@
 //! for `cos_th` (RTR 7.48 confirms). `(p+8)/(8π)` is an approximation: the albedo at
 //! normal incidence is `(p+8)(p+2^(−p/2))/((p+2)(p+4))`, slightly above 1.
 
-use super::albedo::{Importance, Term, diffuse_and_lobe};
+use super::albedo::{Importance, Term, diffuse_and_blinn_lobe, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -48,7 +48,18 @@ impl Kernel for NormalizedBlinnPhong {
         above_both(mu_i, mu_o, rgb)
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+    /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
+    /// the lobe in strata with its bulk exact ([`super::strata::blinn_terms`]).
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_blinn_lobe(
+            slots,
+            1.0,
+            (slots[6] + 8.0) / (8.0 * std::f64::consts::PI),
+            mu,
+        ))
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             1.0,

@@ -3,7 +3,7 @@
 //! `f = kd/π + ks·(p+2)/(2π)·cos_ar^p` (the Summary's `n` is `p`). With kd = 0, ks = 1
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
-use super::albedo::{Importance, Term, diffuse_and_lobe};
+use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -43,11 +43,18 @@ impl Kernel for NormalizedPhong {
         above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(
+    /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
+    /// the lobe in strata with its bulk exact ([`super::strata::phong_terms`]).
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_phong_lobe(
             slots,
             1.0,
-            Importance::PhongLobe { p: slots[6] },
+            (slots[6] + 2.0) / (2.0 * std::f64::consts::PI),
+            mu,
         ))
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_lobe(slots, 1.0, phong_importance(slots[6])))
     }
 }

@@ -4,7 +4,7 @@
 //! conserving; `kd` enters without `1/π`, so the diffuse albedo is `π·kd` (the source's
 //! convention, kept on purpose). Infinite only where the exact value is: mu_i → 0+.
 
-use super::albedo::{Importance, Term, diffuse_and_lobe};
+use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, Family, ModelSpec, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -46,11 +46,22 @@ impl Kernel for Phong {
         above_both(mu_i, mu_o, pp.combine(lobe))
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+    /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
+    /// the lobe in strata with its bulk exact ([`super::strata::phong_terms`]).
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_phong_lobe(
+            slots,
+            std::f64::consts::PI,
+            1.0 / mu,
+            mu,
+        ))
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
             std::f64::consts::PI,
-            Importance::PhongLobe { p: slots[6] },
+            phong_importance(slots[6]),
         ))
     }
 }

@@ -66,8 +66,13 @@ impl Mixture {
                 }
                 // A sampler draws whole lobes: the whole lobe for the stratum that stands
                 // for it, nothing for the others.
-                Integral::BlinnStratum { p, whole: true, .. } => (Warp::BlinnHalf { p }, strength),
-                Integral::BlinnStratum { whole: false, .. } => continue,
+                Integral::Stratum {
+                    lobe,
+                    p,
+                    whole: true,
+                    ..
+                } => (warp_of(lobe.importance(p)), strength),
+                Integral::Stratum { whole: false, .. } => continue,
             };
             if !(weight > 0.0) {
                 continue;

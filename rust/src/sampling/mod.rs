@@ -199,6 +199,9 @@ pub enum Warp {
     /// bitwise `BlinnHalf`'s `v = 1 − u0`), pdf_h `= (p+2)/(2π)·cos^(p+1) θh / width`
     /// inside the stratum.
     BlinnStratum { p: f64, v_lo: f64, width: f64 },
+    /// [`Warp::PhongLobe`] restricted to one stratum, `v = cos^(p+1) α` in
+    /// `(v_lo, v_lo + width]`, as [`Warp::BlinnStratum`] restricts the Blinn half vectors.
+    PhongStratum { p: f64, v_lo: f64, width: f64 },
     /// A half vector from GGX's distribution of visible normals for `wi` (Heitz 2018,
     /// "Sampling the GGX Distribution of Visible Normals"): pdf_h `= G1(wi)·(wi·h)·D(h)/mu_i`.
     GgxVisible { alpha: f64 },
@@ -277,6 +280,13 @@ impl Warp {
                 let pdf = (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos) / width;
                 spherical(cos, omc, azimuth(a, full), pdf)
             }
+            Warp::PhongStratum { p, v_lo, width } => {
+                let v = v_lo + v * width;
+                let omc = one_minus_root(v, p + 1.0);
+                let cos = 1.0 - omc;
+                let pdf = (p + 1.0) * 0.5 * FRAC_1_PI * (v / cos) / width;
+                spherical(cos, omc, azimuth(a, full), pdf)
+            }
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 // φ with tan φ = (αy/αx) tan ψ, then tan²θ = −ln v / A(φ).
                 let (s_psi, c_psi) = azimuth(a, full);
@@ -340,6 +350,12 @@ impl Warp {
                 let v = pow_unit_f64(c, one_minus_cos, p + 2.0);
                 let inside = v > v_lo && v <= v_lo + width;
                 let density = (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p + 1.0);
+                if inside { density / width } else { 0.0 }
+            }
+            Warp::PhongStratum { p, v_lo, width } => {
+                let v = pow_unit_f64(c, one_minus_cos, p + 1.0);
+                let inside = v > v_lo && v <= v_lo + width;
+                let density = (p + 1.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p);
                 if inside { density / width } else { 0.0 }
             }
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
@@ -427,6 +443,11 @@ mod tests {
             Warp::BlinnHalf { p: 300.0 },
             Warp::BlinnStratum {
                 p: 0.0,
+                v_lo: 0.0,
+                width: 1.0,
+            },
+            Warp::PhongStratum {
+                p: 7.5,
                 v_lo: 0.0,
                 width: 1.0,
             },
@@ -524,6 +545,16 @@ mod tests {
                 v_lo: 1e-6,
                 width: 3e-3,
             },
+            Warp::PhongStratum {
+                p: 40.0,
+                v_lo: 1e-6,
+                width: 3e-3,
+            },
+            Warp::PhongStratum {
+                p: 3.5,
+                v_lo: 0.3,
+                width: 0.7,
+            },
             Warp::GgxVisible { alpha: 0.3 },
             Warp::BeckmannVisible { alpha: 0.3 },
             Warp::BeckmannVisible { alpha: 1e-3 },
@@ -550,28 +581,45 @@ mod tests {
         }
     }
 
-    /// A stratum draws the Blinn lobe restricted to its range of `v = cos^(p+2) θh`; the
-    /// whole range is bitwise [`Warp::BlinnHalf`].
+    /// A stratum draws the lobe restricted to its range of `v = cos^(p+k)` (`k` = 2 for
+    /// Blinn half vectors, 1 for the Phong lobe); the whole range is bitwise the whole
+    /// lobe's warp.
     #[test]
-    fn blinn_strata_are_the_lobe_restricted() {
+    fn strata_are_the_lobe_restricted() {
         let (p, v_lo, width) = (30.0, 0.25, 0.5);
-        let stratum = Warp::BlinnStratum { p, v_lo, width };
-        let whole = Warp::BlinnStratum {
-            p,
-            v_lo: 0.0,
-            width: 1.0,
-        };
-        for i in 0..500 {
-            let u = [(i as f64 + 0.5) / 500.0, (i * 37 % 500) as f64 / 500.0];
-            let a = Warp::BlinnHalf { p }.sample(DVec3::Z, u);
-            let b = whole.sample(DVec3::Z, u);
-            assert_eq!((a.dir, a.pdf), (b.dir, b.pdf));
-            let s = stratum.sample(DVec3::Z, u);
-            let v = s.dir.z.powf(p + 2.0);
-            assert!(v > v_lo * (1.0 - 1e-12) && v <= (v_lo + width) * (1.0 + 1e-12));
-            assert!(
-                (s.pdf * width - a.pdf * (s.dir.z / a.dir.z).powf(p + 1.0)).abs() < 1e-9 * s.pdf
-            );
+        for (k, lobe, stratum, whole) in [
+            (
+                2.0,
+                Warp::BlinnHalf { p },
+                Warp::BlinnStratum { p, v_lo, width },
+                Warp::BlinnStratum {
+                    p,
+                    v_lo: 0.0,
+                    width: 1.0,
+                },
+            ),
+            (
+                1.0,
+                Warp::PhongLobe { p },
+                Warp::PhongStratum { p, v_lo, width },
+                Warp::PhongStratum {
+                    p,
+                    v_lo: 0.0,
+                    width: 1.0,
+                },
+            ),
+        ] {
+            for i in 0..500 {
+                let u = [(i as f64 + 0.5) / 500.0, (i * 37 % 500) as f64 / 500.0];
+                let a = lobe.sample(DVec3::Z, u);
+                let b = whole.sample(DVec3::Z, u);
+                assert_eq!((a.dir, a.pdf), (b.dir, b.pdf));
+                let s = stratum.sample(DVec3::Z, u);
+                let v = s.dir.z.powf(p + k);
+                assert!(v > v_lo * (1.0 - 1e-12) && v <= (v_lo + width) * (1.0 + 1e-12));
+                let ratio = (s.dir.z / a.dir.z).powf(p + k - 1.0);
+                assert!((s.pdf * width - a.pdf * ratio).abs() < 1e-9 * s.pdf);
+            }
         }
     }
 
