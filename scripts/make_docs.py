@@ -176,7 +176,9 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         else ("optional (`tangent=`)" if spec.get("tangent_optional") else "not used")
     )
     base = (
-        f" over a grey Lambert base (kd = {SPECULAR_BASE:g})" if name in plot._SPECULAR_ONLY else ""
+        f" over a grey Lambert base (kd = {SPECULAR_BASE:g})"
+        if spec["scene_slot"] == "specular"
+        else ""
     )
     fibres = (
         ", tangents along the meridians" if spec["tangent"] or spec.get("tangent_optional") else ""
@@ -455,7 +457,7 @@ def main() -> None:
     for name in names:
         spec = specs[name]
         params = SHOWCASE.get(name, {})
-        base = {"base": SPECULAR_BASE} if name in plot._SPECULAR_ONLY else {}
+        base = {"base": SPECULAR_BASE} if spec["scene_slot"] == "specular" else {}
         sphere = plot.render_sphere(name, size=res["sphere"], **base, **params)
         brdf_rs.save_image(img / f"{name}_sphere.png", sphere)
         small = plot.render_sphere(name, size=res["overview"], **base, **params)

@@ -170,6 +170,32 @@ def test_models_table_is_complete():
             assert p["doc"] and p["kind"] in ("scalar", "colour", "scalar list", "colour list")
 
 
+def test_models_carry_every_per_model_fact_python_uses():
+    """The spec owns what scenes, split-sum and energy tables need to know of a model: no
+    Python module keeps its own list of model names."""
+    specs = brdf_rs.models()
+    params = {name: {p["name"] for p in s["params"]} for name, s in specs.items()}
+    for name, s in specs.items():
+        if s["family"] == "A":
+            assert s["scene_slot"] == "brdf", name
+            assert s["diffuse"] in ("whole", "lambert", "absent", "coupled"), name
+        else:
+            assert s["scene_slot"] in ("diffuse", "specular", "both") and s["diffuse"] is None
+        assert s["weights"] is None or set(s["weights"]) <= params[name], name
+        if s["dfg"] is not None:
+            assert s["dfg"]["param"] in params[name] and "ks" in params[name], name
+            assert s["dfg"]["axis"].split(":")[0] in ("mid", "log"), name
+    assert [n for n, s in specs.items() if s["energy_table"]] == ["ggx", "beckmann"]
+    assert specs["ashikhmin_shirley"]["diffuse"] == "coupled"
+    assert specs["kajiya_kay"]["scene_slot"] == "both"
+    # One table, read once; callers get copies they may change.
+    from brdf_rs import _spec
+
+    assert _spec.specs() is _spec.specs()
+    specs["ggx"]["energy_table"] = False
+    assert brdf_rs.models()["ggx"]["energy_table"] is True
+
+
 # -------------------------------------------------------------------------- errors
 
 

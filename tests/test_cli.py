@@ -269,7 +269,7 @@ BAD = [
     (["table", "ggx", "-o", "no/such/dir/t.npz"], "directory no/such/dir does not exist"),
     (["table", "ggx", "--plot", "t.gif"], "--plot t.gif: unknown format"),
     (["table", "ggx", "--tol", "-1", "-q"], "tol: must be a positive number"),
-    (["dfg", "lambert"], "a split-sum table takes ggx, beckmann, blinn_phong_fresnel"),
+    (["dfg", "lambert"], "a split-sum table takes blinn_phong_fresnel, ggx, beckmann"),
     (["dfg", "--mu", "0:1"], "argument --mu: need start:stop:count"),
     (["energy", "phong"], "energy compensation takes ggx, beckmann"),
     (["energy", "ggx", "-o", "e.exr"], "-o e.exr: unknown format; use .npz"),

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _arrays, _atomic, _display, _normalization, _png
+from . import _arrays, _atomic, _display, _normalization, _png, _spec
 from . import _brdf_rs as _core
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (xarray is optional)
@@ -137,7 +137,7 @@ def _options(
 def _anisotropic(model: str) -> bool:
     """Whether a family-A model's albedo depends on the azimuth of ``wi`` (it reads a
     tangent: Ward, Ashikhmin-Shirley)."""
-    spec = _core_models().get(model)
+    spec = _spec.specs().get(model)
     return bool(
         spec is not None
         and spec["family"] == "A"
@@ -757,7 +757,7 @@ def _table_axes(
     the fixed values. Returns the axes' names (in order), their 1-D float64 coordinates
     and the names of the colour axes (which hold greys)."""
     _arrays.model_name(model)
-    specs = _core_models()
+    specs = _spec.specs()
     if model not in specs:
         _core.check_params(model, {})  # the core's message: known models, a suggestion
     if specs[model]["family"] != "A":
@@ -912,14 +912,7 @@ def _table_meta(
     }
 
 
-def _core_models() -> dict[str, dict[str, Any]]:
-    return {m["name"]: m for m in _core.models()}
-
-
 # ------------------------------------------------------------------------- DFG, energy
-
-#: The parameter that plays "roughness" in a split-sum table, per Schlick-Fresnel model.
-_DFG_ROUGHNESS = {"blinn_phong_fresnel": "p", "ggx": "alpha", "beckmann": "alpha"}
 
 
 def dfg_table(
@@ -943,10 +936,11 @@ def dfg_table(
     ``value[..., 1]`` = B, ``value[..., 2]`` = 0.
     """
     _arrays.model_name(model)
-    if model not in _DFG_ROUGHNESS:
-        known = ", ".join(_DFG_ROUGHNESS)
+    dfg = _spec.with_dfg()
+    if model not in dfg:
+        known = ", ".join(dfg)
         raise ValueError(f"{model}: a split-sum table needs a Schlick-Fresnel model: {known}")
-    rough = _DFG_ROUGHNESS[model]
+    rough = dfg[model]["param"]
     mu = _axis_values(model, "mu", "mu", mu)
     r = _axis_values(model, "roughness", rough, roughness)
     ids = np.arange(mu.size * r.size, dtype=np.uint64).reshape(mu.size, r.size)
@@ -1050,9 +1044,6 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
 
 # ----------------------------------------------------------------- energy compensation
 
-#: Microfacet models with an energy-compensation table (F = 1: ks = 1, kd = 0).
-_COMPENSATED = ("ggx", "beckmann")
-
 
 @dataclasses.dataclass(frozen=True)
 class EnergyCompensation:
@@ -1099,8 +1090,9 @@ def energy_compensation_table(
 ) -> EnergyCompensation:
     """Builds E(mu, alpha) and E_avg(alpha) for ``ggx`` or ``beckmann`` with F = 1."""
     _arrays.model_name(model)
-    if model not in _COMPENSATED:
-        raise ValueError(f"{model}: energy compensation tables exist for {', '.join(_COMPENSATED)}")
+    compensated = _spec.with_energy_table()
+    if model not in compensated:
+        raise ValueError(f"{model}: energy compensation tables exist for {', '.join(compensated)}")
     mu = _axis_values(model, "mu", "mu", mu)
     alpha = _axis_values(model, "alpha", "alpha", alpha)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _arrays, _normalization
+from . import _arrays, _normalization, _spec
 from . import _brdf_rs as _core
 
 __all__ = ["Model", "eval", "isa", "models", "num_threads", "set_num_threads"]
@@ -218,17 +218,21 @@ def _restore(name: str, normalization: str, params: dict[str, np.ndarray]) -> Mo
     return Model(name, normalization=normalization, **params)
 
 
-def models() -> dict[str, dict[str, Any]]:
-    """Returns every model's spec, by name, in a stable order.
+def models() -> dict[str, _spec.ModelSpec]:
+    """Returns every model's spec, by name, in a stable order (a copy: yours to change).
 
     Each entry has ``family`` ("A": BRDF without cosine, "B": shading term with the
     light cosine), ``summary``, ``formula``, ``source``, ``reciprocal``, ``tangent``
-    (whether ``tangent=`` is required) and ``params``: a list of dicts with ``name``,
-    ``kind`` (scalar, colour, scalar list, colour list), ``default`` (None: required),
-    ``range`` (as text, plus ``min``/``max``/``min_open``/``max_open``), ``doc`` and
-    ``varies`` (whether it may be an array over the batch).
+    (whether ``tangent=`` is required), ``tangent_optional``, ``weights`` (the
+    parameters whose all being zero makes the model zero), ``scene_slot`` (where a scene
+    material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
+    ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table`` and
+    ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,
+    colour list), ``default`` (None: required), ``range`` (as text, plus
+    ``min``/``max``/``min_open``/``max_open``), ``doc``, ``varies`` (whether it may be
+    an array over the batch) and ``max_len``. The types are ``brdf_rs._spec.ModelSpec``.
     """
-    return {m["name"]: m for m in _core.models()}
+    return _spec.models()
 
 
 def set_num_threads(n: int) -> None:

@@ -43,7 +43,7 @@ import math
 import struct
 import time
 import zlib
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -365,7 +365,7 @@ _SPECIAL_VALUES: dict[str, list[Any]] = {
 }
 
 
-def _in_range(value: float, spec: dict[str, Any]) -> bool:
+def _in_range(value: float, spec: Mapping[str, Any]) -> bool:
     lo, hi = spec["min"], spec["max"]
     above = value > lo if spec["min_open"] else value >= lo
     below = value < hi if spec["max_open"] else value <= hi

@@ -26,7 +26,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from . import _api
+from . import _api, _spec
 
 EXIT_USAGE = 2
 EXIT_FAILURE = 1
@@ -500,24 +500,15 @@ class _PassProgress:
             self.bar.close()
 
 
-#: Default roughness axis of ``brdf-rs dfg`` per model.
-DFG_ROUGHNESS = {
-    "ggx": "mid:0:1:32",
-    "beckmann": "mid:0:1:32",
-    "blinn_phong_fresnel": "log:1:10000:32",
-}
-
-
 def cmd_dfg(args: argparse.Namespace) -> int:
     from . import _albedo
 
     model = args.model
-    if model not in DFG_ROUGHNESS:
-        raise UsageError(
-            f"unknown model {model!r}; a split-sum table takes {', '.join(DFG_ROUGHNESS)}"
-        )
+    dfg = _spec.with_dfg()
+    if model not in dfg:
+        raise UsageError(f"unknown model {model!r}; a split-sum table takes {', '.join(dfg)}")
     mu = args.mu
-    roughness = _values(DFG_ROUGHNESS[model]) if args.roughness is None else args.roughness
+    roughness = _values(dfg[model]["axis"]) if args.roughness is None else args.roughness
     out = _table_output(args.output, f"dfg_{model}.npz", TABLE_FORMATS, args.plot)
     plot_path = _plot_path(args.plot)
     cells = mu.size * roughness.size
@@ -595,8 +586,8 @@ def save_energy(result: Any, path: Path) -> Path:
 def cmd_energy(args: argparse.Namespace) -> int:
     from . import _albedo
 
-    if args.model not in _albedo._COMPENSATED:
-        known = ", ".join(_albedo._COMPENSATED)
+    if args.model not in _spec.with_energy_table():
+        known = ", ".join(_spec.with_energy_table())
         raise UsageError(f"unknown model {args.model!r}; energy compensation takes {known}")
     mu, alpha = args.mu, args.alpha
     out = _table_output(args.output, f"energy_{args.model}.npz", (".npz",), args.plot)
@@ -743,7 +734,7 @@ def _add_user_commands(sub: Any) -> None:
         "table is the scale A, channel 1 the bias B.",
     )
     p.add_argument(
-        "model", nargs="?", default="ggx", help=f"{', '.join(DFG_ROUGHNESS)} (default ggx)"
+        "model", nargs="?", default="ggx", help=f"{', '.join(_spec.with_dfg())} (default ggx)"
     )
     p.add_argument(
         "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"

@@ -638,10 +638,6 @@ def spheres(
     return _finish(fig, path, dpi)
 
 
-#: Family-B terms that go in a material's specular slot when rendered alone.
-_SPECULAR_ONLY = ("phong_specular", "blinn_specular", "toon_specular")
-
-
 def render_sphere(
     model: str,
     *,
@@ -670,7 +666,7 @@ def render_sphere(
     material: dict[str, Any]
     if family == "A":
         material = term
-    elif model in _SPECULAR_ONLY:
+    elif specs[model]["scene_slot"] == "specular":
         material = {"specular": term}
         if base > 0:
             material["diffuse"] = {"model": "lambert_shading", "kd": float(base)}

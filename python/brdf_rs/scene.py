@@ -75,7 +75,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 
-from . import _arrays, _atomic, _png
+from . import _arrays, _atomic, _png, _spec
 from . import _brdf_rs as _core
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -105,17 +105,9 @@ log = logging.getLogger("brdf_rs")
 
 TONEMAPS = ("clamp", "reinhard", "aces", "none")
 
-#: Which family-B terms go in which slot of a material.
-DIFFUSE_TERMS = ("lambert_shading", "oren_nayar_shading", "toon_diffuse", "kajiya_kay")
-SPECULAR_TERMS = ("phong_specular", "blinn_specular", "toon_specular", "kajiya_kay")
-
 
 class SceneError(ValueError):
     """A bad scene: the message names the file, the key and what was expected."""
-
-
-def _specs() -> dict[str, dict[str, Any]]:
-    return {m["name"]: m for m in _core.models()}
 
 
 # ------------------------------------------------------------------------ validation
@@ -247,7 +239,7 @@ def _choice(where: _Where, value: Any, choices: Sequence[str]) -> str:
     return str(value)
 
 
-def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
+def _param_value(where: _Where, spec: Mapping[str, Any], value: Any) -> Any:
     """Checks one model parameter's type and range against the model's spec."""
     kind = spec["kind"]
     rng = spec["range"]
@@ -297,7 +289,7 @@ def _param_value(where: _Where, spec: dict[str, Any], value: Any) -> Any:
 
 def _term(where: _Where, value: Any, *, family: str, slot: str | None) -> dict[str, Any]:
     """Validates ``{model = ..., params...}``: returns ``{"model", "params"}``."""
-    specs = _specs()
+    specs = _spec.specs()
     if not isinstance(value, Mapping):
         raise where.expected("a table with model = ... and the model's parameters", value)
     model = _required(where, value, "model", 'a model name, e.g. model = "lambert"')
@@ -319,7 +311,7 @@ def _term(where: _Where, value: Any, *, family: str, slot: str | None) -> dict[s
             f" {slot} = {{...}}"
         )
     if slot is not None:
-        allowed = DIFFUSE_TERMS if slot == "diffuse" else SPECULAR_TERMS
+        allowed = _spec.in_slot(slot)
         if model not in allowed:
             raise (where / "model").error(
                 f"{model} is not a {slot} term; {slot} takes: {', '.join(allowed)}"
@@ -660,11 +652,6 @@ def _as_scene(scene: SceneLike) -> Scene:
     raise TypeError(f"scene: expected a Scene, a path or a dict, got {type(scene).__name__}")
 
 
-#: Family-A models whose diffuse term cannot be rendered alone: Ashikhmin-Shirley's
-#: diffuse term is scaled by (1 − Rs), so it is not a kernel of its own.
-_COUPLED_DIFFUSE = ("ashikhmin_shirley",)
-
-
 def _only(only: str | None, materials: Mapping[str, Mapping[str, Any]] | None = None) -> str:
     if only is None:
         return "both"
@@ -672,7 +659,9 @@ def _only(only: str | None, materials: Mapping[str, Mapping[str, Any]] | None = 
         raise ValueError(f"only: expected 'diffuse', 'specular' or None, got {only!r}")
     for name, m in (materials or {}).items():
         brdf = m.get("brdf")
-        if only == "diffuse" and brdf is not None and brdf["model"] in _COUPLED_DIFFUSE:
+        if brdf is None:
+            continue
+        if only == "diffuse" and _spec.specs()[brdf["model"]]["diffuse"] == "coupled":
             raise ValueError(
                 f"only: material {name!r} uses {brdf['model']}, whose diffuse term depends on"
                 " Rs and cannot be rendered alone; render only='specular' or both"
@@ -837,7 +826,7 @@ def _unit_rows(name: str, a: np.ndarray) -> np.ndarray:
 def _projects_tangent(material: Mapping[str, Any]) -> bool:
     """Whether a term of the material projects its tangent onto the tangent plane (the
     anisotropic models, which take it optionally; ``kajiya_kay`` uses its fibre as is)."""
-    specs = _specs()
+    specs = _spec.specs()
     terms = [material.get("brdf"), material.get("diffuse"), material.get("specular")]
     return any(t is not None and specs[t["model"]]["tangent_optional"] for t in terms)
 
@@ -1042,7 +1031,7 @@ def _canonical_params(model: str, params: Mapping[str, Any]) -> dict[str, Any]:
     """Every parameter, defaults filled in, colours as RGB triples: equal materials hash
     equal however they were spelled."""
     out = {}
-    for p in _specs()[model]["params"]:
+    for p in _spec.specs()[model]["params"]:
         value = params.get(p["name"], p["default"])
         if p["kind"] == "colour":
             value = [float(x) for x in np.broadcast_to(np.asarray(value, dtype=float), (3,))]

@@ -13,7 +13,9 @@
 //! `Rd·(1 − Rs)·(1 − (1 − mu_i/2)^5)` (the 28/23 normalizes it).
 
 use super::albedo::{Importance, Integral, Term, basis, colour};
-use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::spec::{
+    DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     above_both, clamped_cosine, half_vector_exact, schlick_weight, tangent_frame, weighted,
@@ -63,6 +65,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::Optional,
     reciprocal: true,
+    weights: None,
+    scene: SceneUse::Brdf(DiffuseTerm::Coupled),
+    dfg: None,
+    energy_table: false,
 };
 
 /// Derived constants.

@@ -11,7 +11,7 @@
 //! (scalar: this model's loop does not vectorize).
 
 use super::albedo::{Integral, Term, basis, colour};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     above_both, clamped_cosine, half_vector, schlick_rgb, schlick_weight, smith_quotient, weighted,
@@ -36,6 +36,13 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: None,
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: Some(DfgAxis {
+        param: "alpha",
+        axis: "mid:0:1:32",
+    }),
+    energy_table: true,
 };
 
 /// Derived constants.

@@ -3,7 +3,9 @@
 
 use super::albedo::Term;
 use super::ggx_ms::{Prepared, TABLE_ALPHA, albedo_ms, eval_ms, prepare_ms};
-use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse};
+use super::spec::{
+    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
+};
 use super::tables::BECKMANN;
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
@@ -31,6 +33,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: None,
+    scene: SceneUse::Brdf(DiffuseTerm::Absent),
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for BeckmannMs {

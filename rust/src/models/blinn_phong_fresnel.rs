@@ -6,7 +6,10 @@
 
 use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::lobes::DiffuseSpecular;
-use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::spec::{
+    self, DfgAxis, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
+    ValidRange,
+};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
 use crate::math::{Real, Vector3};
@@ -34,6 +37,13 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: None,
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: Some(DfgAxis {
+        param: "p",
+        axis: "log:1:10000:32",
+    }),
+    energy_table: false,
 };
 
 impl Kernel for BlinnPhongFresnel {

@@ -4,7 +4,7 @@
 //! (`l = −v`); `= mu_i·blinn_phong(kd=0)` for mu_i, mu_o > 0.
 
 use super::lobes::half_cosine_pow_over;
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{Real, Vector3};
 
@@ -20,6 +20,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::ks(1.0, 0), spec::exponent(3)],
     tangent: TangentUse::None,
     reciprocal: false,
+    weights: Some(&["ks"]),
+    scene: SceneUse::Specular,
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for BlinnSpecular {

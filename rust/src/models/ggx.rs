@@ -12,7 +12,7 @@
 //! grazing angles, where `Λ` overflows), as one quotient: see [`lobe`].
 
 use super::albedo::{Integral, Term, basis, colour};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted};
 use crate::math::{Real, Vector3, max, min};
@@ -40,6 +40,13 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: None,
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: Some(DfgAxis {
+        param: "alpha",
+        axis: "mid:0:1:32",
+    }),
+    energy_table: true,
 };
 
 /// Derived constants.

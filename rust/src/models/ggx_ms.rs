@@ -12,7 +12,9 @@
 //! interpolated `E`. `alpha` in [1e-3, 1].
 
 use super::albedo::{Integral, Term};
-use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::spec::{
+    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+};
 use super::tables::{EnergyTable, GGX};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
@@ -49,6 +51,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: None,
+    scene: SceneUse::Brdf(DiffuseTerm::Absent),
+    dfg: None,
+    energy_table: false,
 };
 
 /// Prepared constants of a multiple-scattering lobe on a table.

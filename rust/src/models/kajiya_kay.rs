@@ -13,7 +13,7 @@
 //! `l ≈ −v`) and `b = sin_l − sin_v = a·((v − l)·t)/(sin_l + sin_v)` (from
 //! `sin_l² − sin_v² = (v·t)² − (l·t)²`; the difference of two rounded sines would cancel).
 
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::Cosine;
 use crate::math::{Real, Vector3, min};
@@ -30,6 +30,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.5, 0), spec::ks(0.5, 3), spec::exponent(6)],
     tangent: TangentUse::Required,
     reciprocal: false,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Both,
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for KajiyaKay {

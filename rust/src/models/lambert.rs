@@ -4,7 +4,7 @@
 //! exactly `kd` for every incidence, so the integrator uses that closed form.
 
 use super::albedo::{Integral, Term, colour};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
 use crate::math::Vector3;
@@ -22,6 +22,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.5, 0)],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: Some(&["kd"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Whole),
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for Lambert {

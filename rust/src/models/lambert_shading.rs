@@ -2,7 +2,7 @@
 //!
 //! `s(l, v) = kd·max(n·l, 0)` (the assignment's m_D is `kd`); `= π·mu_i·lambert`.
 
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{Real, Vector3, max};
 
@@ -18,6 +18,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.5, 0)],
     tangent: TangentUse::None,
     reciprocal: false,
+    weights: Some(&["kd"]),
+    scene: SceneUse::Diffuse,
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for LambertShading {

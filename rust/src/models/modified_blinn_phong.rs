@@ -4,7 +4,7 @@
 
 use super::albedo::{Importance, Term, diffuse_and_blinn_lobe, diffuse_and_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{Real, Vector3};
@@ -21,6 +21,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for ModifiedBlinnPhong {

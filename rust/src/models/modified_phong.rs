@@ -5,7 +5,7 @@
 
 use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{Real, Vector3};
@@ -22,6 +22,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
+    dfg: None,
+    energy_table: false,
 };
 
 impl Kernel for ModifiedPhong {

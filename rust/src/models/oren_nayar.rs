@@ -6,7 +6,7 @@
 //! [`oren_nayar_angular`]; `cos(φi−φo)` is 0 when a tangent-plane projection has zero length.
 
 use super::albedo::{Importance, Integral, Term, basis, colour};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::Real;
 use crate::math::Vector3;
@@ -27,6 +27,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.5, 0), spec::sigma(3)],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: Some(&["kd"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Whole),
+    dfg: None,
+    energy_table: false,
 };
 
 /// Derived constants: `kd·A/π` and `kd·B/π`.

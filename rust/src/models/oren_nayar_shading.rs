@@ -4,7 +4,7 @@
 //! `G = max(0, cos(φi−φo))` as in `oren_nayar`; `= π·mu_i·oren_nayar` for mu_i, mu_o > 0.
 //! The viewer may be below the surface; the light below gives 0.
 
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::oren_nayar_ab;
 use crate::math::{Real, Vector3, clamp, max};
@@ -21,6 +21,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[spec::kd(0.5, 0), spec::sigma(3)],
     tangent: TangentUse::None,
     reciprocal: false,
+    weights: Some(&["kd"]),
+    scene: SceneUse::Diffuse,
+    dfg: None,
+    energy_table: false,
 };
 
 /// Derived constants: `kd·A` and `kd·B`.

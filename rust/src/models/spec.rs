@@ -271,6 +271,81 @@ pub struct ModelSpec {
     pub tangent: TangentUse,
     /// Whether `f(wi, wo) = f(wo, wi)` (family A only; family-B terms are not BRDFs).
     pub reciprocal: bool,
+    /// The parameters the model's value is linear in with no constant term: the value is
+    /// exactly 0 when they are all 0 (a scene skips such a term). `None` where no such set
+    /// exists (`blinn_phong_fresnel` and the microfacet models: `ks` is F0, and
+    /// `F = F0 + (1 − F0)(1 − cos_b)^5` does not vanish at F0 = 0; Ashikhmin-Shirley's
+    /// diffuse term is scaled by `1 − Rs`).
+    pub weights: Option<&'static [&'static str]>,
+    /// How a scene material uses the model.
+    pub scene: SceneUse,
+    /// The roughness axis of its split-sum (DFG) table, for models with Schlick's F0.
+    pub dfg: Option<DfgAxis>,
+    /// Whether it has Kulla and Conty's energy-compensation tables (`F = 1`).
+    pub energy_table: bool,
+}
+
+/// How a family-A model's diffuse term is evaluated on its own (a scene's diffuse or
+/// specular component alone).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DiffuseTerm {
+    /// The whole model is diffuse (`lambert`, `oren_nayar`).
+    Whole,
+    /// The diffuse term is `lambert` with `kd` scaled by this factor: 1 for the models
+    /// that add `kd/π`, π for the BRDF Summary's non-normalized models that add `kd`.
+    Lambert(f64),
+    /// The model has no diffuse term (`ggx_ms`, `beckmann_ms`): all of it is specular.
+    Absent,
+    /// The diffuse term depends on the specular parameters (`ashikhmin_shirley`: `Rd` is
+    /// scaled by `1 − Rs`): the specular term alone is the model with `Rd = 0`, the
+    /// diffuse term alone is not one kernel.
+    Coupled,
+}
+
+impl DiffuseTerm {
+    /// The name `brdf_rs.models()` gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            DiffuseTerm::Whole => "whole",
+            DiffuseTerm::Lambert(_) => "lambert",
+            DiffuseTerm::Absent => "absent",
+            DiffuseTerm::Coupled => "coupled",
+        }
+    }
+}
+
+/// Where a model goes in a scene material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneUse {
+    /// Family A: the material's `brdf`, with its diffuse term split off as given.
+    Brdf(DiffuseTerm),
+    /// Family B: a shading term in the material's `diffuse` slot, its `specular` slot,
+    /// or either (`both`).
+    Diffuse,
+    Specular,
+    Both,
+}
+
+impl SceneUse {
+    /// The slot's name in `brdf_rs.models()` (`"brdf"`, `"diffuse"`, `"specular"`,
+    /// `"both"`).
+    pub fn slot(self) -> &'static str {
+        match self {
+            SceneUse::Brdf(_) => "brdf",
+            SceneUse::Diffuse => "diffuse",
+            SceneUse::Specular => "specular",
+            SceneUse::Both => "both",
+        }
+    }
+}
+
+/// The roughness axis of a split-sum table: the parameter, and the CLI's default axis
+/// (`"mid:lo:hi:n"` for cell midpoints of a linear range, `"log:lo:hi:n"` for a
+/// logarithmic one).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DfgAxis {
+    pub param: &'static str,
+    pub axis: &'static str,
 }
 
 impl ModelSpec {

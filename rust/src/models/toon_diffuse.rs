@@ -5,7 +5,7 @@
 //! unlit side). The assignment's two-colour case is `thresholds=[t_D]`,
 //! `colors=[m_D2, m_D1]`; its listing mixes up `C` and `Cd`: this follows the formula.
 
-use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Real;
 use crate::math::geometry::cosine_at_least;
@@ -48,6 +48,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: false,
+    weights: Some(&["colors"]),
+    scene: SceneUse::Diffuse,
+    dfg: None,
+    energy_table: false,
 };
 
 /// Thresholds (unused ones are +inf) and band colours.

@@ -4,7 +4,7 @@
 //! 0 when `n·l <= 0`. The comparison is decided from `1 ∓ v·r` near the ends of the
 //! range (see [`cosine_at_least`]): at `threshold = 1` only the exact mirror direction is inside.
 
-use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{cosine_at_least, mirror};
 use crate::math::{Real, Vector3};
@@ -46,6 +46,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: false,
+    weights: Some(&["high", "low"]),
+    scene: SceneUse::Specular,
+    dfg: None,
+    energy_table: false,
 };
 
 /// Threshold, high and low colours.

@@ -10,7 +10,9 @@
 //! `4 mu_i mu_o` underflows (no 0·∞).
 
 use super::albedo::{Importance, Term, basis, colour, diffuse_and_lobe};
-use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
+use super::spec::{
+    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
 use crate::math::{Real, Vector3, min};
@@ -41,6 +43,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::None,
     reciprocal: true,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: None,
+    energy_table: false,
 };
 
 /// Derived constants.

@@ -6,7 +6,7 @@
 //! tangent then does not matter).
 
 use super::albedo::{Importance, Integral, Term, basis, colour};
-use super::spec::{self, Family, ModelSpec, TangentUse};
+use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
 use crate::math::{Real, Vector3};
@@ -33,6 +33,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ],
     tangent: TangentUse::Optional,
     reciprocal: true,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: None,
+    energy_table: false,
 };
 
 /// Derived constants.

@@ -18,6 +18,7 @@ use crate::eval::{self, EvalInputs, EvalOptions, Plan};
 use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
+use crate::models::spec::SceneUse;
 use crate::models::{ModelKind, ParamKind, TangentUse};
 use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
@@ -295,6 +296,24 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         d.set_item("reciprocal", spec.reciprocal)?;
         d.set_item("tangent", spec.tangent == TangentUse::Required)?;
         d.set_item("tangent_optional", spec.tangent == TangentUse::Optional)?;
+        d.set_item("weights", spec.weights)?;
+        d.set_item("scene_slot", spec.scene.slot())?;
+        let diffuse = match spec.scene {
+            SceneUse::Brdf(diffuse) => Some(diffuse.name()),
+            _ => None,
+        };
+        d.set_item("diffuse", diffuse)?;
+        let dfg = match spec.dfg {
+            Some(axis) => {
+                let a = PyDict::new(py);
+                a.set_item("param", axis.param)?;
+                a.set_item("axis", axis.axis)?;
+                Some(a)
+            }
+            None => None,
+        };
+        d.set_item("dfg", dfg)?;
+        d.set_item("energy_table", spec.energy_table)?;
         d.set_item("params", params)?;
         list.append(d)?;
     }

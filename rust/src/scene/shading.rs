@@ -25,6 +25,7 @@ use glam::Vec3;
 use crate::error::BrdfError;
 use crate::eval::engine::{Isa, isa};
 use crate::eval::params::ParamRows;
+use crate::models::spec::{DiffuseTerm, SceneUse};
 use crate::models::toon_diffuse::MAX_THRESHOLDS;
 use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
 
@@ -192,24 +193,9 @@ impl Role {
     }
 }
 
-/// Returns the names of the parameters a model's value is linear in with no constant
-/// term — the value is exactly 0 when they are all 0 — or `None` when no such set
-/// exists (`blinn_phong_fresnel`: its `ks` is F0, and `F = F0 + (1 − F0)(1 − cos_b)^5`
-/// does not vanish at F0 = 0).
+/// The colour parameters that weight every term of a model (its spec's `weights`).
 pub fn weight_params(kind: ModelKind) -> Option<&'static [&'static str]> {
-    use ModelKind::*;
-    match kind {
-        Lambert | OrenNayar | LambertShading | OrenNayarShading => Some(&["kd"]),
-        Phong | ModifiedPhong | NormalizedPhong | BlinnPhong | ModifiedBlinnPhong
-        | NormalizedBlinnPhong | TorranceSparrow | KajiyaKay => Some(&["kd", "ks"]),
-        PhongSpecular | BlinnSpecular => Some(&["ks"]),
-        ToonDiffuse => Some(&["colors"]),
-        ToonSpecular => Some(&["high", "low"]),
-        Ward => Some(&["kd", "ks"]),
-        // F0 enters through Schlick (`ks` = F0; F_avg = F0 + (1 − F0)/21), and
-        // Ashikhmin-Shirley's diffuse term is scaled by (1 − Rs).
-        BlinnPhongFresnel | Ggx | Beckmann | GgxMs | BeckmannMs | AshikhminShirley => None,
-    }
+    kind.spec().weights
 }
 
 /// Returns whether a term is zero everywhere because its weight colours are all zero.
@@ -241,10 +227,6 @@ pub enum Unlit {
 pub fn unlit_behaviour(term: &Term) -> Unlit {
     use ModelKind::*;
     match term.kind {
-        Lambert | OrenNayar | Phong | ModifiedPhong | NormalizedPhong | BlinnPhong
-        | ModifiedBlinnPhong | NormalizedBlinnPhong | BlinnPhongFresnel | TorranceSparrow
-        | LambertShading | OrenNayarShading | PhongSpecular | BlinnSpecular | ToonSpecular
-        | KajiyaKay | Ggx | GgxMs | Beckmann | BeckmannMs | Ward | AshikhminShirley => Unlit::Zero,
         ToonDiffuse => {
             let thresholds = &term.slots[term.param_slots("thresholds")];
             debug_assert_eq!(thresholds.len(), MAX_THRESHOLDS);
@@ -263,6 +245,7 @@ pub fn unlit_behaviour(term: &Term) -> Unlit {
                 colour => Unlit::Constant(colour),
             }
         }
+        _ => Unlit::Zero,
     }
 }
 
@@ -278,40 +261,15 @@ pub fn eval_f64(term: &Term, d: &Directions<f64>) -> [f64; 3] {
     term.kind.visit(Eval(&term.slots, d))
 }
 
-/// How a family-A model's diffuse term is evaluated on its own.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum DiffuseTerm {
-    /// The whole model is diffuse (`lambert`, `oren_nayar`).
-    Whole,
-    /// The diffuse term is `lambert` with `kd` scaled by this factor: 1 for the models
-    /// that add `kd/π`, π for the BRDF Summary's non-normalized models that add `kd`.
-    Lambert(f64),
-    /// The model has no diffuse term (`ggx_ms`, `beckmann_ms`): all of it is specular.
-    Absent,
-    /// The diffuse term depends on the specular parameters (`ashikhmin_shirley`: `Rd` is
-    /// scaled by `1 − Rs`): the specular term alone is the model with `Rd = 0`, the
-    /// diffuse term alone is not one kernel ([`material_parts`] refuses it).
-    Coupled,
-}
-
 /// Returns how a family-A model's diffuse term is evaluated alone (`None` for family B).
 /// A family-A model with a `kd` is `diffuse(kd) + rest(other parameters)`
 /// (docs/models.md); the tests check `f(kd, ...) − f(0, ...) = lambert(scale·kd)` for
 /// each. The multiple-scattering lobes have no diffuse term, and Ashikhmin-Shirley's is
 /// coupled to its specular reflectance.
 pub fn family_a_diffuse(kind: ModelKind) -> Option<DiffuseTerm> {
-    use ModelKind::*;
-    match kind {
-        Lambert | OrenNayar => Some(DiffuseTerm::Whole),
-        Phong | ModifiedPhong | BlinnPhong | ModifiedBlinnPhong => {
-            Some(DiffuseTerm::Lambert(std::f64::consts::PI))
-        }
-        NormalizedPhong | NormalizedBlinnPhong | BlinnPhongFresnel | TorranceSparrow | Ggx
-        | Beckmann | Ward => Some(DiffuseTerm::Lambert(1.0)),
-        GgxMs | BeckmannMs => Some(DiffuseTerm::Absent),
-        AshikhminShirley => Some(DiffuseTerm::Coupled),
-        LambertShading | OrenNayarShading | ToonDiffuse | PhongSpecular | BlinnSpecular
-        | ToonSpecular | KajiyaKay => None,
+    match kind.spec().scene {
+        SceneUse::Brdf(diffuse) => Some(diffuse),
+        _ => None,
     }
 }
 

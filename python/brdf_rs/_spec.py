@@ -1,0 +1,98 @@
+"""The model spec table, read once from the extension: every per-model fact Python needs
+(parameters, family, scene slot, split-sum roughness axis, energy tables) comes from here,
+so no Python module names a model to know what it is."""
+
+from __future__ import annotations
+
+import copy
+from functools import cache
+from typing import Literal, TypedDict, cast
+
+from . import _brdf_rs as _core
+
+
+class ParamSpec(TypedDict):
+    """One parameter of a model."""
+
+    name: str
+    #: ``"scalar"``, ``"colour"``, ``"scalar list"`` or ``"colour list"``.
+    kind: str
+    #: None: the parameter is required.
+    default: float | None
+    min: float
+    max: float
+    min_open: bool
+    max_open: bool
+    #: The valid range as text.
+    range: str
+    doc: str
+    #: Whether it may be an array over the batch.
+    varies: bool
+    #: The most values a list parameter takes (None for scalars and colours).
+    max_len: int | None
+
+
+class DfgAxis(TypedDict):
+    """The roughness axis of a model's split-sum (DFG) table."""
+
+    #: The parameter that plays roughness.
+    param: str
+    #: The CLI's default axis (``"mid:lo:hi:n"``, ``"log:lo:hi:n"``).
+    axis: str
+
+
+class ModelSpec(TypedDict):
+    """One model's spec, as ``brdf_rs.models()`` returns it."""
+
+    name: str
+    #: ``"A"``: a BRDF without the cosine; ``"B"``: a shading term with the light cosine.
+    family: Literal["A", "B"]
+    summary: str
+    formula: str
+    source: str
+    reciprocal: bool
+    #: Whether ``tangent=`` is required, and whether it is optional.
+    tangent: bool
+    tangent_optional: bool
+    #: The parameters whose all being zero makes the model zero everywhere (None: no
+    #: such set, e.g. where ``ks`` is Schlick's F0).
+    weights: list[str] | None
+    #: Where a scene material takes it: ``"brdf"`` (family A), or for family-B terms
+    #: ``"diffuse"``, ``"specular"`` or ``"both"``.
+    scene_slot: Literal["brdf", "diffuse", "specular", "both"]
+    #: How a family-A model's diffuse term renders alone: ``"whole"`` (the model is
+    #: diffuse), ``"lambert"``, ``"absent"`` or ``"coupled"`` (not one kernel); None for
+    #: family B.
+    diffuse: Literal["whole", "lambert", "absent", "coupled"] | None
+    #: The split-sum table's roughness axis, for models with Schlick's F0 (else None).
+    dfg: DfgAxis | None
+    #: Whether it has energy-compensation tables.
+    energy_table: bool
+    params: list[ParamSpec]
+
+
+@cache
+def specs() -> dict[str, ModelSpec]:
+    """Every model's spec by name, in a stable order: read once, shared (do not mutate;
+    :func:`brdf_rs.models` hands out copies)."""
+    return cast("dict[str, ModelSpec]", {m["name"]: m for m in _core.models()})
+
+
+def models() -> dict[str, ModelSpec]:
+    """A copy of :func:`specs` that the caller may change."""
+    return copy.deepcopy(specs())
+
+
+def with_dfg() -> dict[str, DfgAxis]:
+    """The models with a split-sum table, and its roughness axis."""
+    return {name: s["dfg"] for name, s in specs().items() if s["dfg"] is not None}
+
+
+def with_energy_table() -> tuple[str, ...]:
+    """The models with energy-compensation tables."""
+    return tuple(name for name, s in specs().items() if s["energy_table"])
+
+
+def in_slot(slot: str) -> tuple[str, ...]:
+    """The family-B terms a material's ``slot`` (``"diffuse"``, ``"specular"``) takes."""
+    return tuple(name for name, s in specs().items() if s["scene_slot"] in (slot, "both"))
