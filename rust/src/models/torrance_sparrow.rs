@@ -13,7 +13,7 @@ use super::albedo::{Importance, Term, basis, colour, diffuse_and_lobe};
 use super::spec::{self, Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
-use crate::math::{Real, Vector3, min};
+use crate::math::{PowUnit, Real, Vector3, min};
 
 /// The Torrance-Sparrow kernel.
 pub struct TorranceSparrow;
@@ -75,13 +75,13 @@ impl Kernel for TorranceSparrow {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let hv = half_vector::<F>(d.wi, d.wo);
         let cos_th = clamped_cosine::<F>(d.n, hv.h);
         let cos_b = hv.cos_b;
-        let d_lobe = cos_th.powf(pp.p);
+        let d_lobe = cos_th.powf::<P>(pp.p);
         let fresnel = pp.r0 + (F::ONE - pp.r0) * schlick_weight(cos_b);
         let half = F::HALF;
         let ratio = cos_th.cos / cos_b.cos;
