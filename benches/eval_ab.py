@@ -30,7 +30,8 @@ def extra_args(model: str) -> dict:
 
 
 def worker(model: str, dtype: str, n: int, threads: int, seconds: float) -> None:
-    """Times eval here (the build this Python imports); JSON on stdout."""
+    """Times eval here (the build this Python imports); JSON on stdout. Models that need
+    a tangent get eval_throughput.py's (1, 0, 0)."""
     import brdf_rs
 
     brdf_rs.set_num_threads(threads)
@@ -44,6 +45,8 @@ def worker(model: str, dtype: str, n: int, threads: int, seconds: float) -> None
     wi, wo = directions(), directions()
     out = np.empty((n, 3), dtype=dtype)
     extra = extra_args(model)
+    if brdf_rs.models()[model]["tangent"]:
+        extra["tangent"] = np.array([1.0, 0.0, 0.0], dtype=dtype)
     brdf_rs.eval(model, wi, wo, out=out, **extra)  # warm-up
     best = float("inf")
     start = time.perf_counter()
