@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::Plan;
 use super::rows::Rows;
 use crate::math::geometry::{tangent_parallel, wide_cosine};
-use crate::math::{Real, Vector3};
+use crate::math::{Real, TablePow, Vector3};
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
 
@@ -394,9 +394,9 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                     slots: &scratch.params,
                     j,
                 };
-                K::eval(&K::prepare(&params), &d)
+                K::eval_with::<F, TablePow>(&K::prepare(&params), &d)
             } else {
-                K::eval(&uniform, &d)
+                K::eval_with::<F, TablePow>(&uniform, &d)
             };
             let ok = scratch.ok[j];
             bad_in_block |= !ok & (j < len);

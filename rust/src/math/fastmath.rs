@@ -3,13 +3,15 @@
 //! Public API (f64 and f32 each):
 //! * `pow_unit_f64(x, one_minus_x, p)` / `pow_unit_f32`: x^p for x in [0, 1],
 //!   accurate even when x is within 1e-12 of 1 (uses the caller's 1 - x).
+//! * `pow_unit_table_f64` (and its `over` / `over_scaled` variants): the same f64
+//!   powers from tables, for loops whose table lookups vectorize (see below).
 //! * `exp_f64` / `exp_f32`: e^x for all x (overflow to +inf, gradual underflow).
 //! * `log_f64` / `log_f32`: ln x for x >= 0, subnormals included.
 //!
 //! Every public function is `#[inline(always)]`, branch-free (only selects
-//! that LLVM lowers to blends/masks), table-free and free of libm calls, so a
-//! loop that calls it per element auto-vectorizes for whatever the enclosing
-//! function is compiled for (SSE2, AVX2, AVX-512: 8 f64 / 16 f32 lanes).
+//! that LLVM lowers to blends/masks), table-free (but the `_table_` ones) and free
+//! of libm calls, so a loop that calls it per element auto-vectorizes for whatever
+//! the enclosing function is compiled for (SSE2, AVX2, AVX-512: 8 f64 / 16 f32 lanes).
 //! No FMA is required: exact products come from splitting operands with bit
 //! masks (the fdlibm `e_pow.c` technique), so the functions give
 //! bit-identical results on every ISA.
@@ -45,6 +47,27 @@
 //! the coefficients' error on it; with `--sollya` it solves the problems anew (other
 //! low-order bits than the ones below, whose Sollya run was not recorded, with the
 //! same error to within 2%).
+
+//! Table-driven f64 power (`pow_unit_table_f64`, ARM optimized-routines' `pow`,
+//! no-FMA variant; tables and polynomials from `scripts/gen_pow_tables.py`, in
+//! `pow_tables.rs`):
+//! 1. log x: x = 2^k z, z in [0.705, 1.41) split into 128 entries {1/c, log c
+//!    (a multiple of 2^-42), tail}; r = z/c - 1 = rhi + rlo exactly (1/c has 9
+//!    bits, z_hi 21); log x = k ln2 + log c + r - r^2/2 + r^3 Q(r) (Q degree 5)
+//!    carried in double-double. The entry holding 1.0 has c = 1. For
+//!    x > sqrt(3)/2 the reduced argument is z = 1 - one_minus_x taken exactly, so
+//!    x = 1 - 1e-20 keeps its digits; below one_minus_x = 2^-330, log x =
+//!    -one_minus_x and the product is formed from scaled operands.
+//! 2. y = p log x = ehi + elo with ehi exact (26-bit halves).
+//! 3. e^y: y = k ln2/128 + r; 2^(i/128) from a 128-entry table {s, tail}, e^r by
+//!    a degree-5 polynomial; m 2^n by `scale_f64` as above. Out-of-range y are
+//!    clamped to 0 / +inf, tiny y to exactly 1; p below 2^-300 acts as 2^-300.
+//!
+//! Its five lookups are gathers in a vectorized loop: faster than the series power
+//! in the eval engine's block loop, but in a loop LLVM then declines to vectorize
+//! (the integrator's per-point lobe loop) much slower. So the caller picks
+//! ([`crate::math::PowUnit`]); the test `table_pow_agrees_with_series_pow` keeps the
+//! two within an ulp of each other. No FMA: bit-identical on every ISA too.
 
 // The constants below are bit-exact literals (scripts/fastmath_coefficients.py);
 // the decimal comments are for humans only.
@@ -125,6 +148,17 @@ const TWO_M500_F64: f64 = 3.054936363499605e-151; // 2^-500
 const TWO_M60_F32: f32 = 8.673617379884035e-19; // 2^-60
 const ONE_BITS_F64: u64 = 0x3FF0_0000_0000_0000;
 const ONE_BITS_F32: u32 = 0x3F80_0000;
+const TWO_M30_F64: f64 = f64::from_bits(993 << 52); // 2^-30
+const TWO_M200_F64: f64 = f64::from_bits(823 << 52); // 2^-200
+const TWO_M300_F64: f64 = f64::from_bits(723 << 52); // 2^-300
+const TWO_M330_F64: f64 = f64::from_bits(693 << 52); // 2^-330
+const TWO_M400_F64: f64 = f64::from_bits(623 << 52); // 2^-400
+const TWO_M600_F64: f64 = f64::from_bits(423 << 52); // 2^-600
+const TWO600_F64: f64 = f64::from_bits(1623 << 52); // 2^600
+/// Start of the logarithm table's reduced range (z in [OFF, 2 OFF), OFF ~ 0.7051).
+const LOG_OFF_BITS: u64 = 0x3FE6_9555_0000_0000;
+
+include!("pow_tables.rs");
 
 // ------------------------------------------------------------------ helpers
 
@@ -403,6 +437,173 @@ pub fn log_f64(x: f64) -> f64 {
     let r = if x == 0.0 { f64::NEG_INFINITY } else { r };
     let r = if x == f64::INFINITY { x } else { r };
     if x >= 0.0 { r } else { f64::NAN }
+}
+
+// ------------------------------------------------------- table-driven pow (f64)
+
+/// log(x 2^-kx) as hi + lo (|lo| <~ 2^-52 |hi|), relative error about 2^-68, for
+/// 0 < xr < inf (subnormal fine). With `near`, the reduced argument is taken as
+/// 1 - `omc` exactly (xr must then be 1 - omc rounded, in [0.705, 1], and kx = 0).
+/// ARM optimized-routines' `log_inline` of `pow` (no-FMA variant), with a split of
+/// r = z/c - 1 into rhi + rlo that stays exact for z = 1 - omc.
+#[inline(always)]
+fn log_dd_f64(xr: f64, omc: f64, near: bool, kx: f64) -> (f64, f64) {
+    let sub = xr < f64::MIN_POSITIVE;
+    let xs = if sub { xr * TWO52_F64 } else { xr };
+    let ix = xs.to_bits();
+    // x = 2^k z, z in [OFF, 2 OFF); entry i from the top mantissa bits of ix - OFF
+    let tmp = ix.wrapping_sub(LOG_OFF_BITS);
+    let i = ((tmp >> 45) & 127) as usize;
+    // k = tmp >> 52 (arithmetic), as an f64 without a 64-bit int -> float conversion
+    let kb = (tmp ^ (1 << 63)) >> 52; // k + 2048
+    let k = f64::from_bits(kb | TWO52_BITS_F64) - (TWO52_F64 + 2048.0);
+    let k = k - if sub { 52.0 } else { 0.0 } - kx;
+    let iz = ix.wrapping_sub(tmp & (0xfff << 52));
+    let z = f64::from_bits(iz);
+    let invc = LOG_INVC[i];
+    let logc = LOG_LOGC[i];
+    let logctail = LOG_LOGCTAIL[i];
+    // r = z invc - 1 = rhi + rlo, both exact: zhi has 21 bits, invc 9, and zlo
+    // (<= 2^-22) at most 41 bits; near 1, zlo = (1 - zhi) - omc is exact (Sterbenz)
+    // and has at most 41 bits wherever invc != 1.
+    let zhi = f64::from_bits((iz + (1 << 31)) & (u64::MAX << 32));
+    let zlo = if near { (1.0 - zhi) - omc } else { z - zhi };
+    let rhi = zhi * invc - 1.0;
+    let rlo = zlo * invc;
+    let r = rhi + rlo;
+    // k ln2 + log(c) + r: t1 and t2 are exact (multiples of 2^-42 below 2^11)
+    let t1 = k * LN2_HI + logc;
+    let t2 = t1 + rhi;
+    let s = t2 + rlo;
+    let lo2 = (t2 - s) + rlo; // Fast2Sum: t2 = 0 or |t2| >= |rlo|
+    let lo1 = k * LN2_LO + logctail;
+    // + log1p(r) - r = -r^2/2 + r^3 Q(r)
+    let ar = -0.5 * r;
+    let ar2 = r * ar;
+    let ar3 = r * ar2;
+    let arhi = -0.5 * rhi;
+    let arhi2 = rhi * arhi; // exact
+    let hi = s + arhi2;
+    let lo3 = rlo * (ar + arhi);
+    let lo4 = (s - hi) + arhi2;
+    let q = ar3
+        * (LOG_A[0]
+            + r * LOG_A[1]
+            + ar2 * (LOG_A[2] + r * LOG_A[3] + ar2 * (LOG_A[4] + r * LOG_A[5])));
+    let lo = lo1 + lo2 + lo3 + lo4 + q;
+    let y = hi + lo;
+    (y, (hi - y) + lo)
+}
+
+/// e^(xh + xl) 2^-e for an integer |e| <= 1100, |xl| <= 2^-24 |xh| (the pow product);
+/// exactly 0 below 2^-1100 (through the subnormals with one rounding), +inf beyond
+/// the float range. ARM's `exp_inline` with a 2^(i/128) table and degree-5 polynomial,
+/// made branch-free: out-of-range arguments are clamped, and tiny ones replaced by 0
+/// (result 1) so that r^4 cannot underflow.
+#[inline(always)]
+fn exp_dd_f64(xh: f64, xl: f64, e: f64) -> f64 {
+    let eln2 = e * LN2_F64;
+    let dead = xh - eln2 < -1090.0 * LN2_F64;
+    let huge = xh - eln2 > 1024.01 * LN2_F64;
+    let small = xh.abs() < TWO_M200_F64;
+    let xh = if small { 0.0 } else { xh };
+    let xh = if dead { eln2 - 1100.0 * LN2_F64 } else { xh };
+    let xh = if huge { eln2 + 1024.5 * LN2_F64 } else { xh };
+    let xl = if dead | huge | small { 0.0 } else { xl };
+    // x = k ln2/128 + r, |r| <= ln2/256 (+ |xl|)
+    let kd = xh * INV_LN2_N + SHIFT_F64;
+    let ki = kd.to_bits();
+    let kf = kd - SHIFT_F64;
+    let r = (xh - kf * LN2_N_HI) - kf * LN2_N_LO; // xh - kf hi: exact (Sterbenz)
+    let r = r + xl;
+    let i = (ki & 127) as usize;
+    let s = EXP_S[i];
+    let tail = EXP_TAIL[i];
+    let r2 = r * r;
+    let tmp = tail + r + r2 * (EXP_C[0] + r * EXP_C[1]) + r2 * r2 * (EXP_C[2] + r * EXP_C[3]);
+    let m = s + s * tmp; // 2^(i/128) e^r in [0.997, 2.006)
+    // 1.5 * 2^52 + floor(k / 128), then - e (exact)
+    let nb = (ki >> 7).wrapping_add(SHIFT_BITS_F64 - (SHIFT_BITS_F64 >> 7));
+    scale_f64(m, f64::from_bits(nb) - e)
+}
+
+/// x^p 2^-e / m for x 2^-kx with x in [0, 1] (given with `one_minus_x` as in
+/// [`pow_unit_f64`]), integers |e| <= 1100 and 0 <= kx <= 600 (kx > 0 only for
+/// x <= 2^-400), m in [1, 2). `e = kx = 0, m = 1`: plain x^p, bit for bit.
+/// With `OVER`, a quotient above 1 is formed as (x^p 2^-(e+1)) / (m/2) so that
+/// the dividend cannot overflow while the quotient is below 2^1024.
+#[inline(always)]
+fn pow_scaled_f64<const OVER: bool>(
+    x: f64,
+    one_minus_x: f64,
+    p: f64,
+    e: f64,
+    kx: f64,
+    m: f64,
+) -> f64 {
+    let near = x > SQRT3_HALF_F64;
+    // one_minus_x < 2^-330: log x = -one_minus_x to 2^-330 relative, and the
+    // polynomial's r^3 would underflow: y = -(p 2^-600)(one_minus_x 2^600) instead.
+    let tiny = near & (one_minus_x < TWO_M330_F64);
+    let omc = if tiny { TWO_M30_F64 } else { one_minus_x };
+    let xr = if near { 1.0 - omc } else { x };
+    let xr = if x == 0.0 { 1.0 } else { xr };
+    let (lh, ll) = log_dd_f64(xr, omc, near, kx);
+    // p below 2^-300 gives |y| < 2^-289 (result 1, as for 2^-300): keeps products normal
+    let pc = if p < TWO_M300_F64 { TWO_M300_F64 } else { p };
+    let ps = pc * TWO_M600_F64;
+    let ps = if ps < TWO_M400_F64 { TWO_M400_F64 } else { ps }; // then |y| < 2^-130
+    let pp = if tiny { ps } else { pc };
+    let lh = if tiny {
+        -(one_minus_x * TWO600_F64)
+    } else {
+        lh
+    };
+    let ll = if tiny { 0.0 } else { ll };
+    // y = pp (lh + ll) = ehi + elo, ehi exact (26-bit halves)
+    let p_hi = f64::from_bits(pp.to_bits() & (u64::MAX << 27));
+    let p_lo = pp - p_hi;
+    let l_hi = f64::from_bits(lh.to_bits() & (u64::MAX << 27));
+    let l_lo = (lh - l_hi) + ll;
+    let ehi = p_hi * l_hi;
+    let elo = p_lo * l_hi + pp * l_lo;
+    let big = OVER && ehi - e * LN2_F64 > 0.0; // (p = 0 lanes: ehi ~ 0, big iff e < 0)
+    let e = if big { e + 1.0 } else { e };
+    let m = if big { m * 0.5 } else { m };
+    let r = exp_dd_f64(ehi, elo, e);
+    // 2^-e, exact (+inf for e < -1024)
+    let one = scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e });
+    let r = if one_minus_x == 0.0 { one } else { r };
+    let r = if x == 0.0 { 0.0 } else { r };
+    let r = if p == 0.0 { one } else { r };
+    if OVER { r / m } else { r }
+}
+
+/// [`pow_unit_f64`] from tables: the same contract, table-driven (ARM
+/// optimized-routines' `pow` scheme, no FMA; the module doc's second part). Faster
+/// where its five table lookups vectorize (gathers: the eval engine's block loop),
+/// much slower where they stop a loop from vectorizing (the integrator's per-point
+/// lobe loop): the caller chooses, through [`crate::math::PowUnit`].
+#[inline(always)]
+pub fn pow_unit_table_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
+    pow_scaled_f64::<false>(x, one_minus_x, p, 0.0, 0.0, 1.0)
+}
+
+/// [`pow_unit_over_f64`] from tables (see [`pow_unit_table_f64`]). A quotient above 1
+/// is formed from halves, so it does not overflow below 2^1024.
+#[inline(always)]
+pub fn pow_unit_over_table_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
+    let (m, e) = split_f64(d);
+    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
+    pow_scaled_f64::<true>(x, one_minus_x, p, e, 0.0, m)
+}
+
+/// [`pow_unit_over_scaled_f64`] from tables (see [`pow_unit_table_f64`]).
+#[inline(always)]
+pub fn pow_unit_over_scaled_table_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
+    let (m, e) = split_f64(d);
+    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
+    pow_scaled_f64::<true>(x, one_minus_x, p, e, kx, m)
 }
 
 // ---------------------------------------------------------------------- f32
@@ -709,6 +910,71 @@ pub(crate) mod tests {
                 );
             }
         }
+    }
+
+    /// The table-driven power keeps the series power's contract: the same special cases,
+    /// no NaN over the domain, and values within an ulp of it (each is within 0.65 ulp of
+    /// the exact power), next to 1 with huge exponents and for `over` with tiny divisors
+    /// included.
+    #[test]
+    fn table_pow_agrees_with_series_pow() {
+        for &(x, omc) in &[
+            (0.0, 1.0),
+            (1.0, 0.0),
+            (0.5, 0.5),
+            (1.0, 1e-320),
+            (1e-320, 1.0),
+        ] {
+            assert_eq!(pow_unit_table_f64(x, omc, 0.0), 1.0);
+        }
+        assert_eq!(pow_unit_table_f64(1.0, 0.0, 1e300), 1.0);
+        assert_eq!(pow_unit_table_f64(0.0, 1.0, 3.0), 0.0);
+        assert_eq!(pow_unit_table_f64(0.5, 0.5, 1074.0), f64::from_bits(1));
+        assert_eq!(pow_unit_table_f64(0.5, 0.5, 1076.0), 0.0);
+        assert_eq!(
+            pow_unit_over_table_f64(0.5, 0.5, 1100.0, 2f64.powi(-100)),
+            2f64.powi(-1000)
+        );
+        let mut s = 11;
+        let mut worst = 0f64;
+        for _ in 0..300_000 {
+            let x = match (uniform(&mut s) * 4.0) as u32 {
+                0 => uniform(&mut s),
+                1 => 10f64.powf(-300.0 * uniform(&mut s)),
+                _ => 1.0 - 10f64.powf(-16.0 * uniform(&mut s)),
+            };
+            let omc = 1.0 - x; // exact where it matters (x >= 1/2, Sterbenz)
+            let p = 10f64.powf(uniform(&mut s) * 12.0 - 4.0);
+            let d = 10f64.powf(uniform(&mut s) * 600.0 - 310.0);
+            let (a, b) = (pow_unit_table_f64(x, omc, p), pow_unit_f64(x, omc, p));
+            assert!(!a.is_nan(), "{x} {omc} {p}");
+            if b >= f64::MIN_POSITIVE {
+                worst = worst.max(ulps(a, b));
+            } else {
+                assert!(
+                    (a - b).abs() <= 2.0 * f64::from_bits(1),
+                    "{x}^{p}: {a} vs {b}"
+                );
+            }
+            let (a, b) = (
+                pow_unit_over_table_f64(x, omc, p, d),
+                pow_unit_over_f64(x, omc, p, d),
+            );
+            assert!(!a.is_nan(), "{x} {omc} {p} {d}");
+            if (f64::MIN_POSITIVE..f64::MAX / 2.0).contains(&b) {
+                assert!(ulps(a, b) <= 2.5, "{x}^{p}/{d}: {a} vs {b}");
+            }
+            let kx = 600.0;
+            let xs = 10f64.powf(-400.0 - 300.0 * uniform(&mut s));
+            let (a, b) = (
+                pow_unit_over_scaled_table_f64(xs, 1.0, p.min(2.0), kx, d),
+                pow_unit_over_scaled_f64(xs, 1.0, p.min(2.0), kx, d),
+            );
+            if (f64::MIN_POSITIVE..f64::MAX / 2.0).contains(&b) {
+                assert!(ulps(a, b) <= 2.5, "({xs}·2^-600)^{p}/{d}: {a} vs {b}");
+            }
+        }
+        assert!(worst <= 1.0, "table vs series power: {worst} ulp");
     }
 
     #[test]

@@ -9,7 +9,7 @@
 
 use glam::DVec3;
 
-use super::{Real, Vector3, clamp, max, min};
+use super::{PowUnit, Real, Vector3, clamp, max, min};
 
 /// A cosine together with its accurately computed complement `1 - cos`.
 #[derive(Clone, Copy, Debug)]
@@ -25,17 +25,18 @@ impl<F: Real> Cosine<F> {
     /// In `f32`, results below 2^-100 ≈ 7.9e-31 are returned as 0: carried through the
     /// model they would become subnormals, each costing ~100-cycle microcode assists
     /// (see [`Real::flush_subnormal`]).
+    /// `P` chooses how the power is computed ([`PowUnit`]).
     #[inline(always)]
-    pub fn powf(self, p: F) -> F {
-        F::flush_subnormal(F::pow_unit(self.cos, self.one_minus, p))
+    pub fn powf<P: PowUnit>(self, p: F) -> F {
+        F::flush_subnormal(P::pow_unit(self.cos, self.one_minus, p))
     }
 
     /// Returns `cos^p / d` for `d > 0` without forming `cos^p` first, which may
     /// underflow where the quotient does not (`cos^p / mu_i` at grazing `mu_i`); see
     /// [`Real::pow_unit_over`]. The `f32` flush applies to the quotient.
     #[inline(always)]
-    pub fn powf_over(self, p: F, d: F) -> F {
-        F::flush_subnormal(F::pow_unit_over(self.cos, self.one_minus, p, d))
+    pub fn powf_over<P: PowUnit>(self, p: F, d: F) -> F {
+        F::flush_subnormal(P::pow_unit_over(self.cos, self.one_minus, p, d))
     }
 }
 

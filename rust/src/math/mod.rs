@@ -170,6 +170,12 @@ pub trait Real:
     /// at most `2^-400` when `kx > 0`): a cosine below the normal range carried with an
     /// extended exponent. `f64` only ([`Real::EXTENDED_COSINES`]); `f32` ignores `kx`.
     fn pow_unit_over_scaled(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
+    /// [`Real::pow_unit`] from tables (`f64`; `f32`: [`Real::pow_unit`]); see [`PowUnit`].
+    fn pow_unit_table(x: Self, one_minus_x: Self, p: Self) -> Self;
+    /// [`Real::pow_unit_over`] from tables (`f64`); see [`PowUnit`].
+    fn pow_unit_over_table(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
+    /// [`Real::pow_unit_over_scaled`] from tables (`f64`); see [`PowUnit`].
+    fn pow_unit_over_scaled_table(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
     /// Returns whether `v` is finite and nonzero, without normalizing it.
     fn usable(v: Self::V3) -> bool;
     /// Returns `|v|² − 1` for a vector of about unit length (components of magnitude at
@@ -194,6 +200,64 @@ pub trait Real:
     /// Flushing at 2^-100 keeps the products that follow in the normal range too. The
     /// `f64` kernels keep gradual underflow (below 2.2e-308, rare there).
     fn flush_subnormal(x: Self) -> Self;
+}
+
+/// How a kernel computes `x^p` ([`Real::pow_unit`] and its `over` variants): chosen by the
+/// kernel's caller, since the fastest one depends on the loop around the kernel.
+///
+/// [`SeriesPow`] is table-free (the polynomial scheme of [`fastmath`]): it vectorizes in
+/// any loop, and is what [`crate::models::Kernel::eval`] uses. [`TablePow`] is the
+/// table-driven `f64` power (`f32`: the series one), faster where its table lookups
+/// vectorize as gathers, which the eval engine's block loop does and the integrator's
+/// per-point lobe loop does not (there it stops the loop from vectorizing). Both are
+/// accurate to well under an ulp; their results differ in the last bit here and there.
+pub trait PowUnit: 'static {
+    /// Whether `f64` powers come from the tables.
+    const TABLES: bool;
+
+    /// Returns `x^p`, as [`Real::pow_unit`].
+    #[inline(always)]
+    fn pow_unit<F: Real>(x: F, one_minus_x: F, p: F) -> F {
+        if Self::TABLES {
+            F::pow_unit_table(x, one_minus_x, p)
+        } else {
+            F::pow_unit(x, one_minus_x, p)
+        }
+    }
+
+    /// Returns `x^p / d`, as [`Real::pow_unit_over`].
+    #[inline(always)]
+    fn pow_unit_over<F: Real>(x: F, one_minus_x: F, p: F, d: F) -> F {
+        if Self::TABLES {
+            F::pow_unit_over_table(x, one_minus_x, p, d)
+        } else {
+            F::pow_unit_over(x, one_minus_x, p, d)
+        }
+    }
+
+    /// Returns `(x·2^-kx)^p / d`, as [`Real::pow_unit_over_scaled`].
+    #[inline(always)]
+    fn pow_unit_over_scaled<F: Real>(x: F, one_minus_x: F, p: F, kx: F, d: F) -> F {
+        if Self::TABLES {
+            F::pow_unit_over_scaled_table(x, one_minus_x, p, kx, d)
+        } else {
+            F::pow_unit_over_scaled(x, one_minus_x, p, kx, d)
+        }
+    }
+}
+
+/// The table-free power: vectorizes in every loop (see [`PowUnit`]).
+pub struct SeriesPow;
+
+impl PowUnit for SeriesPow {
+    const TABLES: bool = false;
+}
+
+/// The table-driven `f64` power, for loops whose gathers vectorize (see [`PowUnit`]).
+pub struct TablePow;
+
+impl PowUnit for TablePow {
+    const TABLES: bool = true;
 }
 
 /// Returns the larger of `a` and `b` (the second if they compare unordered).
@@ -295,6 +359,47 @@ macro_rules! impl_real {
             ) -> Self {
                 if $exact_lengths {
                     fastmath::pow_unit_over_scaled_f64(
+                        x as f64,
+                        one_minus_x as f64,
+                        p as f64,
+                        kx as f64,
+                        d as f64,
+                    ) as $f
+                } else {
+                    fastmath::$pow_over(x, one_minus_x, p, d)
+                }
+            }
+            #[inline(always)]
+            fn pow_unit_table(x: Self, one_minus_x: Self, p: Self) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_table_f64(x as f64, one_minus_x as f64, p as f64) as $f
+                } else {
+                    fastmath::$pow(x, one_minus_x, p)
+                }
+            }
+            #[inline(always)]
+            fn pow_unit_over_table(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_over_table_f64(
+                        x as f64,
+                        one_minus_x as f64,
+                        p as f64,
+                        d as f64,
+                    ) as $f
+                } else {
+                    fastmath::$pow_over(x, one_minus_x, p, d)
+                }
+            }
+            #[inline(always)]
+            fn pow_unit_over_scaled_table(
+                x: Self,
+                one_minus_x: Self,
+                p: Self,
+                kx: Self,
+                d: Self,
+            ) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_over_scaled_table_f64(
                         x as f64,
                         one_minus_x as f64,
                         p as f64,

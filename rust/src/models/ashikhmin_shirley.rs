@@ -20,7 +20,7 @@ use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     above_both, clamped_cosine, half_vector_exact, schlick_weight, tangent_frame, weighted,
 };
-use crate::math::{Real, Vector3, max};
+use crate::math::{PowUnit, Real, Vector3, max};
 
 /// The Ashikhmin-Shirley kernel.
 pub struct AshikhminShirley;
@@ -114,7 +114,7 @@ impl Kernel for AshikhminShirley {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let (u, v) = tangent_frame::<F>(d.n, d.t);
@@ -133,7 +133,7 @@ impl Kernel for AshikhminShirley {
         };
         // (n·h)^e / max(mu_i, mu_o) in one step: the power may underflow where the
         // quotient does not (grazing), and 0/0 must not come of a product that underflows.
-        let lobe = pp.norm * cos_th.powf_over(e, max(mu_i, mu_o)) / hv.cos_b.cos;
+        let lobe = pp.norm * cos_th.powf_over::<P>(e, max(mu_i, mu_o)) / hv.cos_b.cos;
         let lobe = if hv.defined { lobe } else { F::ZERO };
         let w = schlick_weight(hv.cos_b);
         let diffuse = coupling(mu_i) * coupling(mu_o);

@@ -16,7 +16,7 @@ use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     above_both, clamped_cosine, half_vector, schlick_rgb, schlick_weight, smith_quotient, weighted,
 };
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Beckmann kernel.
 pub struct Beckmann;
@@ -115,7 +115,7 @@ impl Kernel for Beckmann {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let hv = half_vector::<F>(d.wi, d.wo);

@@ -8,7 +8,7 @@ use super::spec::{
 };
 use super::tables::BECKMANN;
 use super::{Directions, Kernel, ParamSource};
-use crate::math::Real;
+use crate::math::{PowUnit, Real};
 
 /// The Beckmann multiple-scattering kernel.
 pub struct BeckmannMs;
@@ -52,7 +52,7 @@ impl Kernel for BeckmannMs {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         eval_ms(&BECKMANN, pp, d)
     }
 

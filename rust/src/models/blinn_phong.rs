@@ -8,7 +8,7 @@ use super::lobes::{DiffuseSpecular, half_cosine_pow_over};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Blinn-Phong kernel.
 pub struct BlinnPhong;
@@ -41,11 +41,11 @@ impl Kernel for BlinnPhong {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         // cos_th^p / mu_i in one step: cos_th^p may underflow where the quotient does not
-        let (lobe, defined) = half_cosine_pow_over(d, pp.p, mu_i);
+        let (lobe, defined) = half_cosine_pow_over::<F, P>(d, pp.p, mu_i);
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
     }

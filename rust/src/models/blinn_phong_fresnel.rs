@@ -12,7 +12,7 @@ use super::spec::{
 };
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Blinn-Phong-with-Fresnel kernel.
 pub struct BlinnPhongFresnel;
@@ -62,14 +62,14 @@ impl Kernel for BlinnPhongFresnel {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &(DiffuseSpecular<F>, F), d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &(DiffuseSpecular<F>, F), d: &Directions<F>) -> [F; 3] {
         let (lobe, norm) = pp;
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let hv = half_vector::<F>(d.wi, d.wo);
         let cos_th = clamped_cosine::<F>(d.n, hv.h);
         let w = schlick_weight(hv.cos_b);
-        let spec = *norm * cos_th.powf(lobe.p);
+        let spec = *norm * cos_th.powf::<P>(lobe.p);
         let spec = if hv.defined { spec } else { F::ZERO };
         let rgb = [0, 1, 2].map(|c| {
             let fresnel = lobe.ks[c] + (F::ONE - lobe.ks[c]) * w;

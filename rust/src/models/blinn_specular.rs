@@ -6,7 +6,7 @@
 use super::lobes::half_cosine_pow_over;
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Blinn specular kernel.
 pub struct BlinnSpecular;
@@ -39,9 +39,9 @@ impl Kernel for BlinnSpecular {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
         let (ks, p) = *pp;
-        let (lobe, defined) = half_cosine_pow_over(d, p, F::ONE);
+        let (lobe, defined) = half_cosine_pow_over::<F, P>(d, p, F::ONE);
         let lit = d.n.dot(d.wi) > F::ZERO && defined;
         ks.map(|c| if lit { c * lobe } else { F::ZERO })
     }

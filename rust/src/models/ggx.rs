@@ -15,7 +15,7 @@ use super::albedo::{Integral, Term, basis, colour};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted};
-use crate::math::{Real, Vector3, max, min};
+use crate::math::{PowUnit, Real, Vector3, max, min};
 
 /// The GGX kernel.
 pub struct Ggx;
@@ -137,7 +137,7 @@ impl Kernel for Ggx {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let (spec, w, defined) = lobe(d, pp.alpha2, pp.d_scale);
         let spec = if defined { spec } else { F::ZERO };
         let fresnel = schlick_rgb(pp.f0, w);

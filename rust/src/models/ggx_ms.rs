@@ -18,7 +18,7 @@ use super::spec::{
 use super::tables::{EnergyTable, GGX};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The GGX multiple-scattering kernel.
 pub struct GgxMs;
@@ -115,7 +115,7 @@ impl Kernel for GgxMs {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         eval_ms(&GGX, pp, d)
     }
 

@@ -16,7 +16,7 @@
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::Cosine;
-use crate::math::{Real, Vector3, min};
+use crate::math::{PowUnit, Real, Vector3, min};
 
 /// The Kajiya-Kay kernel.
 pub struct KajiyaKay;
@@ -49,7 +49,7 @@ impl Kernel for KajiyaKay {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let cos_l = d.wi.dot(d.t);
         let cos_v = d.wo.dot(d.t);
         let sin_l = F::length(d.wi.cross(d.t));
@@ -88,7 +88,7 @@ impl Kernel for KajiyaKay {
             cos: if positive { min(x, F::ONE) } else { F::ZERO },
             one_minus: if positive { one_minus } else { F::ONE },
         }
-        .powf(pp.p);
+        .powf::<P>(pp.p);
         let lit = d.n.dot(d.wi) > F::ZERO;
         [0, 1, 2].map(|c| {
             let s = pp.kd[c] * sin_l + pp.ks[c] * lobe;

@@ -6,9 +6,9 @@
 use super::albedo::{Integral, Term, colour};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::Real;
 use crate::math::Vector3;
 use crate::math::geometry::above_both;
+use crate::math::{PowUnit, Real};
 
 /// The Lambert kernel.
 pub struct Lambert;
@@ -42,7 +42,7 @@ impl Kernel for Lambert {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(kd_over_pi: &[F; 3], d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(kd_over_pi: &[F; 3], d: &Directions<F>) -> [F; 3] {
         above_both(d.n.dot(d.wi), d.n.dot(d.wo), *kd_over_pi)
     }
 

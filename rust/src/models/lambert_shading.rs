@@ -4,7 +4,7 @@
 
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::{Real, Vector3, max};
+use crate::math::{PowUnit, Real, Vector3, max};
 
 /// The Lambert shading kernel.
 pub struct LambertShading;
@@ -37,7 +37,7 @@ impl Kernel for LambertShading {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(kd: &[F; 3], d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(kd: &[F; 3], d: &Directions<F>) -> [F; 3] {
         let cos_l = max(d.n.dot(d.wi), F::ZERO);
         kd.map(|c| c * cos_l)
     }

@@ -3,7 +3,7 @@
 
 use super::{Directions, ParamSource};
 use crate::math::geometry::{Cosine, clamped_cosine, half_vector, mirror, weighted};
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// Prepared constants of a diffuse + cosine-power lobe: `kd` and `ks` already carry the
 /// model's constant factors (1/π, (p+2)/(2π), ...).
@@ -59,11 +59,11 @@ pub fn half_cosine<F: Real>(d: &Directions<F>) -> (Cosine<F>, bool) {
 /// 2^600 (exact) and the power takes the exponent back inside its logarithm, so the
 /// result keeps full precision (docs/numerics.md). Elsewhere bitwise the plain power.
 #[inline(always)]
-pub fn half_cosine_pow_over<F: Real>(d: &Directions<F>, p: F, div: F) -> (F, bool) {
+pub fn half_cosine_pow_over<F: Real, P: PowUnit>(d: &Directions<F>, p: F, div: F) -> (F, bool) {
     let hv = half_vector::<F>(d.wi, d.wo);
     let cos = clamped_cosine::<F>(d.n, hv.h);
     if !F::EXTENDED_COSINES {
-        return (cos.powf_over(p, div), hv.defined);
+        return (cos.powf_over::<P>(p, div), hv.defined);
     }
     // 2^600, and |wi + wo| = 2·cos_b (at most 2: its clamp at 1 never bites here).
     let up = F::from_f64(4.149_515_568_880_993e180);
@@ -73,7 +73,7 @@ pub fn half_cosine_pow_over<F: Real>(d: &Directions<F>, p: F, div: F) -> (F, boo
     let tiny = cos.cos < F::from_f64(f64::MIN_POSITIVE)
         && scaled > F::ZERO
         && scaled <= F::from_f64(3.872_591_914_849_318_3e-121);
-    let lobe = F::pow_unit_over_scaled(
+    let lobe = P::pow_unit_over_scaled(
         if tiny { scaled } else { cos.cos },
         if tiny { F::ONE } else { cos.one_minus },
         p,

@@ -41,8 +41,8 @@ pub mod ward;
 pub use spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 
 use crate::error::{BrdfError, closest};
-use crate::math::Real;
 use crate::math::geometry::WideCosine;
+use crate::math::{PowUnit, Real, SeriesPow};
 
 /// The unit directions one evaluation sees. `wi` points toward the light, `wo` toward the
 /// viewer, both away from the surface; `n` is the unit normal; `t` the unit tangent (for
@@ -97,8 +97,15 @@ pub trait Kernel: 'static {
     /// Returns the derived constants for the parameters in `p`.
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F>;
     /// Returns the model's RGB value for one set of unit directions: `f(wi, wo)` in 1/sr
-    /// for family A (cosine excluded), the shading term `s(l, v)` for family B.
-    fn eval<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
+    /// for family A (cosine excluded), the shading term `s(l, v)` for family B; powers
+    /// `x^p` from the table-free [`SeriesPow`], which vectorizes in any loop.
+    #[inline(always)]
+    fn eval<F: Real>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        Self::eval_with::<F, SeriesPow>(prepared, d)
+    }
+    /// [`Kernel::eval`] with powers computed by `P` ([`PowUnit`]): the caller chooses the
+    /// one that is fastest in its loop (the eval engine: [`crate::math::TablePow`]).
+    fn eval_with<F: Real, P: PowUnit>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
 
     /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
     /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one

@@ -9,7 +9,7 @@ use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The normalized Blinn-Phong kernel.
 pub struct NormalizedBlinnPhong;
@@ -43,11 +43,11 @@ impl Kernel for NormalizedBlinnPhong {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let (cos_th, defined) = half_cosine(d);
-        let lobe = cos_th.powf(pp.p);
+        let lobe = cos_th.powf::<P>(pp.p);
         let rgb = pp.combine(if defined { lobe } else { F::ZERO });
         above_both(mu_i, mu_o, rgb)
     }

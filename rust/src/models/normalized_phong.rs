@@ -8,7 +8,7 @@ use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The normalized Phong kernel.
 pub struct NormalizedPhong;
@@ -41,10 +41,10 @@ impl Kernel for NormalizedPhong {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
         let (mu_i, cos_ar) = mirror_cosine(d);
         let mu_o = d.n.dot(d.wo);
-        above_both(mu_i, mu_o, pp.combine(cos_ar.powf(pp.p)))
+        above_both(mu_i, mu_o, pp.combine(cos_ar.powf::<P>(pp.p)))
     }
 
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,

@@ -8,11 +8,11 @@
 use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
-use crate::math::Real;
 use crate::math::Vector3;
 use crate::math::geometry::{
     WideCosine, above_both, oren_nayar_ab, oren_nayar_angular, weighted, wide_dot,
 };
+use crate::math::{PowUnit, Real};
 
 /// The Oren-Nayar BRDF kernel.
 pub struct OrenNayar;
@@ -58,7 +58,7 @@ impl Kernel for OrenNayar {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let g = oren_nayar_angular::<F>(d.wi, d.wo, d.n, mu_i, mu_o);

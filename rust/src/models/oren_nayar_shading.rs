@@ -7,7 +7,7 @@
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::oren_nayar_ab;
-use crate::math::{Real, Vector3, clamp, max};
+use crate::math::{PowUnit, Real, Vector3, clamp, max};
 
 /// The Oren-Nayar shading kernel.
 pub struct OrenNayarShading;
@@ -52,7 +52,7 @@ impl Kernel for OrenNayarShading {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let cos_l = clamp(mu_i, F::ZERO, F::ONE);

@@ -9,7 +9,7 @@ use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The original Phong kernel.
 pub struct Phong;
@@ -42,11 +42,11 @@ impl Kernel for Phong {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
         let (mu_i, cos_ar) = mirror_cosine(d);
         let mu_o = d.n.dot(d.wo);
         // cos_ar^p / mu_i in one step: cos_ar^p may underflow where the quotient does not
-        let lobe = cos_ar.powf_over(pp.p, mu_i);
+        let lobe = cos_ar.powf_over::<P>(pp.p, mu_i);
         above_both(mu_i, mu_o, pp.combine(lobe))
     }
 

@@ -6,7 +6,7 @@
 use super::lobes::mirror_cosine;
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::Real;
+use crate::math::{PowUnit, Real};
 
 /// The Phong specular kernel.
 pub struct PhongSpecular;
@@ -39,10 +39,10 @@ impl Kernel for PhongSpecular {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
         let (ks, p) = *pp;
         let (mu_i, cos_ar) = mirror_cosine(d);
-        let lobe = cos_ar.powf(p);
+        let lobe = cos_ar.powf::<P>(p);
         let lit = mu_i > F::ZERO;
         ks.map(|c| if lit { c * lobe } else { F::ZERO })
     }

@@ -7,8 +7,8 @@
 
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::Real;
 use crate::math::geometry::cosine_at_least;
+use crate::math::{PowUnit, Real};
 
 /// Most thresholds a toon ramp may have (so at most `MAX_THRESHOLDS + 1` bands).
 pub const MAX_THRESHOLDS: usize = 7;
@@ -77,7 +77,7 @@ impl Kernel for ToonDiffuse {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         // Thresholds ascend, so the last one passed names the band. Each comparison is
         // decided where it is accurate (`n·l` rounds to ±1 near the ends).
         let mut rgb = pp.colors[0];

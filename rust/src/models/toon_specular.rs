@@ -7,7 +7,7 @@
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{cosine_at_least, mirror};
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The toon specular kernel.
 pub struct ToonSpecular;
@@ -77,7 +77,7 @@ impl Kernel for ToonSpecular {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let r = mirror::<F>(d.wi, d.n, mu_i);
         let inside = cosine_at_least::<F>(d.wo, r, pp.threshold);

@@ -15,7 +15,7 @@ use super::spec::{
 };
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
-use crate::math::{Real, Vector3, min};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Torrance-Sparrow kernel.
 pub struct TorranceSparrow;
@@ -81,23 +81,27 @@ impl Kernel for TorranceSparrow {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let hv = half_vector::<F>(d.wi, d.wo);
         let cos_th = clamped_cosine::<F>(d.n, hv.h);
         let cos_b = hv.cos_b;
-        let d_lobe = cos_th.powf(pp.p);
+        let d_lobe = cos_th.powf::<P>(pp.p);
         let fresnel = pp.r0 + (F::ONE - pp.r0) * schlick_weight(cos_b);
-        let half = F::HALF;
-        let ratio = cos_th.cos / cos_b.cos;
-        // min(ratio/2/mu_i, ratio/2/mu_o) = ratio/2/max(mu_i, mu_o): rounded division is
-        // monotone in the divisor, so this is the same value with one division fewer.
+        // G/(4 mu_i mu_o) = min(1/a, c/b) with a = 4 mu_i mu_o, c = cos_th and
+        // b = 2 cos_b max(mu_i, mu_o) (the two shadowing terms share the larger cosine).
+        // For a, b > 0, 1/a < c/b exactly when b < c·a: one division of the chosen pair
+        // instead of three (the comparison's rounding only matters where the two are
+        // within an ulp). a = 0 (underflow at grazing angles) picks c/b, as the min of
+        // an infinite 1/a did; c = 0 gives 0, as before, even where b underflows.
         let mu_max = if mu_i > mu_o { mu_i } else { mu_o };
-        let g_over = min(
-            F::ONE / (F::from_f64(4.0) * mu_i * mu_o),
-            ratio * half / mu_max,
-        );
+        let a = F::from_f64(4.0) * mu_i * mu_o;
+        let b = F::TWO * cos_b.cos * mu_max;
+        let c = cos_th.cos;
+        let first = b < c * a;
+        let quotient = if first { F::ONE } else { c } / if first { a } else { b };
+        let g_over = if c == F::ZERO { F::ZERO } else { quotient };
         // D·F is 0 where cos_th^p underflows; G/(4 mu_i mu_o) is infinite where the
         // exact value is (grazing): never multiply the two into NaN.
         let spec = weighted(d_lobe * fresnel, g_over);

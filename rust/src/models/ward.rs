@@ -9,7 +9,7 @@ use super::albedo::{Importance, Integral, Term, basis, colour};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
-use crate::math::{Real, Vector3};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Ward kernel.
 pub struct Ward;
@@ -70,7 +70,7 @@ impl Kernel for Ward {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let root = mu_i.sqrt() * mu_o.sqrt();
