@@ -68,12 +68,13 @@ use super::albedo::{Control, Integral, Slots, StratumLobe, Term};
 
 /// Split a lobe into strata where the tail's probability `q` is below this. Unsplit, a
 /// Sobol replicate of 16 points (256 samples per cell) has its last point in `u0` in the
-/// tail, where `G`'s kinks and the horizon make the weights differ most; once `q` is
-/// below about a quarter that point's share of the replicate's error skews the replicate
-/// means: unsplit, Torrance-Sparrow at mu = 0.5, p = 100 (`q = 0.21`) put 3.6% of its
-/// cells beyond 3 standard errors (0.9% is honest), at mu = 0.7, p = 10 (`q = 0.67`)
-/// 0.5% (`scripts/stderr_calibration.py`). The split costs a second evaluation per point.
-pub const SPLIT_BELOW: f64 = 0.25;
+/// tail, where `G`'s kinks and the horizon make the weights differ most; where `q` is
+/// small that point's share of the replicate's error skews the replicate means:
+/// unsplit, Torrance-Sparrow at mu = 0.5, p = 100 (`q = 0.21`) put 3.6% of its cells
+/// beyond 3 standard errors (0.9% is honest), at mu = 1, p = 5 (`q = 0.37`) 2.0%, at
+/// mu = 0.7, p = 10 (`q = 0.67`) 0.5% (`scripts/stderr_calibration.py`, with `--grid`).
+/// The split costs a second evaluation per point where the tail is kept.
+pub const SPLIT_BELOW: f64 = 0.4;
 
 /// A tail whose weight is at most this fraction of the bulk's mean is left out (its
 /// contribution is far below the value's rounding).
