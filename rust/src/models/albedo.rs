@@ -158,48 +158,37 @@ pub fn scaled(colour: [f64; 3], s: f64) -> [f64; 3] {
     colour.map(|c| c * s)
 }
 
-/// A diffuse colour at slot 0 with a known albedo, and a Blinn-Phong lobe
-/// `A·cos^p θh` (`A = lobe_scale` for a unit colour, `p` at slot 6) with the specular
-/// colour at slot 3: in strata with its bulk exact where those apply
-/// ([`super::strata::blinn_terms`]), else drawn whole with Blinn half vectors.
-pub fn diffuse_and_blinn_lobe(
+/// A diffuse colour at slot 0 with a known albedo, and a power-cosine lobe `A·cos^p`
+/// (`lobe`: of `θh` for Blinn half vectors, of `α` about the mirror direction for Phong;
+/// `A = lobe_scale` for a unit colour, `p` at slot 6) with the specular colour at slot 3.
+/// At `p = 0` the lobe is `A` over the whole hemisphere above the surface (`cos^0 = 1`,
+/// for Phong also beyond 90° from the mirror direction), whose albedo is `A·π`;
+/// elsewhere in strata with its bulk exact where those apply
+/// ([`super::strata::blinn_terms`], [`super::strata::phong_terms`]), else drawn whole
+/// from its density.
+pub fn diffuse_and_power_lobe(
     slots: &[f64],
     diffuse_albedo: f64,
     lobe_scale: f64,
     mu: f64,
-) -> Vec<Term> {
-    let mut terms = diffuse_and_lobe(slots, diffuse_albedo, Importance::BlinnHalf { p: slots[6] });
-    let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
-    if let Some(strata) =
-        super::strata::blinn_terms(colour(slots, 3), lobe, mu, slots[6], lobe_scale)
-    {
-        terms.truncate(1);
-        terms.extend(strata);
-    }
-    terms
-}
-
-/// A diffuse colour at slot 0 with a known albedo, and a Phong lobe `A·cos^p α` about
-/// the mirror direction (`A = lobe_scale` for a unit colour, `p` at slot 6) with the
-/// specular colour at slot 3: in strata with its bulk exact where those apply
-/// ([`super::strata::phong_terms`]), else drawn whole from its density.
-pub fn diffuse_and_phong_lobe(
-    slots: &[f64],
-    diffuse_albedo: f64,
-    lobe_scale: f64,
-    mu: f64,
+    lobe: StratumLobe,
 ) -> Vec<Term> {
     let p = slots[6];
-    let mut terms = diffuse_and_lobe(slots, diffuse_albedo, phong_importance(p));
+    let importance = match lobe {
+        StratumLobe::Blinn => Importance::BlinnHalf { p },
+        StratumLobe::Phong => phong_importance(p),
+    };
+    let mut terms = diffuse_and_lobe(slots, diffuse_albedo, importance);
     if p == 0.0 {
-        // cos_ar^0 = 1 wherever wo is above the surface (also where cos_ar ≤ 0).
         terms[1].integral = Integral::Exact(lobe_scale * std::f64::consts::PI);
         return terms;
     }
-    let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
-    if let Some(strata) =
-        super::strata::phong_terms(colour(slots, 3), lobe, mu, slots[6], lobe_scale)
-    {
+    let (colour, basis) = (colour(slots, 3), basis(slots, &[(0, 0.0), (3, 1.0)]));
+    let strata = match lobe {
+        StratumLobe::Blinn => super::strata::blinn_terms(colour, basis, mu, p, lobe_scale),
+        StratumLobe::Phong => super::strata::phong_terms(colour, basis, mu, p, lobe_scale),
+    };
+    if let Some(strata) = strata {
         terms.truncate(1);
         terms.extend(strata);
     }

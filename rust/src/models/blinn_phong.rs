@@ -3,7 +3,7 @@
 //! `f = kd + ks·cos_th^p / mu_i`, `cos_th = n·h`. Not reciprocal (the `1/mu_i`); `kd`
 //! without `1/π` (the Summary's convention). 0 where the half vector is undefined.
 
-use super::albedo::{Importance, Term, diffuse_and_blinn_lobe, diffuse_and_lobe};
+use super::albedo::{Importance, StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine_pow_over};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -53,11 +53,12 @@ impl Kernel for BlinnPhong {
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
     /// the lobe in strata with its bulk exact ([`super::strata::blinn_terms`]).
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_blinn_lobe(
+        Some(diffuse_and_power_lobe(
             slots,
             std::f64::consts::PI,
             1.0 / mu,
             mu,
+            StratumLobe::Blinn,
         ))
     }
 

@@ -2,7 +2,7 @@
 //!
 //! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
 
-use super::albedo::{Importance, Term, diffuse_and_blinn_lobe, diffuse_and_lobe};
+use super::albedo::{Importance, StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -52,7 +52,13 @@ impl Kernel for ModifiedBlinnPhong {
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
     /// the lobe in strata with its bulk exact ([`super::strata::blinn_terms`]).
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_blinn_lobe(slots, std::f64::consts::PI, 1.0, mu))
+        Some(diffuse_and_power_lobe(
+            slots,
+            std::f64::consts::PI,
+            1.0,
+            mu,
+            StratumLobe::Blinn,
+        ))
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {

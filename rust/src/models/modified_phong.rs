@@ -3,7 +3,9 @@
 //! `f = kd + ks·cos_ar^p`. Reciprocal; `kd` without `1/π` as the Summary writes it.
 //! Directional albedo at normal incidence with kd = 0, ks = 1: `2π/(p+2)`.
 
-use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
+use super::albedo::{
+    StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe, phong_importance,
+};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -50,7 +52,13 @@ impl Kernel for ModifiedPhong {
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
     /// the lobe in strata with its bulk exact ([`super::strata::phong_terms`]).
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_phong_lobe(slots, std::f64::consts::PI, 1.0, mu))
+        Some(diffuse_and_power_lobe(
+            slots,
+            std::f64::consts::PI,
+            1.0,
+            mu,
+            StratumLobe::Phong,
+        ))
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {

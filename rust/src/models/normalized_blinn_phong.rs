@@ -4,7 +4,7 @@
 //! for `cos_th` (RTR 7.48 confirms). `(p+8)/(8π)` is an approximation: the albedo at
 //! normal incidence is `(p+8)(p+2^(−p/2))/((p+2)(p+4))`, slightly above 1.
 
-use super::albedo::{Importance, Term, diffuse_and_blinn_lobe, diffuse_and_lobe};
+use super::albedo::{Importance, StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -55,11 +55,12 @@ impl Kernel for NormalizedBlinnPhong {
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
     /// the lobe in strata with its bulk exact ([`super::strata::blinn_terms`]).
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_blinn_lobe(
+        Some(diffuse_and_power_lobe(
             slots,
             1.0,
             (slots[6] + 8.0) / (8.0 * std::f64::consts::PI),
             mu,
+            StratumLobe::Blinn,
         ))
     }
 

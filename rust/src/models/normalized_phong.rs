@@ -3,7 +3,9 @@
 //! `f = kd/π + ks·(p+2)/(2π)·cos_ar^p` (the Summary's `n` is `p`). With kd = 0, ks = 1
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
-use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
+use super::albedo::{
+    StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe, phong_importance,
+};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -50,11 +52,12 @@ impl Kernel for NormalizedPhong {
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
     /// the lobe in strata with its bulk exact ([`super::strata::phong_terms`]).
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_phong_lobe(
+        Some(diffuse_and_power_lobe(
             slots,
             1.0,
             (slots[6] + 2.0) / (2.0 * std::f64::consts::PI),
             mu,
+            StratumLobe::Phong,
         ))
     }
 

@@ -4,7 +4,9 @@
 //! conserving; `kd` enters without `1/π`, so the diffuse albedo is `π·kd` (the source's
 //! convention, kept on purpose). Infinite only where the exact value is: mu_i → 0+.
 
-use super::albedo::{Term, diffuse_and_lobe, diffuse_and_phong_lobe, phong_importance};
+use super::albedo::{
+    StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe, phong_importance,
+};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -53,11 +55,12 @@ impl Kernel for Phong {
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
     /// the lobe in strata with its bulk exact ([`super::strata::phong_terms`]).
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_phong_lobe(
+        Some(diffuse_and_power_lobe(
             slots,
             std::f64::consts::PI,
             1.0 / mu,
             mu,
+            StratumLobe::Phong,
         ))
     }
 
