@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _albedo, _api
+from . import _albedo, _api, _spec
 
 __all__ = ["CHECK_STDERRS", "DEFAULT_MODELS", "run"]
 
@@ -69,7 +69,7 @@ def eval_throughput(
     models: Sequence[str], n: int, repeat: int, seed: int = 0
 ) -> list[dict[str, Any]]:
     """Returns one row per (model, dtype): ``seconds`` (best call) and ``mevals_per_s``."""
-    specs = _api.models()
+    specs = _spec.specs()
     for model in models:
         if model not in specs:
             raise ValueError(f"models: unknown model {model!r}; see brdf-rs models")

@@ -67,6 +67,8 @@ from typing import Any
 
 import numpy as np
 
+from . import _spec
+
 #: Models with an exact normalization.
 EXACT = ("normalized_blinn_phong", "torrance_sparrow", "ward")
 
@@ -154,10 +156,8 @@ def factor(model: str, params: dict[str, Any]) -> np.ndarray:
     """Returns the factor ``c`` the exact normalization multiplies ``ks`` by (relative to
     the model as written), shaped like the broadcast shape parameters."""
     _check(model, "exact")
-    from ._api import models
-
     compute, names = _FACTORS[model]
-    defaults = {p["name"]: p["default"] for p in models()[model]["params"]}
+    defaults = {p["name"]: p["default"] for p in _spec.specs()[model]["params"]}
     with np.errstate(all="ignore"):
         shape = {n: np.asarray(params.get(n, defaults[n]), dtype=np.float64) for n in names}
         return compute(shape)
@@ -171,9 +171,7 @@ def apply(model: str, params: dict[str, Any], normalization: str) -> dict[str, A
     c = factor(model, params)
     if model == "torrance_sparrow":
         return params  # c ≡ 1 (see the module docstring)
-    from ._api import models
-
-    defaults = {p["name"]: p["default"] for p in models()[model]["params"]}
+    defaults = {p["name"]: p["default"] for p in _spec.specs()[model]["params"]}
     ks = np.asarray(params.get("ks", defaults["ks"]), dtype=np.float64)
     # ks is a colour: a trailing axis of 3 (or 1) against the shape parameters' batch
     # shape; a scalar becomes one grey value per element.

@@ -49,7 +49,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _api
+from . import _api, _spec
 
 __all__ = ["GOALS", "StressReport", "stress"]
 
@@ -374,7 +374,7 @@ def _in_range(value: float, spec: Mapping[str, Any]) -> bool:
 
 def _parameter_variants(model: str) -> list[dict[str, Any]]:
     """The base parameter set, then one special value at a time (within the spec range)."""
-    spec = _api.models()[model]
+    spec = _spec.specs()[model]
     base: dict[str, Any] = {}
     alternatives: list[tuple[str, Any]] = []
     for p in spec["params"]:
@@ -441,7 +441,7 @@ def _cases(model: str, fmt: _Format, quick: bool, seed: int) -> list[_Case]:
     """The model's stress cases in this format: random and adversarial geometry, each
     paired with a few parameter variants (rotating, so every variant appears), and every
     variant on a few anchor geometries."""
-    spec = _api.models()[model]
+    spec = _spec.specs()[model]
     rng = np.random.default_rng([seed, zlib.crc32(f"{model}/{fmt.name}".encode())])
     extremes = _EXTREMES[fmt.name]
     geometry = _Geometry(rng, extremes)
@@ -840,7 +840,7 @@ def stress(
         ValueError: an unknown model, dtype or case set.
     """
     mpref = _require_mpmath()
-    known = list(_api.models())
+    known = list(_spec.specs())
     if models is None:
         names = known
     else:

@@ -69,7 +69,7 @@ def _print_json(data: Any) -> None:
 
 
 def cmd_models(args: argparse.Namespace) -> int:
-    specs = _api.models()
+    specs = _spec.specs()
     for name in args.names:
         if name not in specs:
             close = difflib.get_close_matches(name, specs, n=1)

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, Literal, cast
 import numpy as np
 import numpy.typing as npt
 
-from . import _albedo, _api, _atomic
+from . import _albedo, _api, _atomic, _spec
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from matplotlib.axes import Axes
@@ -164,7 +164,7 @@ def polar_lobe(
         raise ValueError(f"resolution: expected an integer of at least 3, got {resolution!r}")
     if channel not in (None, 0, 1, 2, "rgb") or isinstance(channel, bool):
         raise ValueError(f"channel: expected 0, 1, 2 (R, G, B), 'rgb' or None, got {channel!r}")
-    specs = _api.models()
+    specs = _spec.specs()
     if model in specs and specs[model]["tangent"] and tangent is None:
         tangent = (1.0, 0.0, 0.0)
     # Cell midpoints: never exactly grazing, where 1/mu_o factors (ward) blow up.
@@ -658,7 +658,7 @@ def render_sphere(
     """
     from . import scene as scenes
 
-    specs = _api.models()
+    specs = _spec.specs()
     if model not in specs:
         raise ValueError(f"model: unknown model {model!r}; known models: {', '.join(specs)}")
     family = specs[model]["family"]
