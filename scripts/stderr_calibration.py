@@ -83,7 +83,7 @@ class Case:
         shown = {
             k: v
             for k, v in self.params.items()
-            if k in ("p", "alpha", "alpha_x", "sigma")
+            if k in ("p", "alpha", "alpha_x", "nu", "sigma")
             or (k == "ks" and v != 1.0)
             or (k == "eta" and v != 1.5)
         }
@@ -107,6 +107,7 @@ CASES = (
     Case("phong", 0.99, {**GGX, "p": 20.0}),
     Case("phong", 0.5, {**GGX, "p": 1.0}),
     Case("ward", 1.0, {**GGX, "alpha_x": 0.1, "alpha_y": 0.1}),
+    Case("ashikhmin_shirley", 1.0, {"Rd": 0.0, "Rs": 1.0, "nu": 100.0, "nv": 100.0}),
     Case("ggx", 1.0, {**GGX, "alpha": 0.05}),
     Case("ggx", 0.7, {**GGX, "alpha": 0.1}),
     Case("ggx", 0.2, {**GGX, "alpha": 0.05}),
