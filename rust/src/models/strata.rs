@@ -515,43 +515,7 @@ pub fn blinn_phong_fresnel_terms(
     mu: f64,
     p: f64,
 ) -> Option<Vec<Term>> {
-    if colour.iter().all(|&c| c == 0.0) {
-        return None;
-    }
-    let bulk = blinn_phong_bulk(mu, p)?;
-    let kappa = (p + 8.0) / (p + 2.0);
-    // C = X^5·cos_b·mu_o/c = 2·X^5·cos_b² − mu·X^5·cos_b/c, cos_b = mu·c + B cos φ.
-    let terms = [
-        2.0 * mu * mu * bulk.expect(5, 0, 2),
-        4.0 * mu * bulk.expect(5, 1, 1),
-        2.0 * bulk.expect(5, 2, 0),
-        -mu * mu * bulk.expect(5, 0, 0),
-        -mu * bulk.expect(5, 1, -1),
-    ];
-    let e_c: f64 = terms.iter().sum();
-    let control = Control {
-        beta: kappa,
-        mean: e_c,
-        r0: 0.0,
-        over_cos: true,
-        mu_o: true,
-        rounding: rounding(
-            terms.iter().map(|t| t.abs()).sum(),
-            0.0,
-            bulk.expect(5, 0, 0),
-        ),
-    };
-    // In the tail X^5 ≤ 1 and cos_b·mu_o/c ≤ 2·cos_b² ≤ 2.
-    let bulk_mean = bulk.bulk * kappa * e_c;
-    bulk.terms(
-        colour,
-        basis,
-        Some(control),
-        2.0 * kappa,
-        bulk_mean,
-        false,
-        None,
-    )
+    blinn_lobe_terms(colour, basis, mu, p, (p + 8.0) / (p + 2.0), true, false)
 }
 
 /// A Blinn-Phong lobe `f = A·cos^p θh` (for a unit colour at `basis`), drawn with Blinn
@@ -566,28 +530,51 @@ pub fn blinn_phong_fresnel_terms(
 /// of a few points are skewed by it (at normal incidence 2% of cells of 256 samples
 /// beyond 3 standard errors, against 0.9%).
 pub fn blinn_terms(colour: [f64; 3], basis: Slots, mu: f64, p: f64, a: f64) -> Option<Vec<Term>> {
+    let beta = a * 8.0 * std::f64::consts::PI / (p + 2.0);
+    blinn_lobe_terms(colour, basis, mu, p, beta, false, true)
+}
+
+/// A Blinn lobe whose weight is `β·C` in its bulk, `C = X^a·cos_b·mu_o/c` with `a = 5`
+/// (Schlick's excess: `schlick`) or 0, in strata with its bulk integrated exactly by the
+/// control `C` (closed-form mean); the tail drawn flatter for Sobol points if `flatten`.
+fn blinn_lobe_terms(
+    colour: [f64; 3],
+    basis: Slots,
+    mu: f64,
+    p: f64,
+    beta: f64,
+    schlick: bool,
+    flatten: bool,
+) -> Option<Vec<Term>> {
     if colour.iter().all(|&c| c == 0.0) {
         return None;
     }
     let bulk = blinn_phong_bulk(mu, p)?;
-    let beta = a * 8.0 * std::f64::consts::PI / (p + 2.0);
-    // C = cos_b·mu_o/c = 2·cos_b² − mu·cos_b/c, cos_b = mu·c + B cos φ: the X^0 terms of
-    // the Schlick form below (those odd in cos φ average to 0).
+    let a = if schlick { 5 } else { 0 };
+    // C = X^a·cos_b·mu_o/c = 2·X^a·cos_b² − mu·X^a·cos_b/c, cos_b = mu·c + B cos φ (for
+    // a = 0 the terms odd in cos φ are exactly 0).
     let terms = [
-        2.0 * mu * mu * bulk.expect(0, 0, 2),
-        2.0 * bulk.expect(0, 2, 0),
-        -mu * mu * bulk.expect(0, 0, 0),
+        2.0 * mu * mu * bulk.expect(a, 0, 2),
+        4.0 * mu * bulk.expect(a, 1, 1),
+        2.0 * bulk.expect(a, 2, 0),
+        -mu * mu * bulk.expect(a, 0, 0),
+        -mu * bulk.expect(a, 1, -1),
     ];
     let e_c: f64 = terms.iter().sum();
+    let magnitude = terms.iter().map(|t| t.abs()).sum();
     let control = Control {
         beta,
         mean: e_c,
-        r0: 1.0,
+        r0: if schlick { 0.0 } else { 1.0 },
         over_cos: true,
         mu_o: true,
-        rounding: rounding(0.0, terms.iter().map(|t| t.abs()).sum(), 1.0),
+        rounding: if schlick {
+            rounding(magnitude, 0.0, bulk.expect(5, 0, 0))
+        } else {
+            rounding(0.0, magnitude, 1.0)
+        },
     };
-    // In the tail cos_b·mu_o/c ≤ 2·cos_b² ≤ 2.
+    // In the tail X^a ≤ 1 and cos_b·mu_o/c ≤ 2·cos_b² ≤ 2.
     let bulk_mean = bulk.bulk * beta * e_c;
     bulk.terms(
         colour,
@@ -595,7 +582,7 @@ pub fn blinn_terms(colour: [f64; 3], basis: Slots, mu: f64, p: f64, a: f64) -> O
         Some(control),
         2.0 * beta,
         bulk_mean,
-        true,
+        flatten,
         None,
     )
 }
