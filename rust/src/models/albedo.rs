@@ -99,10 +99,14 @@ impl StratumLobe {
         }
     }
 
-    /// The importance of the whole lobe of exponent `p`.
+    /// The importance of the whole lobe of exponent `p`: its own density, but for the
+    /// Phong lobe at `p = 0`, where `cos_ar^0 = 1` over the whole hemisphere above the
+    /// surface (also beyond 90° from the mirror direction, which the Phong lobe's density
+    /// does not reach), the cosine.
     pub fn importance(self, p: f64) -> Importance {
         match self {
             StratumLobe::Blinn => Importance::BlinnHalf { p },
+            StratumLobe::Phong if p == 0.0 => Importance::Cosine,
             StratumLobe::Phong => Importance::PhongLobe { p },
         }
     }
@@ -158,6 +162,17 @@ pub fn scaled(colour: [f64; 3], s: f64) -> [f64; 3] {
     colour.map(|c| c * s)
 }
 
+/// A diffuse colour at slot 0 with a known albedo, and the whole power-cosine lobe
+/// (`lobe`, exponent `p` at slot 6) with the specular colour at slot 3, drawn from its
+/// own density ([`StratumLobe::importance`]): what a sampler draws.
+pub fn diffuse_and_whole_power_lobe(
+    slots: &[f64],
+    diffuse_albedo: f64,
+    lobe: StratumLobe,
+) -> Vec<Term> {
+    diffuse_and_lobe(slots, diffuse_albedo, lobe.importance(slots[6]))
+}
+
 /// A diffuse colour at slot 0 with a known albedo, and a power-cosine lobe `A·cos^p`
 /// (`lobe`: of `θh` for Blinn half vectors, of `α` about the mirror direction for Phong;
 /// `A = lobe_scale` for a unit colour, `p` at slot 6) with the specular colour at slot 3.
@@ -174,11 +189,7 @@ pub fn diffuse_and_power_lobe(
     lobe: StratumLobe,
 ) -> Vec<Term> {
     let p = slots[6];
-    let importance = match lobe {
-        StratumLobe::Blinn => Importance::BlinnHalf { p },
-        StratumLobe::Phong => phong_importance(p),
-    };
-    let mut terms = diffuse_and_lobe(slots, diffuse_albedo, importance);
+    let mut terms = diffuse_and_whole_power_lobe(slots, diffuse_albedo, lobe);
     if p == 0.0 {
         terms[1].integral = Integral::Exact(lobe_scale * std::f64::consts::PI);
         return terms;
@@ -193,18 +204,6 @@ pub fn diffuse_and_power_lobe(
         terms.extend(strata);
     }
     terms
-}
-
-/// The importance of a Phong lobe `cos_ar^p`: the lobe about the mirror direction, but
-/// at `p = 0`, where `cos_ar^0 = 1` over the whole hemisphere above the surface (also
-/// beyond 90° from the mirror direction, which the Phong lobe's density does not reach),
-/// the cosine.
-pub fn phong_importance(p: f64) -> Importance {
-    if p == 0.0 {
-        Importance::Cosine
-    } else {
-        Importance::PhongLobe { p }
-    }
 }
 
 /// The usual pair: a diffuse colour at slot 0 with a known albedo, and a specular colour

@@ -3,7 +3,7 @@
 //! `f = kd + ks·cos_th^p / mu_i`, `cos_th = n·h`. Not reciprocal (the `1/mu_i`); `kd`
 //! without `1/π` (the Summary's convention). 0 where the half vector is undefined.
 
-use super::albedo::{Importance, StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe};
+use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine_pow_over};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -63,10 +63,10 @@ impl Kernel for BlinnPhong {
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(
+        Some(diffuse_and_whole_power_lobe(
             slots,
             std::f64::consts::PI,
-            Importance::BlinnHalf { p: slots[6] },
+            StratumLobe::Blinn,
         ))
     }
 }

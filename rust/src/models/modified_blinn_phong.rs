@@ -2,7 +2,7 @@
 //!
 //! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
 
-use super::albedo::{Importance, StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe};
+use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -62,10 +62,10 @@ impl Kernel for ModifiedBlinnPhong {
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(
+        Some(diffuse_and_whole_power_lobe(
             slots,
             std::f64::consts::PI,
-            Importance::BlinnHalf { p: slots[6] },
+            StratumLobe::Blinn,
         ))
     }
 }

@@ -3,9 +3,7 @@
 //! `f = kd + ks·cos_ar^p`. Reciprocal; `kd` without `1/π` as the Summary writes it.
 //! Directional albedo at normal incidence with kd = 0, ks = 1: `2π/(p+2)`.
 
-use super::albedo::{
-    StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe, phong_importance,
-};
+use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -62,10 +60,10 @@ impl Kernel for ModifiedPhong {
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(
+        Some(diffuse_and_whole_power_lobe(
             slots,
             std::f64::consts::PI,
-            phong_importance(slots[6]),
+            StratumLobe::Phong,
         ))
     }
 }

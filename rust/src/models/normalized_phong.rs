@@ -3,9 +3,7 @@
 //! `f = kd/π + ks·(p+2)/(2π)·cos_ar^p` (the Summary's `n` is `p`). With kd = 0, ks = 1
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
-use super::albedo::{
-    StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe, phong_importance,
-};
+use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -62,6 +60,6 @@ impl Kernel for NormalizedPhong {
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(slots, 1.0, phong_importance(slots[6])))
+        Some(diffuse_and_whole_power_lobe(slots, 1.0, StratumLobe::Phong))
     }
 }

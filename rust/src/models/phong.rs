@@ -4,9 +4,7 @@
 //! conserving; `kd` enters without `1/π`, so the diffuse albedo is `π·kd` (the source's
 //! convention, kept on purpose). Infinite only where the exact value is: mu_i → 0+.
 
-use super::albedo::{
-    StratumLobe, Term, diffuse_and_lobe, diffuse_and_power_lobe, phong_importance,
-};
+use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -65,10 +63,10 @@ impl Kernel for Phong {
     }
 
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(diffuse_and_lobe(
+        Some(diffuse_and_whole_power_lobe(
             slots,
             std::f64::consts::PI,
-            phong_importance(slots[6]),
+            StratumLobe::Phong,
         ))
     }
 }
