@@ -660,21 +660,31 @@ impl<K: Kernel> CellIntegrand<K> {
     }
 }
 
-/// The control variate's `C` at one point ([`Control`]): `X^5`, times `cos_b/cos θh`
-/// and `mu_o` as asked, with `h` the half vector of `wi` and `wo`, `cos_b = wi·h` and
-/// `X = 1 − cos_b = |wi − h|²/2` (no cancellation), times `tilt = (a, k)`'s density
-/// ratio `a·cos^k θh` if given. A point without a half vector gives `C = mean` (no
-/// correction).
+/// The control variate's `C` at one point ([`Control`]): Schlick's `r0 + (1 − r0)·X^5`
+/// (1 where `r0` is 1), times `cos_b/cos θh` and `mu_o` as asked, with `h` the half
+/// vector of `wi` and `wo`, `cos_b = wi·h` and `X = 1 − cos_b = |wi − h|²/2` (no
+/// cancellation), times `tilt = (a, k)`'s density ratio `a·cos^k θh` if given; `h` is
+/// formed only where one of these reads it. A point without a half vector gives
+/// `C = mean` (no correction).
 #[inline(always)]
 fn control_value(control: Control, tilt: Option<(f64, f64)>, wi: DVec3, wo: DVec3) -> f64 {
-    let h = (wi + wo).normalize();
-    let x = 0.5 * (wi - h).length_squared();
-    let x2 = x * x;
-    let c = x2 * x2 * x;
-    let c = if control.r0 != 0.0 {
-        control.r0 + (1.0 - control.r0) * c
+    let needs_h = control.r0 != 1.0 || control.over_cos || tilt.is_some();
+    let h = if needs_h {
+        (wi + wo).normalize()
     } else {
-        c
+        DVec3::Z
+    };
+    let c = if control.r0 == 1.0 {
+        1.0
+    } else {
+        let x = 0.5 * (wi - h).length_squared();
+        let x2 = x * x;
+        let x5 = x2 * x2 * x;
+        if control.r0 != 0.0 {
+            control.r0 + (1.0 - control.r0) * x5
+        } else {
+            x5
+        }
     };
     let c = if control.over_cos {
         c * wi.dot(h) / h.z

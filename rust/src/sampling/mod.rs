@@ -77,6 +77,27 @@ fn azimuth(a: f64, full: bool) -> (f64, f64) {
     if upper { (-s, -c) } else { (s, c) }
 }
 
+/// The direction at azimuth `(sin, cos)` whose lobe cosine `c` has `c^k = v`, drawn with
+/// `c^k` uniform on an interval of length `width` (the whole lobe: 1): density
+/// `k/(2π)·c^(k−1)/width`, i.e. `k/(2π)·(v/c)/width`.
+#[inline(always)]
+fn power_cosine(v: f64, k: f64, width: f64, azimuth: (f64, f64)) -> Sampled {
+    let omc = one_minus_root(v, k);
+    let cos = 1.0 - omc;
+    spherical(cos, omc, azimuth, k * 0.5 * FRAC_1_PI * (v / cos) / width)
+}
+
+/// The density of a stratum of a power-cosine lobe at lobe cosine `c` (and `1 − c`):
+/// `k/(2π)·c^(k−1)/width` where `v = c^k` lies in `(v_lo, v_lo + width]`, else 0;
+/// `(k, k − 1)` are given as the lobe computes them.
+#[inline(always)]
+fn stratum_density(c: f64, one_minus_c: f64, (k, k1): (f64, f64), v_lo: f64, width: f64) -> f64 {
+    let v = pow_unit_f64(c, one_minus_c, k);
+    let inside = v > v_lo && v <= v_lo + width;
+    let density = k * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_c, k1);
+    if inside { density / width } else { 0.0 }
+}
+
 /// A direction at polar cosine `cos` (with `1 - cos` given accurately) and azimuth with
 /// cosine and sine `(c, s)`, of density `pdf`.
 #[inline(always)]
@@ -261,31 +282,13 @@ impl Warp {
                 let cos = v.sqrt();
                 spherical(cos, u0 / (1.0 + cos), azimuth(a, full), cos * FRAC_1_PI)
             }
-            Warp::PhongLobe { p } => {
-                let omc = one_minus_root(v, p + 1.0);
-                let cos = 1.0 - omc;
-                let pdf = (p + 1.0) * 0.5 * FRAC_1_PI * (v / cos);
-                spherical(cos, omc, azimuth(a, full), pdf)
-            }
-            Warp::BlinnHalf { p } => {
-                let omc = one_minus_root(v, p + 2.0);
-                let cos = 1.0 - omc;
-                let pdf = (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos);
-                spherical(cos, omc, azimuth(a, full), pdf)
-            }
+            Warp::PhongLobe { p } => power_cosine(v, p + 1.0, 1.0, azimuth(a, full)),
+            Warp::BlinnHalf { p } => power_cosine(v, p + 2.0, 1.0, azimuth(a, full)),
             Warp::BlinnStratum { p, v_lo, width } => {
-                let v = v_lo + v * width;
-                let omc = one_minus_root(v, p + 2.0);
-                let cos = 1.0 - omc;
-                let pdf = (p + 2.0) * 0.5 * FRAC_1_PI * (v / cos) / width;
-                spherical(cos, omc, azimuth(a, full), pdf)
+                power_cosine(v_lo + v * width, p + 2.0, width, azimuth(a, full))
             }
             Warp::PhongStratum { p, v_lo, width } => {
-                let v = v_lo + v * width;
-                let omc = one_minus_root(v, p + 1.0);
-                let cos = 1.0 - omc;
-                let pdf = (p + 1.0) * 0.5 * FRAC_1_PI * (v / cos) / width;
-                spherical(cos, omc, azimuth(a, full), pdf)
+                power_cosine(v_lo + v * width, p + 1.0, width, azimuth(a, full))
             }
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 // φ with tan φ = (αy/αx) tan ψ, then tan²θ = −ln v / A(φ).
@@ -347,16 +350,10 @@ impl Warp {
                 (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p + 1.0)
             }
             Warp::BlinnStratum { p, v_lo, width } => {
-                let v = pow_unit_f64(c, one_minus_cos, p + 2.0);
-                let inside = v > v_lo && v <= v_lo + width;
-                let density = (p + 2.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p + 1.0);
-                if inside { density / width } else { 0.0 }
+                stratum_density(c, one_minus_cos, (p + 2.0, p + 1.0), v_lo, width)
             }
             Warp::PhongStratum { p, v_lo, width } => {
-                let v = pow_unit_f64(c, one_minus_cos, p + 1.0);
-                let inside = v > v_lo && v <= v_lo + width;
-                let density = (p + 1.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p);
-                if inside { density / width } else { 0.0 }
+                stratum_density(c, one_minus_cos, (p + 1.0, p), v_lo, width)
             }
             Warp::BeckmannHalf { alpha_x, alpha_y } => {
                 let e = ((d.x / alpha_x).powi(2) + (d.y / alpha_y).powi(2)) / (c * c);
