@@ -45,6 +45,17 @@ def takes_tangent(model: str) -> bool:
     return bool(SPECS[model]["tangent"] or SPECS[model].get("tangent_optional"))
 
 
+def required_extras(model: str) -> dict:
+    """Fixed values for a model's required arguments (toon lists, threshold, tangent)."""
+    if model == "toon_diffuse":
+        return {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
+    if model == "toon_specular":
+        return {"threshold": 0.9}
+    if model == "kajiya_kay":
+        return {"tangent": [1.0, 0.0, 0.0]}
+    return {}
+
+
 def random_directions(rng: np.random.Generator, n: int, *, unnormalized: bool = True):
     """Random directions over the whole sphere, some with random lengths."""
     v = rng.normal(size=(n, 3))

@@ -10,19 +10,7 @@ import threading
 import brdf_rs
 import numpy as np
 import pytest
-from conftest import MODEL_NAMES, random_directions, random_params
-
-
-def _extra(model):
-    """Required arguments of a model (toon lists, threshold, tangent)."""
-    if model == "toon_diffuse":
-        return {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
-    if model == "toon_specular":
-        return {"threshold": 0.9}
-    if model == "kajiya_kay":
-        return {"tangent": [1.0, 0.0, 0.0]}
-    return {}
-
+from conftest import MODEL_NAMES, random_directions, random_params, required_extras
 
 # ---------------------------------------------------------------------------- shapes
 
@@ -42,7 +30,7 @@ def test_broadcasting_shapes_and_defaults():
 def test_any_memory_layout_gives_the_same_result(model, rng):
     base_wi = random_directions(rng, 600)
     base_wo = random_directions(rng, 600)
-    extra = _extra(model)
+    extra = required_extras(model)
     want = brdf_rs.eval(model, base_wi, base_wo, **extra)
     fortran = np.asfortranarray(base_wi)
     strided = np.zeros((600, 6))
@@ -125,7 +113,7 @@ def test_spatially_varying_parameters_match_per_row_calls(model, rng):
     wi = random_directions(rng, n)
     wo = random_directions(rng, n)
     params = random_params(rng, model, size=n)
-    extra = {k: v for k, v in _extra(model).items() if k not in params}
+    extra = {k: v for k, v in required_extras(model).items() if k not in params}
     got = brdf_rs.eval(model, wi, wo, **params, **extra)
     for i in range(n):
         row = {k: v[i] for k, v in params.items()}
@@ -356,12 +344,14 @@ def test_large_outputs_written_past_the_caches_are_the_same_bits(rng):
 def test_concurrent_calls_match_serial_calls(rng):
     wi = random_directions(rng, 50_000)
     wo = random_directions(rng, 50_000)
-    want = {m: brdf_rs.eval(m, wi, wo, **_extra(m)) for m in MODEL_NAMES}
+    want = {m: brdf_rs.eval(m, wi, wo, **required_extras(m)) for m in MODEL_NAMES}
     failures = []
 
     def worker(model):
         for _ in range(3):
-            if not np.array_equal(brdf_rs.eval(model, wi, wo, **_extra(model)), want[model]):
+            if not np.array_equal(
+                brdf_rs.eval(model, wi, wo, **required_extras(model)), want[model]
+            ):
                 failures.append(model)
 
     threads = [threading.Thread(target=worker, args=(m,)) for m in MODEL_NAMES]

@@ -16,20 +16,9 @@ import numpy as np
 import pytest
 from brdf_rs import _api
 from brdf_rs import _brdf_rs as core
-from conftest import MODEL_NAMES, random_directions
+from conftest import MODEL_NAMES, random_directions, required_extras
 
 PARAMS = {"kd": [0.2, 0.1, 0.05], "p": 50.0, "eta": 1.5}
-
-
-def _extra(model):
-    """Required arguments of a model (toon lists, threshold, tangent)."""
-    if model == "toon_diffuse":
-        return {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
-    if model == "toon_specular":
-        return {"threshold": 0.9}
-    if model == "kajiya_kay":
-        return {"tangent": [1.0, 0.0, 0.0]}
-    return {}
 
 
 def _outcome(call):
@@ -127,7 +116,7 @@ def test_lists_and_tuples_of_numbers_are_read_as_float64(rng):
 def test_every_model_matches_the_general_path(rng, model, dtype):
     wi = random_directions(rng, 150).astype(dtype)
     wo = random_directions(rng, 150).astype(dtype)
-    extra = _extra(model)
+    extra = required_extras(model)
     tangent = extra.pop("tangent", None)
     if brdf_rs.models()[model].get("tangent_optional"):
         tangent = random_directions(rng, 150).astype(dtype)
@@ -315,7 +304,7 @@ def test_float32_parameters_beyond_float32s_range_raise_at_evaluation():
 def test_a_short_batch_gives_the_bits_of_a_long_one(rng, model):
     # A batch of at most 16 rows is computed over 16 lanes, a longer one over blocks of
     # 128 (with a short last block): every row gets the same value either way.
-    extra = _extra(model)
+    extra = required_extras(model)
     tangent = extra.pop("tangent", None)
     if brdf_rs.models()[model].get("tangent_optional"):
         tangent = [0.3, 1.0, 0.2]
