@@ -6,6 +6,7 @@ bench times that layout (and a Fortran-ordered and a reversed input) against the
 number of contiguous rows, in one run, interleaved, and reports the ratio.
 
     python benches/eval_layouts.py [--models torrance_sparrow lambert] [--side 2000]
+    python benches/eval_layouts.py --replot     # redraw the plot from the saved results
 
 Writes benches/results/eval_layouts.{md,json,png}.
 """
@@ -49,7 +50,14 @@ def main() -> None:
     ap.add_argument("--side", type=int, default=2000, help="side² pairs per call")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--out", type=Path, default=RESULTS / "eval_layouts")
+    ap.add_argument(
+        "--replot", action="store_true", help="redraw the plot from the saved JSON; no timing"
+    )
     args = ap.parse_args()
+    if args.replot:
+        saved = json.loads(args.out.with_suffix(".json").read_text())
+        write_plot(args.out.with_suffix(".png"), saved)
+        return
     rows = []
     n = args.side**2
     for dtype in (np.float64, np.float32):
@@ -71,6 +79,8 @@ def main() -> None:
                         "layout": name,
                         "m_per_s": n / t / 1e6,
                         "vs_contiguous": base / t,
+                        "pairs": n,
+                        "threads": brdf_rs.num_threads(),
                     }
                 )
                 print(
@@ -94,16 +104,21 @@ def main() -> None:
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.with_suffix(".md").write_text("\n".join(lines) + "\n")
     args.out.with_suffix(".json").write_text(json.dumps(rows, indent=1))
+    write_plot(args.out.with_suffix(".png"), rows)
+
+
+def write_plot(path: Path, rows: list[dict]) -> None:
     try:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
+        print("matplotlib not installed: no plot")
         return
     labels = sorted({r["layout"] for r in rows}, key=lambda s: not s.startswith("contig"))
-    fig, ax = plt.subplots(figsize=(9, 4))
     keys = sorted({(r["model"], r["dtype"]) for r in rows})
+    fig, ax = plt.subplots(figsize=(10, 5.2))
     width = 0.8 / len(labels)
     for i, label in enumerate(labels):
         values = [
@@ -114,11 +129,17 @@ def main() -> None:
         ]
         ax.bar(np.arange(len(keys)) + i * width, values, width, label=label)
     ax.set_xticks(np.arange(len(keys)) + 0.4 - width / 2)
-    ax.set_xticklabels([f"{m}\n{d}" for m, d in keys], fontsize=8)
-    ax.set_ylabel("M evals/s")
-    ax.legend(fontsize=7)
+    ax.set_xticklabels([f"{m}\n{d}" for m, d in keys], fontsize=10)
+    ax.set_ylabel("million evaluations / s")
+    title = "brdf_rs.eval throughput by input layout"
+    if "pairs" in rows[0]:
+        title += f", {rows[0]['pairs']:,} pairs per call, {rows[0]['threads']} threads"
+    ax.set_title(title)
+    # Below the axes, where it covers no bar.
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=10, frameon=False)
     fig.tight_layout()
-    fig.savefig(args.out.with_suffix(".png"), dpi=110)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
