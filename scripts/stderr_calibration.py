@@ -161,6 +161,23 @@ GRIDS = {
         for mu in (1.0, 0.99, 0.9, 0.5)
         for p in (5.0, 20.0, 100.0, 1000.0)
     ),
+    # Half-vector lobes whose sampler's first number u has a logarithmic end: Ward
+    # (tan²θh = −α²·ln u), Ashikhmin-Shirley (cos θh = u^(1/(n+1))); and Beckmann.
+    "half_vector": tuple(
+        Case("ward", mu, {**GGX, "alpha_x": ax, "alpha_y": ay})
+        for mu in (1.0, 0.99, 0.9, 0.5)
+        for ax, ay in ((0.02, 0.02), (0.1, 0.1), (0.3, 0.3), (0.05, 0.2))
+    )
+    + tuple(
+        Case("ashikhmin_shirley", mu, {"Rd": 0.0, "Rs": 1.0, "nu": nu, "nv": nv})
+        for mu in (1.0, 0.99, 0.9, 0.5)
+        for nu, nv in ((5000.0, 5000.0), (100.0, 100.0), (10.0, 10.0), (1000.0, 50.0))
+    )
+    + tuple(
+        Case("beckmann", mu, {**GGX, "alpha": alpha})
+        for mu in (1.0, 0.99, 0.9, 0.5)
+        for alpha in (0.02, 0.1, 0.3, 1.0)
+    ),
 }
 
 QUICK_CASES = select(

@@ -345,6 +345,30 @@ def test_power_cosine_lobe_error_bars_near_normal_incidence(model, params, mu):
     assert abs(np.mean(z)) <= 0.15, np.mean(z)
 
 
+@pytest.mark.parametrize(
+    ("model", "params", "mu", "samples"),
+    [
+        ("ward", {"alpha_x": 0.1, "alpha_y": 0.1}, 1.0, 256),
+        ("ward", {"alpha_x": 0.02, "alpha_y": 0.02}, 0.99, 4096),
+        ("ashikhmin_shirley", {"Rd": 0.0, "Rs": 1.0, "nu": 100.0, "nv": 100.0}, 1.0, 4096),
+        ("beckmann", {"alpha": 0.3}, 1.0, 4096),
+        ("beckmann", {"alpha": 0.3}, 0.99, 4096),
+    ],
+)
+def test_half_vector_lobe_error_bars_at_the_ends_of_the_sampler(model, params, mu, samples):
+    """Ward's and Ashikhmin-Shirley's half vectors are logarithmic in the sampler's first
+    number, and Beckmann's visible slopes are normal quantiles: every Sobol replicate has
+    one point at each end of the range, where the weight runs off, and its error is
+    skewed at every sample count. Cells were 2.4–3.5% beyond 3 standard errors at and
+    near normal incidence (Beckmann at alpha 0.3: 7.4%, mean z 0.69), mean z 0.2–0.25;
+    the ends are now integrated after a change of variables that vanishes there.
+    Honest: 0.9% (18 of 2000, standard deviation 4)."""
+    params = {"kd": 0.0, "ks": 1.0} | params if model != "ashikhmin_shirley" else params
+    z = _z(model, params, 2000, mu=mu, samples=samples)
+    assert np.sum(np.abs(z) > 3) <= 32, np.sort(np.abs(z))[-34:]
+    assert abs(np.mean(z)) <= 0.1, np.mean(z)
+
+
 @pytest.mark.parametrize("mu", [0.997, 0.999])
 def test_exact_bulk_error_bars_cover_the_rounding_of_tiny_schlick_excess(mu):
     """Torrance-Sparrow with R0 = 0 and p = 1000 near the normal: the bulk is integrated
