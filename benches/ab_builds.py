@@ -2,8 +2,8 @@
 
 Each build is a Python that imports it (its own virtual environment, or a small wrapper
 script that sets PYTHONPATH to a directory holding the package). The script runs the
-same series of tables (a 64x64 table of benches/albedo_convergence.py: GGX over mu x
-alpha, or Torrance-Sparrow over mu x p; fixed sample counts and adaptive `tol`) in a
+same series of tables (a 64x64 table of benches/albedo_convergence.py: GGX or Beckmann
+over mu x alpha, or Torrance-Sparrow over mu x p; fixed sample counts and adaptive `tol`) in a
 subprocess per build, alternating the builds for `--rounds` rounds, and keeps each
 point's fastest time (the machine is shared and noisy; interleaving spreads the noise
 over both). The error is the RMS against the cached quadrature reference of
@@ -105,7 +105,10 @@ def main() -> None:
         help="LABEL=PYTHON: a Python that imports the build (split at the last =; first: baseline)",
     )
     parser.add_argument(
-        "--model", default="ggx", choices=["ggx", "torrance_sparrow"], help="the table"
+        "--model",
+        default="ggx",
+        choices=["ggx", "beckmann", "torrance_sparrow"],
+        help="the table (benches/albedo_convergence.py's)",
     )
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--budget", type=float, default=8.0, help="seconds per table")
