@@ -1,6 +1,8 @@
 //! Model and parameter specs: the one table behind validation, `brdf_rs.models()`, the
 //! CLI and the docs.
 
+use super::slots::{ColourSlot, ScalarSlot};
+
 /// Which kind of function a model computes (docs/models.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Family {
@@ -174,55 +176,56 @@ pub struct ParamSpec {
     pub range: ValidRange,
     /// One line: what the parameter means.
     pub doc: &'static str,
-    /// First float slot of the parameter in the kernel's raw parameter vector.
+    /// First float slot of the parameter in the kernel's raw parameter vector (from the
+    /// model's [`param_slots!`](crate::param_slots) layout).
     pub slot: usize,
 }
 
 /// `kd`: the diffuse colour.
-pub const fn kd(default: f64, slot: usize) -> ParamSpec {
+pub const fn kd(default: f64, slot: ColourSlot) -> ParamSpec {
     ParamSpec {
         name: "kd",
         kind: ParamKind::Colour,
         default: Some(default),
         range: ValidRange::NON_NEGATIVE,
         doc: "diffuse colour (RGB, >= 0)",
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `ks`: the specular colour.
-pub const fn ks(default: f64, slot: usize) -> ParamSpec {
+pub const fn ks(default: f64, slot: ColourSlot) -> ParamSpec {
     ParamSpec {
         name: "ks",
         kind: ParamKind::Colour,
         default: Some(default),
         range: ValidRange::NON_NEGATIVE,
         doc: "specular colour (RGB, >= 0)",
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `p`: the cosine exponent.
-pub const fn exponent(slot: usize) -> ParamSpec {
+pub const fn exponent(slot: ScalarSlot) -> ParamSpec {
     ParamSpec {
         name: "p",
         kind: ParamKind::Scalar,
         default: Some(32.0),
         range: ValidRange::NON_NEGATIVE,
         doc: "cosine exponent (shininess); larger is a narrower lobe",
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `sigma`: the Oren-Nayar roughness.
-pub const fn sigma(slot: usize) -> ParamSpec {
+pub const fn sigma(slot: ScalarSlot) -> ParamSpec {
     ParamSpec {
         name: "sigma",
         kind: ParamKind::Scalar,
         default: Some(0.5),
         range: ValidRange::QUARTER_TURN,
         doc: "roughness: standard deviation of the facet slope angle, radians",
-        slot,
+        slot: slot.first(),
     }
 }
 
@@ -230,7 +233,7 @@ pub const fn sigma(slot: usize) -> ParamSpec {
 pub const fn roughness(
     name: &'static str,
     default: f64,
-    slot: usize,
+    slot: ScalarSlot,
     doc: &'static str,
 ) -> ParamSpec {
     ParamSpec {
@@ -239,19 +242,19 @@ pub const fn roughness(
         default: Some(default),
         range: ValidRange::ROUGHNESS,
         doc,
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `ks` as Schlick's F0: a colour in [0, 1].
-pub const fn f0(default: f64, slot: usize) -> ParamSpec {
+pub const fn f0(default: f64, slot: ColourSlot) -> ParamSpec {
     ParamSpec {
         name: "ks",
         kind: ParamKind::Colour,
         default: Some(default),
         range: ValidRange::UNIT,
         doc: "F0: specular reflectance at normal incidence (RGB, in [0, 1]; 1 gives F = 1)",
-        slot,
+        slot: slot.first(),
     }
 }
 

@@ -166,8 +166,11 @@ mod tests {
 
     #[test]
     fn mixture_probabilities_follow_lobe_strength() {
+        use crate::models::torrance_sparrow::{KD, KS};
         let terms = crate::models::albedo::diffuse_and_lobe(
             &[0.2, 0.2, 0.2, 0.6, 0.0, 0.0, 10.0, 1.5],
+            KD,
+            KS,
             1.0,
             Importance::BlinnHalf { p: 10.0 },
         );
