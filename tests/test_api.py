@@ -174,6 +174,18 @@ def test_models_carry_every_per_model_fact_python_uses():
             assert s["dfg"]["param"] in params[name] and "ks" in params[name], name
             assert s["dfg"]["axis"].split(":")[0] in ("mid", "log"), name
     assert [n for n, s in specs.items() if s["energy_table"]] == ["ggx", "beckmann"]
+    for name, s in specs.items():
+        exact = s["exact"]
+        if exact is not None:
+            assert s["family"] == "A" and exact["scales"] in params[name], name
+            assert set(exact["params"]) <= params[name], name
+            assert (exact["factor"] == "table") == (exact["table"] is not None), name
+    exact = {n: s["exact"]["factor"] for n, s in specs.items() if s["exact"] is not None}
+    assert exact == {
+        "normalized_blinn_phong": "blinn_closed_form",
+        "torrance_sparrow": "one",
+        "ward": "table",
+    }
     assert specs["ashikhmin_shirley"]["diffuse"] == "coupled"
     assert specs["kajiya_kay"]["scene_slot"] == "both"
     # One table, read once; callers get copies they may change.

@@ -1,12 +1,12 @@
 """The model spec table, read once from the extension: every per-model fact Python needs
-(parameters, family, scene slot, split-sum roughness axis, energy tables) comes from here,
-so no Python module names a model to know what it is."""
+(parameters, family, scene slot, split-sum roughness axis, energy tables, exact
+normalization) comes from here, so no Python module names a model to know what it is."""
 
 from __future__ import annotations
 
 import copy
 from functools import cache
-from typing import Literal, TypedDict, cast
+from typing import Literal, TypedDict
 
 from . import _brdf_rs as _core
 
@@ -41,6 +41,20 @@ class DfgAxis(TypedDict):
     axis: str
 
 
+class ExactNormalization(TypedDict):
+    """A model's ``normalization="exact"`` (``brdf_rs._normalization``)."""
+
+    #: How the factor is computed: ``"one"`` (the lobe as written), ``"blinn_closed_form"``
+    #: or ``"table"`` (interpolated in the shipped table named by ``table``).
+    factor: Literal["one", "blinn_closed_form", "table"]
+    #: The shape parameters the factor is a function of, in the order it takes them.
+    params: list[str]
+    #: The colour parameter the factor multiplies.
+    scales: str
+    #: The table's name, for ``factor == "table"`` (else None).
+    table: str | None
+
+
 class ModelSpec(TypedDict):
     """One model's spec, as ``brdf_rs.models()`` returns it."""
 
@@ -68,6 +82,8 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
+    #: Its ``normalization="exact"``, or None where it has none.
+    exact: ExactNormalization | None
     params: list[ParamSpec]
 
 
@@ -75,7 +91,7 @@ class ModelSpec(TypedDict):
 def specs() -> dict[str, ModelSpec]:
     """Every model's spec by name, in a stable order: read once, shared (do not mutate;
     :func:`brdf_rs.models` hands out copies)."""
-    return cast("dict[str, ModelSpec]", {m["name"]: m for m in _core.models()})
+    return {m["name"]: m for m in _core.models()}
 
 
 def models() -> dict[str, ModelSpec]:
@@ -91,6 +107,11 @@ def with_dfg() -> dict[str, DfgAxis]:
 def with_energy_table() -> tuple[str, ...]:
     """The models with energy-compensation tables."""
     return tuple(name for name, s in specs().items() if s["energy_table"])
+
+
+def with_exact() -> dict[str, ExactNormalization]:
+    """The models with ``normalization="exact"``, and how it is computed."""
+    return {name: s["exact"] for name, s in specs().items() if s["exact"] is not None}
 
 
 def in_slot(slot: str) -> tuple[str, ...]:

@@ -39,6 +39,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for BeckmannMs {

@@ -54,6 +54,7 @@ pub static SPEC: ModelSpec = ModelSpec {
         axis: "mid:0:1:32",
     }),
     energy_table: true,
+    exact: None,
 };
 
 /// Derived constants.

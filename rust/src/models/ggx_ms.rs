@@ -61,6 +61,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Prepared constants of a multiple-scattering lobe on a table.

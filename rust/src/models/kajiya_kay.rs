@@ -36,6 +36,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Both,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for KajiyaKay {

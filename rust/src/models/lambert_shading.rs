@@ -27,6 +27,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Diffuse,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for LambertShading {

@@ -27,6 +27,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for ModifiedBlinnPhong {

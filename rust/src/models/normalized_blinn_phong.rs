@@ -6,7 +6,9 @@
 
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{
+    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, SceneUse, TangentUse,
+};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
@@ -29,6 +31,11 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: Some(ExactNormalization {
+        factor: ExactFactor::BlinnClosedForm,
+        params: &["p"],
+        scales: "ks",
+    }),
 };
 
 impl Kernel for NormalizedBlinnPhong {

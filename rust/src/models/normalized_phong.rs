@@ -28,6 +28,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for NormalizedPhong {

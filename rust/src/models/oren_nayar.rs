@@ -37,6 +37,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Derived constants: `kd·A/π` and `kd·B/π`.

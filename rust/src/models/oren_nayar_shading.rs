@@ -31,6 +31,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Diffuse,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Derived constants: `kd·A` and `kd·B`.

@@ -286,6 +286,47 @@ pub struct ModelSpec {
     pub dfg: Option<DfgAxis>,
     /// Whether it has Kulla and Conty's energy-compensation tables (`F = 1`).
     pub energy_table: bool,
+    /// Its `normalization="exact"`, for models that have one.
+    pub exact: Option<ExactNormalization>,
+}
+
+/// A model's `normalization="exact"`: a factor `c` of the lobe's shape parameters
+/// multiplies a colour so that the lobe's directional albedo (no diffuse term, unit
+/// colour, Fresnel factor 1) peaks at exactly 1. The factors are computed in Python
+/// (`brdf_rs._normalization`, which derives each and gives its accuracy), elementwise
+/// on the parameters before the kernel runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExactNormalization {
+    pub factor: ExactFactor,
+    /// The shape parameters `c` is a function of, in the order the factor takes them (its
+    /// shape is theirs, broadcast).
+    pub params: &'static [&'static str],
+    /// The colour parameter `c` multiplies.
+    pub scales: &'static str,
+}
+
+/// How an exact normalization's factor is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExactFactor {
+    /// The lobe as written already peaks at 1: `c = 1`, the parameters are left alone.
+    One,
+    /// The Blinn-Phong lobe `(p+8)/(8π)·cos^p θh`, whose albedo peaks at normal incidence:
+    /// `c(p) = (p+2)(p+4)/((p+8)(p + 2^(−p/2)))` relative to `(p+8)/(8π)`.
+    BlinnClosedForm,
+    /// Defined at normal incidence and interpolated in the shipped table of that name
+    /// (over the logarithms of two roughnesses).
+    Table(&'static str),
+}
+
+impl ExactFactor {
+    /// The name `brdf_rs.models()` gives it (`"one"`, `"blinn_closed_form"`, `"table"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ExactFactor::One => "one",
+            ExactFactor::BlinnClosedForm => "blinn_closed_form",
+            ExactFactor::Table(_) => "table",
+        }
+    }
 }
 
 /// How a family-A model's diffuse term is evaluated on its own (a scene's diffuse or

@@ -12,7 +12,8 @@
 use super::albedo::{Importance, Term, basis, diffuse_and_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, ParamKind, ParamSpec,
+    SceneUse, TangentUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
@@ -55,6 +56,11 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: Some(ExactNormalization {
+        factor: ExactFactor::One,
+        params: &["p"],
+        scales: "ks",
+    }),
 };
 
 /// Derived constants.

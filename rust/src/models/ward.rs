@@ -7,7 +7,9 @@
 
 use super::albedo::{Importance, Integral, Term, basis};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{
+    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, SceneUse, TangentUse,
+};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
 use crate::math::{PowUnit, Real, Vector3};
@@ -50,6 +52,11 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: Some(ExactNormalization {
+        factor: ExactFactor::Table("ward"),
+        params: &["alpha_x", "alpha_y"],
+        scales: "ks",
+    }),
 };
 
 /// Derived constants.

@@ -18,7 +18,7 @@ use crate::eval::{self, EvalInputs, EvalOptions, Plan};
 use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
-use crate::models::spec::SceneUse;
+use crate::models::spec::{ExactFactor, SceneUse};
 use crate::models::{ModelKind, ParamKind, TangentUse};
 use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
@@ -314,6 +314,22 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         };
         d.set_item("dfg", dfg)?;
         d.set_item("energy_table", spec.energy_table)?;
+        let exact = match spec.exact {
+            Some(exact) => {
+                let e = PyDict::new(py);
+                e.set_item("factor", exact.factor.name())?;
+                e.set_item("params", exact.params)?;
+                e.set_item("scales", exact.scales)?;
+                let table = match exact.factor {
+                    ExactFactor::Table(name) => Some(name),
+                    _ => None,
+                };
+                e.set_item("table", table)?;
+                Some(e)
+            }
+            None => None,
+        };
+        d.set_item("exact", exact)?;
         d.set_item("params", params)?;
         list.append(d)?;
     }
