@@ -232,7 +232,8 @@ def models() -> dict[str, _spec.ModelSpec]:
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,
     colour list), ``default`` (None: required), ``range`` (as text, plus
     ``min``/``max``/``min_open``/``max_open``), ``doc``, ``varies`` (whether it may be
-    an array over the batch) and ``max_len``. The types are ``brdf_rs._spec.ModelSpec``.
+    an array over the batch), ``max_len`` and ``one_more_than`` (for a colour list, the
+    list it has one more entry than). The types are ``brdf_rs._spec.ModelSpec``.
     """
     return _spec.models()
 

@@ -30,6 +30,9 @@ class ParamSpec(TypedDict):
     varies: bool
     #: The most values a list parameter takes (None for scalars and colours).
     max_len: int | None
+    #: For a colour list: the list parameter it has exactly one more entry than (else
+    #: None).
+    one_more_than: str | None
 
 
 class DfgAxis(TypedDict):

@@ -377,9 +377,12 @@ def _parameter_variants(model: str) -> list[dict[str, Any]]:
     spec = _spec.specs()[model]
     base: dict[str, Any] = {}
     alternatives: list[tuple[str, Any]] = []
+    # A colour list sized by another list (a toon ramp's band colours, one more than its
+    # thresholds) is filled in to match each variant's list, below.
+    sized_by = {p["name"]: p["one_more_than"] for p in spec["params"] if p["one_more_than"]}
     for p in spec["params"]:
         name = p["name"]
-        if name == "colors":
+        if name in sized_by:
             continue
         values = _SPECIAL_VALUES.get(name)
         if values is None:
@@ -392,10 +395,10 @@ def _parameter_variants(model: str) -> list[dict[str, Any]]:
         base[name] = allowed[0]
         alternatives.extend((name, v) for v in allowed[1:])
     variants = [base] + [{**base, name: value} for name, value in alternatives]
-    if model == "toon_diffuse":
+    for name, other in sized_by.items():
         for v in variants:
-            k = len(v["thresholds"])
-            v["colors"] = [[0.1 * (j + 1), 0.05 * j, 1.0 - 0.1 * j] for j in range(k + 1)]
+            k = len(v[other])
+            v[name] = [[0.1 * (j + 1), 0.05 * j, 1.0 - 0.1 * j] for j in range(k + 1)]
     return variants
 
 

@@ -285,6 +285,11 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
                 _ => None,
             };
             d.set_item("max_len", max_len)?;
+            let one_more_than = match p.kind {
+                ParamKind::ColourList { one_more_than, .. } => Some(one_more_than),
+                _ => None,
+            };
+            d.set_item("one_more_than", one_more_than)?;
             params.append(d)?;
         }
         let d = PyDict::new(py);
