@@ -27,6 +27,7 @@ __all__ = [
     "max_num_threads",
     "models",
     "num_threads",
+    "param_admits",
     "pdf",
     "prepare_model",
     "render_scene",
@@ -94,6 +95,7 @@ class PreparedModel:
 
 def check_params(model: str, params: dict[str, _F64]) -> None: ...
 def models() -> list[ModelSpec]: ...
+def param_admits(model: str, param: str, value: float) -> bool: ...
 def albedo(
     model: str,
     mu: _F64,

@@ -102,6 +102,13 @@ def models() -> dict[str, ModelSpec]:
     return copy.deepcopy(specs())
 
 
+def admits(model: str, param: str, value: float) -> bool:
+    """Whether ``value`` passes the range check ``eval`` makes on ``model``'s ``param``
+    (closed bounds also admit their float32 roundings): for callers that word their own
+    errors."""
+    return _core.param_admits(model, param, value)
+
+
 def with_dfg() -> dict[str, DfgAxis]:
     """The models with a split-sum table, and its roughness axis."""
     return {name: s["dfg"] for name, s in specs().items() if s["dfg"] is not None}

@@ -43,7 +43,7 @@ import math
 import struct
 import time
 import zlib
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -365,13 +365,6 @@ _SPECIAL_VALUES: dict[str, list[Any]] = {
 }
 
 
-def _in_range(value: float, spec: Mapping[str, Any]) -> bool:
-    lo, hi = spec["min"], spec["max"]
-    above = value > lo if spec["min_open"] else value >= lo
-    below = value < hi if spec["max_open"] else value <= hi
-    return bool(above and below)
-
-
 def _parameter_variants(model: str) -> list[dict[str, Any]]:
     """The base parameter set, then one special value at a time (within the spec range)."""
     spec = _spec.specs()[model]
@@ -390,7 +383,7 @@ def _parameter_variants(model: str) -> list[dict[str, Any]]:
         allowed = []
         for v in values:
             numbers = v if isinstance(v, list) else [v]
-            if all(isinstance(x, str) or _in_range(float(x), p) for x in numbers):
+            if all(isinstance(x, str) or _spec.admits(model, name, float(x)) for x in numbers):
                 allowed.append(v)
         base[name] = allowed[0]
         alternatives.extend((name, v) for v in allowed[1:])

@@ -152,6 +152,27 @@ impl ValidRange {
         above && below
     }
 
+    /// Returns the range the parameter checks apply (`eval`'s, a scene file's): a closed
+    /// bound taken as the widest of itself and its rounding to `f32` (the same in both
+    /// dtypes, so that a value valid in one is valid in the other): `float32(π/2)` is above
+    /// π/2, and must pass where π/2 is the documented maximum.
+    pub fn admitting_f32_bounds(self) -> ValidRange {
+        let mut range = self;
+        let rounded = |b: f64| f64::from(b as f32);
+        if !range.min_open && range.min.is_finite() {
+            range.min = range.min.min(rounded(range.min));
+        }
+        if !range.max_open && range.max.is_finite() {
+            range.max = range.max.max(rounded(range.max));
+        }
+        range
+    }
+
+    /// Returns whether the parameter checks admit `x` ([`ValidRange::admitting_f32_bounds`]).
+    pub fn admits(&self, x: f64) -> bool {
+        self.admitting_f32_bounds().contains(x)
+    }
+
     /// Returns the range as a phrase: `">= 0 and finite"`, `"in [0, 1]"`.
     pub fn describe(&self) -> String {
         if self.max == f64::INFINITY {
@@ -421,5 +442,17 @@ mod tests {
         assert!(!ValidRange::UNIT.contains(f64::NAN));
         assert_eq!(ValidRange::POSITIVE.describe(), "> 0 and finite");
         assert_eq!(ValidRange::UNIT.describe(), "in [0, 1]");
+    }
+
+    #[test]
+    fn checks_admit_the_f32_roundings_of_closed_bounds() {
+        let half_pi_f32 = f64::from(std::f64::consts::FRAC_PI_2 as f32);
+        assert!(half_pi_f32 > std::f64::consts::FRAC_PI_2);
+        assert!(!ValidRange::QUARTER_TURN.contains(half_pi_f32));
+        assert!(ValidRange::QUARTER_TURN.admits(half_pi_f32));
+        assert!(!ValidRange::QUARTER_TURN.admits(half_pi_f32 * (1.0 + f64::EPSILON)));
+        // Open and infinite bounds are as written.
+        assert!(!ValidRange::POSITIVE.admits(0.0));
+        assert!(!ValidRange::NON_NEGATIVE.admits(f64::INFINITY));
     }
 }

@@ -259,6 +259,19 @@ fn check_params<'py>(model: &str, params: &Bound<'py, PyDict>) -> PyResult<()> {
     Ok(())
 }
 
+/// Returns whether `value` passes the range check of `model`'s parameter `param` (the
+/// check `eval` makes), for callers that word their own errors (scene files).
+#[pyfunction]
+fn param_admits(model: &str, param: &str, value: f64) -> PyResult<bool> {
+    let spec = ModelKind::from_name(model)?.spec();
+    let Some(p) = spec.param(param) else {
+        return Err(PyValueError::new_err(format!(
+            "{model} has no parameter {param:?}"
+        )));
+    };
+    Ok(p.range.admits(value))
+}
+
 /// Returns the spec table: one dict per model.
 #[pyfunction]
 fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
@@ -604,8 +617,8 @@ fn isa() -> &'static str {
 mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
-        albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads, pdf,
-        sample, set_num_threads,
+        albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads,
+        param_admits, pdf, sample, set_num_threads,
     };
 
     #[pymodule_export]
