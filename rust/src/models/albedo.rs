@@ -149,7 +149,7 @@ pub fn basis(slots: &[f64], colours: &[(ColourSlot, f64)]) -> Slots {
     let mut out = [0.0; MAX_VARYING_SLOTS];
     out[..slots.len()].copy_from_slice(slots);
     for &(colour, value) in colours {
-        out[colour.first()..colour.end()].fill(value);
+        colour.write(&mut out, [value; 3]);
     }
     out
 }

@@ -72,6 +72,20 @@ impl ColourSlot {
     }
 }
 
+impl ScalarSlot {
+    /// Writes the parameter's value into a raw parameter vector.
+    pub fn write(self, slots: &mut [f64], x: f64) {
+        slots[self.0] = x;
+    }
+}
+
+impl ColourSlot {
+    /// Writes the parameter's colour into a raw parameter vector.
+    pub fn write(self, slots: &mut [f64], c: [f64; 3]) {
+        slots[self.0..self.end()].copy_from_slice(&c);
+    }
+}
+
 impl<const N: usize> ScalarListSlot<N> {
     /// Returns the list's values in `p` (unused entries are `+inf`).
     #[inline(always)]
