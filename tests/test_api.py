@@ -174,6 +174,26 @@ def test_models_carry_every_per_model_fact_python_uses():
             assert s["dfg"]["param"] in params[name] and "ks" in params[name], name
             assert s["dfg"]["axis"].split(":")[0] in ("mid", "log"), name
     assert [n for n, s in specs.items() if s["energy_table"]] == ["ggx", "beckmann"]
+    for name, s in specs.items():
+        for p in s["params"]:
+            if p["one_more_than"] is not None:
+                assert p["kind"] == "colour list", (name, p["name"])
+                other = next(q for q in s["params"] if q["name"] == p["one_more_than"])
+                assert other["kind"] == "scalar list", (name, p["name"])
+                assert p["max_len"] == other["max_len"] + 1, (name, p["name"])
+            else:
+                assert p["kind"] != "colour list", (name, p["name"])
+        exact = s["exact"]
+        if exact is not None:
+            assert s["family"] == "A" and exact["scales"] in params[name], name
+            assert set(exact["params"]) <= params[name], name
+            assert (exact["factor"] == "table") == (exact["table"] is not None), name
+    exact = {n: s["exact"]["factor"] for n, s in specs.items() if s["exact"] is not None}
+    assert exact == {
+        "normalized_blinn_phong": "blinn_closed_form",
+        "torrance_sparrow": "one",
+        "ward": "table",
+    }
     assert specs["ashikhmin_shirley"]["diffuse"] == "coupled"
     assert specs["kajiya_kay"]["scene_slot"] == "both"
     # One table, read once; callers get copies they may change.

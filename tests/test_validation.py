@@ -429,3 +429,20 @@ def test_a_long_render_answers_ctrl_c():
     elapsed = _interrupted_after(functools.partial(brdf_rs.render, scene, tonemap="none"), 0.05)
     assert elapsed is not None
     assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+
+
+def test_scenes_and_stress_use_evals_range_check():
+    """One range check (the Rust spec's), for eval and for the callers that word their own
+    errors: closed bounds admit their float32 roundings in both."""
+    from brdf_rs import _spec
+
+    half_pi_f32 = float(np.float32(np.pi / 2))
+    beyond = float(np.nextafter(half_pi_f32, 4.0))
+    assert _spec.admits("oren_nayar", "sigma", half_pi_f32)
+    brdf_rs.eval("oren_nayar", [0, 0, 1], [0, 0, 1], sigma=half_pi_f32)
+    assert not _spec.admits("oren_nayar", "sigma", beyond)
+    with pytest.raises(ValueError, match="sigma"):
+        brdf_rs.eval("oren_nayar", [0, 0, 1], [0, 0, 1], sigma=beyond)
+    assert not _spec.admits("ggx", "alpha", float("nan"))
+    with pytest.raises(ValueError, match="ggx has no parameter"):
+        _spec.admits("ggx", "p", 1.0)

@@ -226,11 +226,14 @@ def models() -> dict[str, _spec.ModelSpec]:
     (whether ``tangent=`` is required), ``tangent_optional``, ``weights`` (the
     parameters whose all being zero makes the model zero), ``scene_slot`` (where a scene
     material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
-    ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table`` and
+    ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
+    ``exact`` (its ``normalization="exact"``: how the factor is computed, the parameters
+    it takes and the colour it scales; None where it has none) and
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,
     colour list), ``default`` (None: required), ``range`` (as text, plus
     ``min``/``max``/``min_open``/``max_open``), ``doc``, ``varies`` (whether it may be
-    an array over the batch) and ``max_len``. The types are ``brdf_rs._spec.ModelSpec``.
+    an array over the batch), ``max_len`` and ``one_more_than`` (for a colour list, the
+    list it has one more entry than). The types are ``brdf_rs._spec.ModelSpec``.
     """
     return _spec.models()
 

@@ -12,6 +12,8 @@ from typing import Any, TypeAlias, final
 import numpy as np
 import numpy.typing as npt
 
+from ._spec import ModelSpec
+
 __all__ = [
     "PreparedModel",
     "__version__",
@@ -25,6 +27,7 @@ __all__ = [
     "max_num_threads",
     "models",
     "num_threads",
+    "param_admits",
     "pdf",
     "prepare_model",
     "render_scene",
@@ -91,7 +94,8 @@ class PreparedModel:
     ) -> _F64 | _F32 | None: ...
 
 def check_params(model: str, params: dict[str, _F64]) -> None: ...
-def models() -> list[dict[str, Any]]: ...
+def models() -> list[ModelSpec]: ...
+def param_admits(model: str, param: str, value: float) -> bool: ...
 def albedo(
     model: str,
     mu: _F64,

@@ -3,15 +3,17 @@
 The exact normalization multiplies ``ks`` by a factor ``c`` of the lobe's shape parameters,
 applied to the parameters before the kernel runs (elementwise, so spatially varying
 parameters work). The albedo meant is the lobe's alone (``kd = 0``, ``ks = 1``) with its
-Fresnel factor at 1 where it has one.
+Fresnel factor at 1 where it has one. Which models have one comes from the model spec
+(``brdf_rs.models()[name]["exact"]``), with how the factor is computed (``factor``, one
+of the kinds below), the parameters it takes and the colour it scales.
 
-``normalized_blinn_phong``
+``"blinn_closed_form"`` (``normalized_blinn_phong``)
     RTR's approximate factor ``(p+8)/(8π)`` gives an albedo at normal incidence (where it
     peaks, for every p > 0) of ``(p+8)(p+2^(−p/2))/((p+2)(p+4))``, slightly above 1. The
     exact factor is ``c(p) = (p+2)(p+4) / (8π (p + 2^(−p/2)))``: a closed form, applied as
     ``ks·c(p)/((p+8)/(8π))``.
 
-``torrance_sparrow``
+``"one"`` (``torrance_sparrow``)
     "F = 1" is ``R0 = 1`` (Schlick's F is then 1 for every angle: the limit eta → ∞ or
     eta → 0; ``eta = 1e20`` rounds R0 to exactly 1 in float64), the lobe
     ``D·G/(4 mu_i mu_o)``. Its albedo never exceeds 1, and tends to 1 as ``mu_i → 0``,
@@ -29,7 +31,7 @@ Fresnel factor at 1 where it has one.
     albedo is 1 − O(e^−p) there). Normalizing at normal incidence instead would give
     ``c = 1/0.375`` at p = 0: a lobe reflecting 2.67 times its input at grazing.
 
-``ward``
+``"table"`` (``ward``)
     A largest albedo does not exist: as ``mu_i → 0``, ``A(mu_i)·sqrt(mu_i)`` tends to a
     positive limit ``K(αx, αy) = (1/(4π αx αy)) ∫ exp(−E(h)) sqrt(mu_o) dωo`` (wi on the
     horizon), so A grows like ``K/sqrt(mu_i)`` without bound: ``K = 0.0276`` at
@@ -69,28 +71,24 @@ import numpy as np
 
 from . import _spec
 
-#: Models with an exact normalization.
-EXACT = ("normalized_blinn_phong", "torrance_sparrow", "ward")
 
-
-def _blinn_factor(params: dict[str, np.ndarray]) -> np.ndarray:
+def _blinn_closed_form(p: np.ndarray) -> np.ndarray:
     # c(p)/((p+8)/(8π)), in factors that neither overflow (p up to 1e308) nor cancel.
-    p = params["p"]
     return np.asarray((p + 2) / (p + 8) * ((p + 4) / (p + 2.0 ** (-p / 2))), dtype=np.float64)
 
 
-def _torrance_sparrow_factor(params: dict[str, np.ndarray]) -> np.ndarray:
-    return np.ones_like(params["p"], dtype=np.float64)
+def _one(p: np.ndarray) -> np.ndarray:
+    return np.ones_like(p, dtype=np.float64)
 
 
 @functools.cache
-def _ward_table() -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
-    """The r table padded with one ghost node per side (linear extrapolation), log α of
-    the nodes and the table's metadata."""
+def _table(name: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
+    """The r table ``name`` padded with one ghost node per side (linear extrapolation),
+    log α of the nodes and the table's metadata."""
     source = resources.files("brdf_rs").joinpath("exact_normalization.npz")
     with source.open("rb") as f, np.load(f, allow_pickle=False) as data:
-        alpha = np.asarray(data["ward_alpha"], dtype=np.float64)
-        r = np.asarray(data["ward_r"], dtype=np.float64)
+        alpha = np.asarray(data[f"{name}_alpha"], dtype=np.float64)
+        r = np.asarray(data[f"{name}_r"], dtype=np.float64)
         meta = json.loads(str(data["meta"]))
     for axis in (0, 1):
         lo = 2 * np.take(r, [0], axis) - np.take(r, [1], axis)
@@ -120,13 +118,13 @@ def _node(log_alpha: np.ndarray, nodes: np.ndarray) -> tuple[np.ndarray, np.ndar
     return i, x - i
 
 
-def _ward_factor(params: dict[str, np.ndarray]) -> np.ndarray:
-    ax, ay = np.broadcast_arrays(params["alpha_x"], params["alpha_y"])
+def _tabulated(name: str, ax: np.ndarray, ay: np.ndarray) -> np.ndarray:
+    ax, ay = np.broadcast_arrays(ax, ay)
     valid = np.isfinite(ax) & np.isfinite(ay) & (ax > 0) & (ay > 0)
     # Invalid values are left to the kernel's range check (which names the argument).
     ax = np.where(valid, ax, 1.0)
     ay = np.where(valid, ay, 1.0)
-    r_table, nodes, _ = _ward_table()
+    r_table, nodes, _ = _table(name)
     i, tx = _node(np.log(ax), nodes)
     j, ty = _node(np.log(ay), nodes)
     wx, wy = _catmull_rom(tx), _catmull_rom(ty)
@@ -138,43 +136,50 @@ def _ward_factor(params: dict[str, np.ndarray]) -> np.ndarray:
     return np.asarray(np.where(valid, np.exp(log_c), 1.0), dtype=np.float64)
 
 
-_FACTORS = {
-    "normalized_blinn_phong": (_blinn_factor, ("p",)),
-    "torrance_sparrow": (_torrance_sparrow_factor, ("p",)),
-    "ward": (_ward_factor, ("alpha_x", "alpha_y")),
-}
-
-
-def _check(model: str, normalization: str) -> None:
+def _exact(model: str, normalization: str) -> _spec.ExactNormalization | None:
+    """The model's exact normalization if asked for (None for "approximate"); an error
+    for another value, or for "exact" where the model has none."""
     if normalization not in ("approximate", "exact"):
         raise ValueError(f'normalization: expected "approximate" or "exact"; got {normalization!r}')
-    if normalization == "exact" and model not in EXACT:
-        raise ValueError(f"normalization='exact' exists for {', '.join(EXACT)}; {model} has none")
+    if normalization == "approximate":
+        return None
+    spec = _spec.specs().get(model)
+    exact = None if spec is None else spec["exact"]
+    if exact is None:
+        known = ", ".join(_spec.with_exact())
+        raise ValueError(f"normalization='exact' exists for {known}; {model} has none")
+    return exact
 
 
 def factor(model: str, params: dict[str, Any]) -> np.ndarray:
     """Returns the factor ``c`` the exact normalization multiplies ``ks`` by (relative to
     the model as written), shaped like the broadcast shape parameters."""
-    _check(model, "exact")
-    compute, names = _FACTORS[model]
+    exact = _exact(model, "exact")
+    assert exact is not None
     defaults = {p["name"]: p["default"] for p in _spec.specs()[model]["params"]}
     with np.errstate(all="ignore"):
-        shape = {n: np.asarray(params.get(n, defaults[n]), dtype=np.float64) for n in names}
-        return compute(shape)
+        shape = [np.asarray(params.get(n, defaults[n]), dtype=np.float64) for n in exact["params"]]
+        if exact["factor"] == "table":
+            assert exact["table"] is not None
+            return _tabulated(exact["table"], *shape)
+        if exact["factor"] == "blinn_closed_form":
+            return _blinn_closed_form(*shape)
+        return _one(*shape)
 
 
 def apply(model: str, params: dict[str, Any], normalization: str) -> dict[str, Any]:
     """Returns the parameters that evaluate ``model`` with the requested normalization."""
-    _check(model, normalization)
-    if normalization == "approximate":
+    exact = _exact(model, normalization)
+    if exact is None:
         return params
     c = factor(model, params)
-    if model == "torrance_sparrow":
+    if exact["factor"] == "one":
         return params  # c ≡ 1 (see the module docstring)
+    scales = exact["scales"]
     defaults = {p["name"]: p["default"] for p in _spec.specs()[model]["params"]}
-    ks = np.asarray(params.get("ks", defaults["ks"]), dtype=np.float64)
-    # ks is a colour: a trailing axis of 3 (or 1) against the shape parameters' batch
+    colour = np.asarray(params.get(scales, defaults[scales]), dtype=np.float64)
+    # The colour has a trailing axis of 3 (or 1) against the shape parameters' batch
     # shape; a scalar becomes one grey value per element.
-    if ks.ndim == 0:
-        ks = ks[None]
-    return {**params, "ks": ks * c[..., None]}
+    if colour.ndim == 0:
+        colour = colour[None]
+    return {**params, scales: colour * c[..., None]}

@@ -1,12 +1,12 @@
 """The model spec table, read once from the extension: every per-model fact Python needs
-(parameters, family, scene slot, split-sum roughness axis, energy tables) comes from here,
-so no Python module names a model to know what it is."""
+(parameters, family, scene slot, split-sum roughness axis, energy tables, exact
+normalization) comes from here, so no Python module names a model to know what it is."""
 
 from __future__ import annotations
 
 import copy
 from functools import cache
-from typing import Literal, TypedDict, cast
+from typing import Literal, TypedDict
 
 from . import _brdf_rs as _core
 
@@ -30,6 +30,9 @@ class ParamSpec(TypedDict):
     varies: bool
     #: The most values a list parameter takes (None for scalars and colours).
     max_len: int | None
+    #: For a colour list: the list parameter it has exactly one more entry than (else
+    #: None).
+    one_more_than: str | None
 
 
 class DfgAxis(TypedDict):
@@ -39,6 +42,20 @@ class DfgAxis(TypedDict):
     param: str
     #: The CLI's default axis (``"mid:lo:hi:n"``, ``"log:lo:hi:n"``).
     axis: str
+
+
+class ExactNormalization(TypedDict):
+    """A model's ``normalization="exact"`` (``brdf_rs._normalization``)."""
+
+    #: How the factor is computed: ``"one"`` (the lobe as written), ``"blinn_closed_form"``
+    #: or ``"table"`` (interpolated in the shipped table named by ``table``).
+    factor: Literal["one", "blinn_closed_form", "table"]
+    #: The shape parameters the factor is a function of, in the order it takes them.
+    params: list[str]
+    #: The colour parameter the factor multiplies.
+    scales: str
+    #: The table's name, for ``factor == "table"`` (else None).
+    table: str | None
 
 
 class ModelSpec(TypedDict):
@@ -68,6 +85,8 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
+    #: Its ``normalization="exact"``, or None where it has none.
+    exact: ExactNormalization | None
     params: list[ParamSpec]
 
 
@@ -75,12 +94,19 @@ class ModelSpec(TypedDict):
 def specs() -> dict[str, ModelSpec]:
     """Every model's spec by name, in a stable order: read once, shared (do not mutate;
     :func:`brdf_rs.models` hands out copies)."""
-    return cast("dict[str, ModelSpec]", {m["name"]: m for m in _core.models()})
+    return {m["name"]: m for m in _core.models()}
 
 
 def models() -> dict[str, ModelSpec]:
     """A copy of :func:`specs` that the caller may change."""
     return copy.deepcopy(specs())
+
+
+def admits(model: str, param: str, value: float) -> bool:
+    """Whether ``value`` passes the range check ``eval`` makes on ``model``'s ``param``
+    (closed bounds also admit their float32 roundings): for callers that word their own
+    errors."""
+    return _core.param_admits(model, param, value)
 
 
 def with_dfg() -> dict[str, DfgAxis]:
@@ -91,6 +117,11 @@ def with_dfg() -> dict[str, DfgAxis]:
 def with_energy_table() -> tuple[str, ...]:
     """The models with energy-compensation tables."""
     return tuple(name for name, s in specs().items() if s["energy_table"])
+
+
+def with_exact() -> dict[str, ExactNormalization]:
+    """The models with ``normalization="exact"``, and how it is computed."""
+    return {name: s["exact"] for name, s in specs().items() if s["exact"] is not None}
 
 
 def in_slot(slot: str) -> tuple[str, ...]:

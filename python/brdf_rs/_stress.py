@@ -43,7 +43,7 @@ import math
 import struct
 import time
 import zlib
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -365,21 +365,17 @@ _SPECIAL_VALUES: dict[str, list[Any]] = {
 }
 
 
-def _in_range(value: float, spec: Mapping[str, Any]) -> bool:
-    lo, hi = spec["min"], spec["max"]
-    above = value > lo if spec["min_open"] else value >= lo
-    below = value < hi if spec["max_open"] else value <= hi
-    return bool(above and below)
-
-
 def _parameter_variants(model: str) -> list[dict[str, Any]]:
     """The base parameter set, then one special value at a time (within the spec range)."""
     spec = _spec.specs()[model]
     base: dict[str, Any] = {}
     alternatives: list[tuple[str, Any]] = []
+    # A colour list sized by another list (a toon ramp's band colours, one more than its
+    # thresholds) is filled in to match each variant's list, below.
+    sized_by = {p["name"]: p["one_more_than"] for p in spec["params"] if p["one_more_than"]}
     for p in spec["params"]:
         name = p["name"]
-        if name == "colors":
+        if name in sized_by:
             continue
         values = _SPECIAL_VALUES.get(name)
         if values is None:
@@ -387,15 +383,15 @@ def _parameter_variants(model: str) -> list[dict[str, Any]]:
         allowed = []
         for v in values:
             numbers = v if isinstance(v, list) else [v]
-            if all(isinstance(x, str) or _in_range(float(x), p) for x in numbers):
+            if all(isinstance(x, str) or _spec.admits(model, name, float(x)) for x in numbers):
                 allowed.append(v)
         base[name] = allowed[0]
         alternatives.extend((name, v) for v in allowed[1:])
     variants = [base] + [{**base, name: value} for name, value in alternatives]
-    if model == "toon_diffuse":
+    for name, other in sized_by.items():
         for v in variants:
-            k = len(v["thresholds"])
-            v["colors"] = [[0.1 * (j + 1), 0.05 * j, 1.0 - 0.1 * j] for j in range(k + 1)]
+            k = len(v[other])
+            v[name] = [[0.1 * (j + 1), 0.05 * j, 1.0 - 0.1 * j] for j in range(k + 1)]
     return variants
 
 

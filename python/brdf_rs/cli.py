@@ -726,11 +726,15 @@ def cmd_plot_lobe(args: argparse.Namespace) -> int:
 
 def _add_user_commands(sub: Any) -> None:
     """Registers dfg, energy, bench and plot-lobe."""
+    by_param: dict[str, list[str]] = {}
+    for name, axis in _spec.with_dfg().items():
+        by_param.setdefault(axis["param"], []).append(name)
+    roughness = ", ".join(f"{param} for {' and '.join(names)}" for param, names in by_param.items())
     p = sub.add_parser(
         "dfg",
         help="build a split-sum (DFG) table: scale A and bias B with R_spec = F0*A + B",
         description="Tabulate the split-sum terms of a Schlick-Fresnel model over mu and "
-        "roughness (alpha for ggx and beckmann, p for blinn_phong_fresnel). Channel 0 of the "
+        f"roughness ({roughness}). Channel 0 of the "
         "table is the scale A, channel 1 the bias B.",
     )
     p.add_argument(
@@ -766,7 +770,7 @@ def _add_user_commands(sub: Any) -> None:
         "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy the "
         "multiple-scattering lobe (ggx_ms, beckmann_ms) restores.",
     )
-    p.add_argument("model", help="ggx or beckmann")
+    p.add_argument("model", help=" or ".join(_spec.with_energy_table()))
     p.add_argument(
         "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"
     )
@@ -1016,8 +1020,9 @@ def build_parser() -> argparse.ArgumentParser:
         type=_azimuth_option,
         default=None,
         help="the azimuth of wi in degrees from the tangent, counterclockwise about n "
-        "(default 0), or 'average' for the azimuth average; only ward and "
-        "ashikhmin_shirley depend on it (an axis: --axis phi=..., also in degrees; "
+        "(default 0), or 'average' for the azimuth average; only "
+        f"{' and '.join(n for n, s in _spec.specs().items() if s['tangent_optional'])} "
+        "depend on it (an axis: --axis phi=..., also in degrees; "
         "the saved table's phi axis is in radians, as brdf_rs.albedo_table takes it)",
     )
     p.add_argument(

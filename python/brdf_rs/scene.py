@@ -239,20 +239,13 @@ def _choice(where: _Where, value: Any, choices: Sequence[str]) -> str:
     return str(value)
 
 
-def _param_value(where: _Where, spec: Mapping[str, Any], value: Any) -> Any:
-    """Checks one model parameter's type and range against the model's spec."""
+def _param_value(where: _Where, model: str, spec: Mapping[str, Any], value: Any) -> Any:
+    """Checks one parameter of ``model``: its type here, its range by eval's check."""
     kind = spec["kind"]
     rng = spec["range"]
-    lo, hi = spec["min"], spec["max"]
-    # Closed bounds also admit their float32 roundings, as eval does (np.float32(pi/2)).
-    with np.errstate(over="ignore"):
-        lo = lo if spec["min_open"] else min(lo, float(np.float32(lo)))
-        hi = hi if spec["max_open"] else max(hi, float(np.float32(hi)))
 
     def in_range(x: float) -> bool:
-        above = x > lo if spec["min_open"] else x >= lo
-        below = x < hi if spec["max_open"] else x <= hi
-        return _fits(x) and bool(above and below)
+        return _fits(x) and _spec.admits(model, spec["name"], float(x))
 
     def scalar(w: _Where, x: Any, what: str) -> float:
         if not _is_number(x) or not in_range(x):
@@ -321,7 +314,7 @@ def _term(where: _Where, value: Any, *, family: str, slot: str | None) -> dict[s
     params = {}
     for name, p in param_specs.items():
         if name in table:
-            params[name] = _param_value(where / name, p, table[name])
+            params[name] = _param_value(where / name, model, p, table[name])
         elif p["default"] is None:
             raise (where / name).error(f"missing (required by {model}: {p['doc']})")
     arrays = {k: np.asarray(v, dtype=np.float64) for k, v in params.items()}

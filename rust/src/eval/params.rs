@@ -78,19 +78,10 @@ pub fn unravel(mut pos: usize, shape: &[usize]) -> Vec<usize> {
     idx
 }
 
-/// Checks every element of `view` against the parameter's range. A closed bound is
-/// taken as the widest of itself and its rounding to `f32` (the same in both dtypes, so
-/// that a value valid in one is valid in the other): `float32(π/2)` is above π/2, and
-/// must pass where π/2 is the documented maximum.
+/// Checks every element of `view` against the parameter's range, closed bounds widened
+/// to their `f32` roundings ([`crate::models::ValidRange::admitting_f32_bounds`]).
 fn check_range<F: Real>(spec: &ParamSpec, view: &ArrayViewD<'_, F>) -> Result<(), BrdfError> {
-    let mut range = spec.range;
-    let rounded = |b: f64| f64::from(b as f32);
-    if !range.min_open && range.min.is_finite() {
-        range.min = range.min.min(rounded(range.min));
-    }
-    if !range.max_open && range.max.is_finite() {
-        range.max = range.max.max(rounded(range.max));
-    }
+    let range = spec.range.admitting_f32_bounds();
     if let Some(pos) = view.iter().position(|x| !range.contains(x.to_f64())) {
         let index = unravel(pos, view.shape());
         let value = view[ndarray::IxDyn(&index)].to_f64();

@@ -122,7 +122,8 @@ impl ClosedFormLobe for VisibleLobe {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::{Directions, Kernel, ggx::Ggx};
+    use crate::models::ggx::{ALPHA, Ggx, KS};
+    use crate::models::{Directions, Kernel};
     use crate::sampling::{Warp, reflect, reflected_pdf};
 
     /// The closed form equals the generic `f·mu_o/pdf` of the same half vector (drawn
@@ -142,7 +143,9 @@ mod tests {
                 let sin = ((1.0 - mu) * (1.0 + mu)).sqrt();
                 let wi = DVec3::new(sin, 0.0, mu);
                 let lobe = VisibleLobe::new(alpha, f0, wi, smooth);
-                let slots = [0.0, 0.0, 0.0, f0, f0, f0, alpha];
+                let mut slots = [0.0; 7];
+                KS.write(&mut slots, [f0; 3]);
+                ALPHA.write(&mut slots, alpha);
                 let prepared = Ggx::prepare::<f64, [f64]>(&slots[..]);
                 let warp = Warp::GgxVisible { alpha };
                 for i in 0..64 {

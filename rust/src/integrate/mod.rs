@@ -1647,8 +1647,11 @@ mod tests {
     /// no control) and the others are dropped.
     #[test]
     fn strata_fall_back_together() {
-        use crate::models::torrance_sparrow::TorranceSparrow;
-        let slots = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 100.0, 1.5];
+        use crate::models::torrance_sparrow::{ETA, KS, P, TorranceSparrow};
+        let mut slots = [0.0; 8];
+        KS.write(&mut slots, [1.0; 3]);
+        P.write(&mut slots, 100.0);
+        ETA.write(&mut slots, 1.5);
         let terms = TorranceSparrow::albedo_terms(&slots, 1.0).unwrap();
         let (mut integrand, _) =
             CellIntegrand::<TorranceSparrow>::new(1.0, 0.0, false, &terms, &Default::default());

@@ -8,6 +8,8 @@
 //! evaluated with grey "basis" parameters, drawn with the importance sampler the model
 //! names. Terms whose colour is zero are never integrated.
 
+use super::lobes::{KD, KS, P};
+use super::slots::ColourSlot;
 use crate::eval::engine::MAX_VARYING_SLOTS;
 
 /// Parameter slots of a basis evaluation (family-A models have at most this many).
@@ -141,20 +143,15 @@ pub struct Term {
     pub integral: Integral,
 }
 
-/// Returns a copy of `slots` with the colours at the given slot offsets set to grey
-/// values: `basis(slots, &[(0, 0.0), (3, 1.0)])` is "kd = 0, ks = 1".
-pub fn basis(slots: &[f64], colours: &[(usize, f64)]) -> Slots {
+/// Returns a copy of `slots` with the given colours set to grey values:
+/// `basis(slots, &[(KD, 0.0), (KS, 1.0)])` is "kd = 0, ks = 1".
+pub fn basis(slots: &[f64], colours: &[(ColourSlot, f64)]) -> Slots {
     let mut out = [0.0; MAX_VARYING_SLOTS];
     out[..slots.len()].copy_from_slice(slots);
-    for &(slot, value) in colours {
-        out[slot..slot + 3].fill(value);
+    for &(colour, value) in colours {
+        colour.write(&mut out, [value; 3]);
     }
     out
-}
-
-/// Returns the colour at `slot`.
-pub fn colour(slots: &[f64], slot: usize) -> [f64; 3] {
-    [slots[slot], slots[slot + 1], slots[slot + 2]]
 }
 
 /// Returns `[s·c for c in colour]`.
@@ -162,20 +159,23 @@ pub fn scaled(colour: [f64; 3], s: f64) -> [f64; 3] {
     colour.map(|c| c * s)
 }
 
-/// A diffuse colour at slot 0 with a known albedo, and the whole power-cosine lobe
-/// (`lobe`, exponent `p` at slot 6) with the specular colour at slot 3, drawn from its
-/// own density ([`StratumLobe::importance`]): what a sampler draws.
+/// The diffuse colour `kd` with a known albedo, and the whole power-cosine lobe (`lobe`,
+/// exponent `p`) with the specular colour `ks`, drawn from its own density
+/// ([`StratumLobe::importance`]): what a sampler draws. The slots are the power-lobe
+/// models' ([`super::lobes`]).
 pub fn diffuse_and_whole_power_lobe(
     slots: &[f64],
     diffuse_albedo: f64,
     lobe: StratumLobe,
 ) -> Vec<Term> {
-    diffuse_and_lobe(slots, diffuse_albedo, lobe.importance(slots[6]))
+    let importance = lobe.importance(P.read(slots));
+    diffuse_and_lobe(slots, KD, KS, diffuse_albedo, importance)
 }
 
-/// A diffuse colour at slot 0 with a known albedo, and a power-cosine lobe `A·cos^p`
+/// The diffuse colour `kd` with a known albedo, and a power-cosine lobe `A·cos^p`
 /// (`lobe`: of `θh` for Blinn half vectors, of `α` about the mirror direction for Phong;
-/// `A = lobe_scale` for a unit colour, `p` at slot 6) with the specular colour at slot 3.
+/// `A = lobe_scale` for a unit colour) with the specular colour `ks`, in the power-lobe
+/// models' slots ([`super::lobes`]).
 /// At `p = 0` the lobe is `A` over the whole hemisphere above the surface (`cos^0 = 1`,
 /// for Phong also beyond 90° from the mirror direction), whose albedo is `A·π`;
 /// elsewhere in strata with its bulk exact where those apply
@@ -188,13 +188,13 @@ pub fn diffuse_and_power_lobe(
     mu: f64,
     lobe: StratumLobe,
 ) -> Vec<Term> {
-    let p = slots[6];
+    let p = P.read(slots);
     let mut terms = diffuse_and_whole_power_lobe(slots, diffuse_albedo, lobe);
     if p == 0.0 {
         terms[1].integral = Integral::Exact(lobe_scale * std::f64::consts::PI);
         return terms;
     }
-    let (colour, basis) = (colour(slots, 3), basis(slots, &[(0, 0.0), (3, 1.0)]));
+    let (colour, basis) = (KS.read(slots), basis(slots, &[(KD, 0.0), (KS, 1.0)]));
     let strata = match lobe {
         StratumLobe::Blinn => super::strata::blinn_terms(colour, basis, mu, p, lobe_scale),
         StratumLobe::Phong => super::strata::phong_terms(colour, basis, mu, p, lobe_scale),
@@ -206,18 +206,24 @@ pub fn diffuse_and_power_lobe(
     terms
 }
 
-/// The usual pair: a diffuse colour at slot 0 with a known albedo, and a specular colour
-/// at slot 3 whose lobe is integrated with `importance`.
-pub fn diffuse_and_lobe(slots: &[f64], diffuse_albedo: f64, importance: Importance) -> Vec<Term> {
+/// The usual pair: a diffuse colour `kd` with a known albedo, and a specular colour `ks`
+/// whose lobe is integrated with `importance`.
+pub fn diffuse_and_lobe(
+    slots: &[f64],
+    kd: ColourSlot,
+    ks: ColourSlot,
+    diffuse_albedo: f64,
+    importance: Importance,
+) -> Vec<Term> {
     vec![
         Term {
-            colour: colour(slots, 0),
+            colour: kd.read(slots),
             integral: Integral::Exact(diffuse_albedo),
         },
         Term {
-            colour: colour(slots, 3),
+            colour: ks.read(slots),
             integral: Integral::Lobe {
-                basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
+                basis: basis(slots, &[(kd, 0.0), (ks, 1.0)]),
                 importance,
             },
         },

@@ -12,7 +12,8 @@
 //! power is 1 whatever it is. The diffuse term's albedo is exactly
 //! `Rd·(1 − Rs)·(1 − (1 − mu_i/2)^5)` (the 28/23 normalizes it).
 
-use super::albedo::{Importance, Integral, Term, basis, colour};
+use super::albedo::{Importance, Integral, Term, basis};
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
     DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
 };
@@ -25,15 +26,22 @@ use crate::math::{PowUnit, Real, Vector3, max};
 /// The Ashikhmin-Shirley kernel.
 pub struct AshikhminShirley;
 
-const fn exponent(name: &'static str, slot: usize, doc: &'static str) -> ParamSpec {
+const fn exponent(name: &'static str, slot: ScalarSlot, doc: &'static str) -> ParamSpec {
     ParamSpec {
         name,
         kind: ParamKind::Scalar,
         default: Some(100.0),
         range: ValidRange::NON_NEGATIVE,
         doc,
-        slot,
+        slot: slot.first(),
     }
+}
+
+crate::param_slots! {
+    RD: ColourSlot,
+    RS: ColourSlot,
+    NU: ScalarSlot,
+    NV: ScalarSlot,
 }
 
 pub static SPEC: ModelSpec = ModelSpec {
@@ -50,7 +58,7 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: Some(0.5),
             range: ValidRange::NON_NEGATIVE,
             doc: "diffuse reflectance Rd (RGB)",
-            slot: 0,
+            slot: RD.first(),
         },
         ParamSpec {
             name: "Rs",
@@ -58,10 +66,10 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: Some(0.05),
             range: ValidRange::UNIT,
             doc: "specular reflectance at normal incidence Rs (RGB, in [0, 1])",
-            slot: 3,
+            slot: RS.first(),
         },
-        exponent("nu", 6, "Phong exponent along the tangent u"),
-        exponent("nv", 7, "Phong exponent along the bitangent v = n × u"),
+        exponent("nu", NU, "Phong exponent along the tangent u"),
+        exponent("nv", NV, "Phong exponent along the bitangent v = n × u"),
     ],
     tangent: TangentUse::Optional,
     reciprocal: true,
@@ -69,6 +77,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Coupled),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Derived constants.
@@ -101,8 +110,8 @@ impl Kernel for AshikhminShirley {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let (rd, rs) = (p.colour(0), p.colour(3));
-        let (nu, nv) = (p.scalar(6), p.scalar(7));
+        let (rd, rs) = (RD.read(p), RS.read(p));
+        let (nu, nv) = (NU.read(p), NV.read(p));
         let k = F::from_f64(28.0 / 23.0) * F::FRAC_1_PI;
         Prepared {
             diffuse: [0, 1, 2].map(|c| k * rd[c] * (F::ONE - rs[c])),
@@ -147,13 +156,13 @@ impl Kernel for AshikhminShirley {
     /// `Rd(1 − Rs)·(1 − (1 − mu/2)^5)` exactly, plus `Rs·I(Rs = 1) + (1 − Rs)·I(Rs = 0)`
     /// drawn with the paper's half-vector sampling.
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        let (rd, rs) = (colour(slots, 0), colour(slots, 3));
+        let (rd, rs) = (RD.read(slots), RS.read(slots));
         let importance = Importance::AnisotropicPhongHalf {
-            nu: slots[6],
-            nv: slots[7],
+            nu: NU.read(slots),
+            nv: NV.read(slots),
         };
         let lobe = |rs_value: f64| Integral::Lobe {
-            basis: basis(slots, &[(0, 0.0), (3, rs_value)]),
+            basis: basis(slots, &[(RD, 0.0), (RS, rs_value)]),
             importance,
         };
         Some(vec![

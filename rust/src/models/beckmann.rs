@@ -10,7 +10,8 @@
 //! α·sinθ·exp(−c²)/(2 sqrt(π))`, bounded at grazing angles. `erf` is the `libm` crate's
 //! (scalar: this model's loop does not vectorize).
 
-use super::albedo::{Integral, Term, basis, colour};
+use super::albedo::{Integral, Term, basis};
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
@@ -21,6 +22,12 @@ use crate::math::{PowUnit, Real, Vector3};
 /// The Beckmann kernel.
 pub struct Beckmann;
 
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    ALPHA: ScalarSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "beckmann",
     family: Family::A,
@@ -30,9 +37,14 @@ pub static SPEC: ModelSpec = ModelSpec {
               c = μ/(α·sqrt(1−μ²)), F = ks + (1−ks)(1−cos_b)^5",
     source: "Beckmann & Spizzichino 1963; Walter et al. 2007 (Smith Λ); Heitz 2014 (height-correlated G2)",
     params: &[
-        spec::kd(0.0, 0),
-        spec::f0(1.0, 3),
-        spec::roughness("alpha", 0.5, 6, "roughness α: RMS slope of the microfacets"),
+        spec::kd(0.0, KD),
+        spec::f0(1.0, KS),
+        spec::roughness(
+            "alpha",
+            0.5,
+            ALPHA,
+            "roughness α: RMS slope of the microfacets",
+        ),
     ],
     tangent: TangentUse::None,
     reciprocal: true,
@@ -43,6 +55,7 @@ pub static SPEC: ModelSpec = ModelSpec {
         axis: "mid:0:1:32",
     }),
     energy_table: true,
+    exact: None,
 };
 
 /// Derived constants.
@@ -105,10 +118,10 @@ impl Kernel for Beckmann {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let alpha = p.scalar(6);
+        let alpha = ALPHA.read(p);
         Prepared {
-            kd_over_pi: p.colour(0).map(|c| c * F::FRAC_1_PI),
-            f0: p.colour(3),
+            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
+            f0: KS.read(p),
             alpha,
             alpha2: alpha * alpha,
         }
@@ -140,16 +153,16 @@ impl Kernel for Beckmann {
     /// (Heitz & d'Eon 2014) with their closed-form weights `F·G2/G1(wi)`, bounded by 1
     /// ([`Integral::BeckmannVisible`]).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        let f0 = colour(slots, 3);
-        let alpha = slots[6];
+        let f0 = KS.read(slots);
+        let alpha = ALPHA.read(slots);
         let lobe = |f0: f64| Integral::BeckmannVisible {
             alpha,
             f0,
-            basis: basis(slots, &[(0, 0.0), (3, f0)]),
+            basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
         };
         Some(vec![
             Term {
-                colour: colour(slots, 0),
+                colour: KD.read(slots),
                 integral: Integral::Exact(1.0),
             },
             Term {

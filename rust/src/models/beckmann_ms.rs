@@ -6,6 +6,8 @@ use super::ggx_ms::{Prepared, TABLE_ALPHA, albedo_ms, eval_ms, prepare_ms};
 use super::spec::{
     self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
 };
+// `prepare_ms` reads the layout of `ggx_ms`, which this model shares.
+pub use super::ggx_ms::{ALPHA, KS, SLOTS};
 use super::tables::BECKMANN;
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real};
@@ -21,14 +23,14 @@ pub static SPEC: ModelSpec = ModelSpec {
               F_avg = ks + (1−ks)/21",
     source: "Kulla & Conty 2017 (Revisiting Physically Based Shading at Imageworks)",
     params: &[
-        spec::f0(1.0, 0),
+        spec::f0(1.0, KS),
         ParamSpec {
             name: "alpha",
             kind: ParamKind::Scalar,
             default: Some(0.5),
             range: TABLE_ALPHA,
             doc: "roughness α of the beckmann lobe it completes (table range [1e-3, 1])",
-            slot: 3,
+            slot: ALPHA.first(),
         },
     ],
     tangent: TangentUse::None,
@@ -37,6 +39,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for BeckmannMs {

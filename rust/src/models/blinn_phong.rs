@@ -6,6 +6,8 @@
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine_pow_over};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{PowUnit, Real, Vector3};
@@ -19,13 +21,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "Blinn-Phong: diffuse plus a cosine-power lobe of the half vector, over mu_i",
     formula: "f = kd + ks·cos_th^p / mu_i",
     source: "BRDF Summary eq. 7",
-    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for BlinnPhong {

@@ -4,12 +4,14 @@
 //! `ks` is the normal-incidence reflectance F0 and `cos_b = wi·h`. `(1 − cos_b)` comes
 //! from a vector difference, so Schlick's weight has no cancellation near normal incidence.
 
-use super::albedo::{Importance, Integral, Term, basis, colour};
+use super::albedo::{Importance, Integral, Term, basis};
 use super::lobes::DiffuseSpecular;
 use super::spec::{
     self, DfgAxis, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
     ValidRange,
 };
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
 use crate::math::{PowUnit, Real, Vector3};
@@ -24,16 +26,16 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "f = kd/π + (p+8)/(8π)·F·cos_th^p, F = ks + (1−ks)(1−cos_b)^5 (ks is F0)",
     source: "RTR 3rd ed. eq. 7.49",
     params: &[
-        spec::kd(0.0, 0),
+        spec::kd(0.0, KD),
         ParamSpec {
             name: "ks",
             kind: ParamKind::Colour,
             default: Some(0.04),
             range: ValidRange::UNIT,
             doc: "F0: specular reflectance at normal incidence (RGB, in [0, 1])",
-            slot: 3,
+            slot: KS.first(),
         },
-        spec::exponent(6),
+        spec::exponent(P),
     ],
     tangent: TangentUse::None,
     reciprocal: true,
@@ -44,6 +46,7 @@ pub static SPEC: ModelSpec = ModelSpec {
         axis: "log:1:10000:32",
     }),
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for BlinnPhongFresnel {
@@ -83,13 +86,13 @@ impl Kernel for BlinnPhongFresnel {
     /// bulks exact ([`super::strata`]), so that the error bar holds.
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
         let mut terms = Self::sampling_terms(slots, mu)?;
-        let p = slots[6];
-        let excess = basis(slots, &[(0, 0.0), (3, 0.0)]);
-        let colour_excess = colour(slots, 3).map(|c| 1.0 - c);
+        let p = P.read(slots);
+        let excess = basis(slots, &[(KD, 0.0), (KS, 0.0)]);
+        let colour_excess = KS.read(slots).map(|c| 1.0 - c);
         let excess = super::strata::blinn_phong_fresnel_terms(colour_excess, excess, mu, p);
-        let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
+        let lobe = basis(slots, &[(KD, 0.0), (KS, 1.0)]);
         let scale = (p + 8.0) / (8.0 * std::f64::consts::PI);
-        let f0 = super::strata::blinn_terms(colour(slots, 3), lobe, mu, p, scale);
+        let f0 = super::strata::blinn_terms(KS.read(slots), lobe, mu, p, scale);
         let [diffuse, whole_f0, whole_excess]: [Term; 3] = terms.try_into().ok()?;
         terms = vec![diffuse];
         terms.extend(f0.unwrap_or_else(|| vec![whole_f0]));
@@ -100,24 +103,24 @@ impl Kernel for BlinnPhongFresnel {
     /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`: F is affine in F0, so two scalar
     /// integrals (the lobe, and the lobe times Schlick's weight) give every RGB F0.
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        let f0 = colour(slots, 3);
-        let importance = Importance::BlinnHalf { p: slots[6] };
+        let f0 = KS.read(slots);
+        let importance = Importance::BlinnHalf { p: P.read(slots) };
         Some(vec![
             Term {
-                colour: colour(slots, 0),
+                colour: KD.read(slots),
                 integral: Integral::Exact(1.0),
             },
             Term {
                 colour: f0,
                 integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
+                    basis: basis(slots, &[(KD, 0.0), (KS, 1.0)]),
                     importance,
                 },
             },
             Term {
                 colour: f0.map(|c| 1.0 - c),
                 integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 0.0)]),
+                    basis: basis(slots, &[(KD, 0.0), (KS, 0.0)]),
                     importance,
                 },
             },

@@ -4,6 +4,7 @@
 //! (`l = −v`); `= mu_i·blinn_phong(kd=0)` for mu_i, mu_o > 0.
 
 use super::lobes::half_cosine_pow_over;
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real, Vector3};
@@ -11,19 +12,25 @@ use crate::math::{PowUnit, Real, Vector3};
 /// The Blinn specular kernel.
 pub struct BlinnSpecular;
 
+crate::param_slots! {
+    KS: ColourSlot,
+    P: ScalarSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "blinn_specular",
     family: Family::B,
     summary: "Blinn specular shading term: cosine power of the half vector",
     formula: "s = ks·clamp(n·h, 0, 1)^p, 0 when n·l <= 0",
     source: "scan-line shading assignment (Blinn specular)",
-    params: &[spec::ks(1.0, 0), spec::exponent(3)],
+    params: &[spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["ks"]),
     scene: SceneUse::Specular,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for BlinnSpecular {
@@ -35,7 +42,7 @@ impl Kernel for BlinnSpecular {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {
-        (p.colour(0), p.scalar(3))
+        (KS.read(p), P.read(p))
     }
 
     #[inline(always)]

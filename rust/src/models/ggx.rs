@@ -11,7 +11,8 @@
 //! bounded form of [`ggx_mu_lambda`](crate::math::geometry::ggx_mu_lambda) (finite at
 //! grazing angles, where `Λ` overflows), as one quotient: see [`lobe`].
 
-use super::albedo::{Integral, Term, basis, colour};
+use super::albedo::{Integral, Term, basis};
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted};
@@ -19,6 +20,12 @@ use crate::math::{PowUnit, Real, Vector3, max, min};
 
 /// The GGX kernel.
 pub struct Ggx;
+
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    ALPHA: ScalarSlot,
+}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ggx",
@@ -29,12 +36,12 @@ pub static SPEC: ModelSpec = ModelSpec {
               F = ks + (1−ks)(1−cos_b)^5",
     source: "Walter et al. 2007 (GGX); Heitz 2014 (height-correlated Smith)",
     params: &[
-        spec::kd(0.0, 0),
-        spec::f0(1.0, 3),
+        spec::kd(0.0, KD),
+        spec::f0(1.0, KS),
         spec::roughness(
             "alpha",
             0.5,
-            6,
+            ALPHA,
             "roughness α: the NDF's width (α = r² for a perceptual roughness r)",
         ),
     ],
@@ -47,6 +54,7 @@ pub static SPEC: ModelSpec = ModelSpec {
         axis: "mid:0:1:32",
     }),
     energy_table: true,
+    exact: None,
 };
 
 /// Derived constants.
@@ -126,11 +134,11 @@ impl Kernel for Ggx {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let alpha = p.scalar(6);
+        let alpha = ALPHA.read(p);
         let alpha2 = alpha * alpha;
         Prepared {
-            kd_over_pi: p.colour(0).map(|c| c * F::FRAC_1_PI),
-            f0: p.colour(3),
+            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
+            f0: KS.read(p),
             alpha2,
             d_scale: alpha2 * F::FRAC_1_PI,
         }
@@ -148,16 +156,16 @@ impl Kernel for Ggx {
     /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals
     /// with their closed-form weights ([`Integral::GgxVisible`]).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        let f0 = colour(slots, 3);
-        let alpha = slots[6];
+        let f0 = KS.read(slots);
+        let alpha = ALPHA.read(slots);
         let lobe = |f0: f64| Integral::GgxVisible {
             alpha,
             f0,
-            basis: basis(slots, &[(0, 0.0), (3, f0)]),
+            basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
         };
         Some(vec![
             Term {
-                colour: colour(slots, 0),
+                colour: KD.read(slots),
                 integral: Integral::Exact(1.0),
             },
             Term {

@@ -12,6 +12,7 @@
 //! interpolated `E`. `alpha` in [1e-3, 1].
 
 use super::albedo::{Integral, Term};
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
     self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
 };
@@ -31,6 +32,11 @@ pub const TABLE_ALPHA: ValidRange = ValidRange {
     max_open: false,
 };
 
+crate::param_slots! {
+    KS: ColourSlot,
+    ALPHA: ScalarSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ggx_ms",
     family: Family::A,
@@ -39,14 +45,14 @@ pub static SPEC: ModelSpec = ModelSpec {
               F_avg = ks + (1−ks)/21",
     source: "Kulla & Conty 2017 (Revisiting Physically Based Shading at Imageworks)",
     params: &[
-        spec::f0(1.0, 0),
+        spec::f0(1.0, KS),
         ParamSpec {
             name: "alpha",
             kind: ParamKind::Scalar,
             default: Some(0.5),
             range: TABLE_ALPHA,
             doc: "roughness α of the ggx lobe it completes (table range [1e-3, 1])",
-            slot: 3,
+            slot: ALPHA.first(),
         },
     ],
     tangent: TangentUse::None,
@@ -55,6 +61,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Prepared constants of a multiple-scattering lobe on a table.
@@ -68,8 +75,8 @@ pub struct Prepared<F> {
 /// Prepares a multiple-scattering lobe: the alpha node and the channel scale.
 #[inline(always)]
 pub fn prepare_ms<F: Real, P: ParamSource<F> + ?Sized>(table: &EnergyTable, p: &P) -> Prepared<F> {
-    let f0 = p.colour(0);
-    let alpha = table.alpha_node(p.scalar(3));
+    let f0 = KS.read(p);
+    let alpha = table.alpha_node(ALPHA.read(p));
     let avg_loss = table.avg_loss(alpha);
     let e_avg = F::ONE - avg_loss;
     let norm = F::FRAC_1_PI / avg_loss;

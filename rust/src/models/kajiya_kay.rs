@@ -14,6 +14,8 @@
 //! `sin_l² − sin_v² = (v·t)² − (l·t)²`; the difference of two rounded sines would cancel).
 
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::Cosine;
 use crate::math::{PowUnit, Real, Vector3, min};
@@ -27,13 +29,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "Kajiya-Kay fibre shading: diffuse sin_l plus a cosine-power cone highlight",
     formula: "s = kd·sin_l + ks·max(0, sin_l·sin_v − (l·t)(v·t))^p, 0 when n·l <= 0",
     source: "Kajiya & Kay 1989; RTR 3rd ed. eq. 7.50",
-    params: &[spec::kd(0.5, 0), spec::ks(0.5, 3), spec::exponent(6)],
+    params: &[spec::kd(0.5, KD), spec::ks(0.5, KS), spec::exponent(P)],
     tangent: TangentUse::Required,
     reciprocal: false,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Both,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for KajiyaKay {

@@ -3,7 +3,8 @@
 //! `f(wi, wo) = kd / π` (RTR §7.6; BRDF Summary, diffuse term). Its directional albedo is
 //! exactly `kd` for every incidence, so the integrator uses that closed form.
 
-use super::albedo::{Integral, Term, colour};
+use super::albedo::{Integral, Term};
+use super::slots::ColourSlot;
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Vector3;
@@ -13,19 +14,24 @@ use crate::math::{PowUnit, Real};
 /// The Lambert kernel.
 pub struct Lambert;
 
+crate::param_slots! {
+    KD: ColourSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "lambert",
     family: Family::A,
     summary: "perfectly diffuse reflection",
     formula: "f = kd/π",
     source: "RTR 3rd ed. §7.6; BRDF Summary (diffuse term)",
-    params: &[spec::kd(0.5, 0)],
+    params: &[spec::kd(0.5, KD)],
     tangent: TangentUse::None,
     reciprocal: true,
     weights: Some(&["kd"]),
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for Lambert {
@@ -38,7 +44,7 @@ impl Kernel for Lambert {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {
-        p.colour(0).map(|kd| kd * F::FRAC_1_PI)
+        KD.read(p).map(|kd| kd * F::FRAC_1_PI)
     }
 
     #[inline(always)]
@@ -48,7 +54,7 @@ impl Kernel for Lambert {
 
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(vec![Term {
-            colour: colour(slots, 0),
+            colour: KD.read(slots),
             integral: Integral::Exact(1.0),
         }])
     }

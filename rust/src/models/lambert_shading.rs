@@ -2,6 +2,7 @@
 //!
 //! `s(l, v) = kd·max(n·l, 0)` (the assignment's m_D is `kd`); `= π·mu_i·lambert`.
 
+use super::slots::ColourSlot;
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real, Vector3, max};
@@ -9,19 +10,24 @@ use crate::math::{PowUnit, Real, Vector3, max};
 /// The Lambert shading kernel.
 pub struct LambertShading;
 
+crate::param_slots! {
+    KD: ColourSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "lambert_shading",
     family: Family::B,
     summary: "Lambert diffuse shading term (includes the light cosine)",
     formula: "s = kd·max(n·l, 0)",
     source: "scan-line shading assignment (Lambert term, m_D = kd)",
-    params: &[spec::kd(0.5, 0)],
+    params: &[spec::kd(0.5, KD)],
     tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd"]),
     scene: SceneUse::Diffuse,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for LambertShading {
@@ -33,7 +39,7 @@ impl Kernel for LambertShading {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {
-        p.colour(0)
+        KD.read(p)
     }
 
     #[inline(always)]

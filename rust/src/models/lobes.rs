@@ -1,9 +1,17 @@
-//! Pieces the Phong and Blinn-Phong families share: the lobe cosines of docs/models.md and the
-//! prepared "diffuse colour + specular colour + exponent" triple.
+//! Pieces the Phong and Blinn-Phong families share: the lobe cosines of docs/models.md, the
+//! parameter layout "diffuse colour + specular colour + exponent" and its prepared triple.
 
 use super::{Directions, ParamSource};
 use crate::math::geometry::{Cosine, clamped_cosine, half_vector, mirror, weighted};
 use crate::math::{PowUnit, Real, Vector3};
+use crate::models::slots::{ColourSlot, ScalarSlot};
+
+// The power-lobe models' parameters: `kd`, `ks` and the exponent `p`.
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    P: ScalarSlot,
+}
 
 /// Prepared constants of a diffuse + cosine-power lobe: `kd` and `ks` already carry the
 /// model's constant factors (1/π, (p+2)/(2π), ...).
@@ -15,14 +23,14 @@ pub struct DiffuseSpecular<F> {
 }
 
 impl<F: Real> DiffuseSpecular<F> {
-    /// Reads `kd` (slots 0..3), `ks` (3..6) and `p` (6), and scales them.
+    /// Reads `kd`, `ks` and `p` ([`KD`], [`KS`], [`P`]), and scales them.
     #[inline(always)]
-    pub fn read<P: ParamSource<F> + ?Sized>(p: &P, kd_scale: F, ks_scale: impl Fn(F) -> F) -> Self {
-        let exponent = p.scalar(6);
+    pub fn read<S: ParamSource<F> + ?Sized>(p: &S, kd_scale: F, ks_scale: impl Fn(F) -> F) -> Self {
+        let exponent = P.read(p);
         let s = ks_scale(exponent);
         DiffuseSpecular {
-            kd: p.colour(0).map(|c| c * kd_scale),
-            ks: p.colour(3).map(|c| c * s),
+            kd: KD.read(p).map(|c| c * kd_scale),
+            ks: KS.read(p).map(|c| c * s),
             p: exponent,
         }
     }

@@ -10,6 +10,7 @@
 
 pub mod albedo;
 pub mod lobes;
+pub mod slots;
 pub mod spec;
 pub mod strata;
 pub mod tables;
@@ -161,6 +162,12 @@ macro_rules! declare_models {
                 match self { $(ModelKind::$variant => &$module::SPEC),* }
             }
 
+            /// Returns the model's slot layout as its file declares it.
+            #[cfg(test)]
+            fn slot_decls(self) -> &'static [slots::SlotDecl] {
+                match self { $(ModelKind::$variant => $module::SLOTS),* }
+            }
+
             /// Calls the visitor with the model's kernel type.
             pub fn visit<V: KernelVisitor>(self, visitor: V) -> V::Output {
                 match self { $(ModelKind::$variant => visitor.visit::<$module::$ty>()),* }
@@ -234,15 +241,34 @@ mod tests {
     }
 
     #[test]
-    fn param_slots_are_laid_out_in_order() {
+    fn slot_layouts_match_the_specs() {
         for kind in ModelKind::ALL {
             let spec = kind.spec();
+            let decls = kind.slot_decls();
+            assert_eq!(decls.len(), spec.params.len(), "{}", spec.name);
             let mut next = 0;
-            for p in spec.params {
-                assert_eq!(p.slot, next, "{}.{}", spec.name, p.name);
-                next += p.kind.slots();
+            for (p, decl) in spec.params.iter().zip(decls) {
+                let at = format!("{}.{} ({})", spec.name, p.name, decl.name);
+                assert!(
+                    decl.name.eq_ignore_ascii_case(p.name),
+                    "{at}: named after another"
+                );
+                assert_eq!(decl.first, next, "{at}: not where the previous one ends");
+                assert_eq!(
+                    p.slot, decl.first,
+                    "{at}: the spec's slot is not the layout's"
+                );
+                assert_eq!(
+                    decl.width,
+                    p.kind.slots(),
+                    "{at}: a slot type of another kind"
+                );
+                if p.kind == ParamKind::Colour {
+                    assert_eq!(decl.width, 3, "{at}");
+                }
+                next += decl.width;
             }
-            assert_eq!(spec.slot_count(), next);
+            assert_eq!(spec.slot_count(), next, "{}", spec.name);
         }
     }
 }

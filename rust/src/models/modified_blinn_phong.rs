@@ -5,6 +5,8 @@
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{PowUnit, Real, Vector3};
@@ -18,13 +20,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "reciprocal Blinn-Phong: diffuse plus a cosine-power lobe of the half vector",
     formula: "f = kd + ks·cos_th^p",
     source: "BRDF Summary eq. 8",
-    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: true,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for ModifiedBlinnPhong {

@@ -6,7 +6,11 @@
 
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, half_cosine};
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{
+    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, SceneUse, TangentUse,
+};
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{PowUnit, Real, Vector3};
@@ -20,13 +24,18 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "Blinn-Phong lobe with the approximate (p+8)/(8π) normalization, plus Lambert",
     formula: "f = kd/π + ks·(p+8)/(8π)·cos_th^p",
     source: "BRDF Summary eq. 9 (cos_th, not cos_ar: typo fixed); RTR 3rd ed. eq. 7.48",
-    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: true,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: Some(ExactNormalization {
+        factor: ExactFactor::BlinnClosedForm,
+        params: &["p"],
+        scales: "ks",
+    }),
 };
 
 impl Kernel for NormalizedBlinnPhong {
@@ -58,7 +67,7 @@ impl Kernel for NormalizedBlinnPhong {
         Some(diffuse_and_power_lobe(
             slots,
             1.0,
-            (slots[6] + 8.0) / (8.0 * std::f64::consts::PI),
+            (P.read(slots) + 8.0) / (8.0 * std::f64::consts::PI),
             mu,
             StratumLobe::Blinn,
         ))

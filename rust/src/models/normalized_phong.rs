@@ -6,6 +6,8 @@
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{PowUnit, Real, Vector3};
@@ -19,13 +21,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "energy-normalized Phong lobe about the mirror direction, plus Lambert",
     formula: "f = kd/π + ks·(p+2)/(2π)·cos_ar^p",
     source: "BRDF Summary eq. 5; RTR 3rd ed. eq. 7.47",
-    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: true,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for NormalizedPhong {
@@ -53,7 +56,7 @@ impl Kernel for NormalizedPhong {
         Some(diffuse_and_power_lobe(
             slots,
             1.0,
-            (slots[6] + 2.0) / (2.0 * std::f64::consts::PI),
+            (P.read(slots) + 2.0) / (2.0 * std::f64::consts::PI),
             mu,
             StratumLobe::Phong,
         ))

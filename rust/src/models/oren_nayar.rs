@@ -5,7 +5,8 @@
 //! assignment). The angular factor is computed without trigonometry, see
 //! [`oren_nayar_angular`]; `cos(φi−φo)` is 0 when a tangent-plane projection has zero length.
 
-use super::albedo::{Importance, Integral, Term, basis, colour};
+use super::albedo::{Importance, Integral, Term, basis};
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::Vector3;
@@ -17,6 +18,11 @@ use crate::math::{PowUnit, Real};
 /// The Oren-Nayar BRDF kernel.
 pub struct OrenNayar;
 
+crate::param_slots! {
+    KD: ColourSlot,
+    SIGMA: ScalarSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "oren_nayar",
     family: Family::A,
@@ -24,13 +30,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "f = (kd/π)·(A + B·max(0, cos(φi−φo))·sin a·tan b), a = max(θi,θo), b = min(θi,θo), \
               A = 1 − 0.5σ²/(σ²+0.33), B = 0.45σ²/(σ²+0.09)",
     source: "Oren & Nayar 1994 (qualitative model), as in the shading assignment",
-    params: &[spec::kd(0.5, 0), spec::sigma(3)],
+    params: &[spec::kd(0.5, KD), spec::sigma(SIGMA)],
     tangent: TangentUse::None,
     reciprocal: true,
     weights: Some(&["kd"]),
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Derived constants: `kd·A/π` and `kd·B/π`.
@@ -49,8 +56,8 @@ impl Kernel for OrenNayar {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let kd = p.colour(0);
-        let (a, b) = oren_nayar_ab(p.scalar(3));
+        let kd = KD.read(p);
+        let (a, b) = oren_nayar_ab(SIGMA.read(p));
         Prepared {
             kd_a: kd.map(|c| c * a * F::FRAC_1_PI),
             kd_b: kd.map(|c| c * b * F::FRAC_1_PI),
@@ -94,17 +101,17 @@ impl Kernel for OrenNayar {
     /// One term: `kd·∫(A + B·g)/π·mu_o`, integrated with cosine sampling (the constant `A`
     /// part then adds no variance); exactly `kd·A` when `B = 0` (σ = 0).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        let (a, b) = oren_nayar_ab(slots[3]);
+        let (a, b) = oren_nayar_ab(SIGMA.read(slots));
         let integral = if b == 0.0 {
             Integral::Exact(a)
         } else {
             Integral::Lobe {
-                basis: basis(slots, &[(0, 1.0)]),
+                basis: basis(slots, &[(KD, 1.0)]),
                 importance: Importance::Cosine,
             }
         };
         Some(vec![Term {
-            colour: colour(slots, 0),
+            colour: KD.read(slots),
             integral,
         }])
     }

@@ -4,6 +4,7 @@
 //! `G = max(0, cos(φi−φo))` as in `oren_nayar`; `= π·mu_i·oren_nayar` for mu_i, mu_o > 0.
 //! The viewer may be below the surface; the light below gives 0.
 
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::oren_nayar_ab;
@@ -12,19 +13,25 @@ use crate::math::{PowUnit, Real, Vector3, clamp, max};
 /// The Oren-Nayar shading kernel.
 pub struct OrenNayarShading;
 
+crate::param_slots! {
+    KD: ColourSlot,
+    SIGMA: ScalarSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "oren_nayar_shading",
     family: Family::B,
     summary: "Oren-Nayar rough diffuse shading term (includes the light cosine)",
     formula: "s = kd·clamp(n·l, 0, 1)·(A + B·max(0, cos(φi−φo))·sin a·tan b)",
     source: "scan-line shading assignment (Oren-Nayar term)",
-    params: &[spec::kd(0.5, 0), spec::sigma(3)],
+    params: &[spec::kd(0.5, KD), spec::sigma(SIGMA)],
     tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd"]),
     scene: SceneUse::Diffuse,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Derived constants: `kd·A` and `kd·B`.
@@ -43,8 +50,8 @@ impl Kernel for OrenNayarShading {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let kd = p.colour(0);
-        let (a, b) = oren_nayar_ab(p.scalar(3));
+        let kd = KD.read(p);
+        let (a, b) = oren_nayar_ab(SIGMA.read(p));
         Prepared {
             kd_a: kd.map(|c| c * a),
             kd_b: kd.map(|c| c * b),

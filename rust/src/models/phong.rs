@@ -7,6 +7,8 @@
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::lobes::{DiffuseSpecular, mirror_cosine};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+// The power-lobe models' layout (`kd`, `ks`, `p`).
+pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::above_both;
 use crate::math::{PowUnit, Real, Vector3};
@@ -20,13 +22,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "original Phong: diffuse plus a cosine-power lobe about the mirror direction, over mu_i",
     formula: "f = kd + ks·cos_ar^p / mu_i",
     source: "BRDF Summary eq. 2",
-    params: &[spec::kd(0.0, 0), spec::ks(1.0, 3), spec::exponent(6)],
+    params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for Phong {

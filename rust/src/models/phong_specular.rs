@@ -4,6 +4,7 @@
 //! `= mu_i·phong(kd=0)` for mu_i, mu_o > 0.
 
 use super::lobes::mirror_cosine;
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real};
@@ -11,19 +12,25 @@ use crate::math::{PowUnit, Real};
 /// The Phong specular kernel.
 pub struct PhongSpecular;
 
+crate::param_slots! {
+    KS: ColourSlot,
+    P: ScalarSlot,
+}
+
 pub static SPEC: ModelSpec = ModelSpec {
     name: "phong_specular",
     family: Family::B,
     summary: "Phong specular shading term: cosine power about the mirror direction",
     formula: "s = ks·clamp(v·r, 0, 1)^p, 0 when n·l <= 0",
     source: "scan-line shading assignment (Phong specular, m_S = ks, γ = p)",
-    params: &[spec::ks(1.0, 0), spec::exponent(3)],
+    params: &[spec::ks(1.0, KS), spec::exponent(P)],
     tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["ks"]),
     scene: SceneUse::Specular,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 impl Kernel for PhongSpecular {
@@ -35,7 +42,7 @@ impl Kernel for PhongSpecular {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {
-        (p.colour(0), p.scalar(3))
+        (KS.read(p), P.read(p))
     }
 
     #[inline(always)]

@@ -1,6 +1,8 @@
 //! Model and parameter specs: the one table behind validation, `brdf_rs.models()`, the
 //! CLI and the docs.
 
+use super::slots::{ColourSlot, ScalarSlot};
+
 /// Which kind of function a model computes (docs/models.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Family {
@@ -150,6 +152,27 @@ impl ValidRange {
         above && below
     }
 
+    /// Returns the range the parameter checks apply (`eval`'s, a scene file's): a closed
+    /// bound taken as the widest of itself and its rounding to `f32` (the same in both
+    /// dtypes, so that a value valid in one is valid in the other): `float32(π/2)` is above
+    /// π/2, and must pass where π/2 is the documented maximum.
+    pub fn admitting_f32_bounds(self) -> ValidRange {
+        let mut range = self;
+        let rounded = |b: f64| f64::from(b as f32);
+        if !range.min_open && range.min.is_finite() {
+            range.min = range.min.min(rounded(range.min));
+        }
+        if !range.max_open && range.max.is_finite() {
+            range.max = range.max.max(rounded(range.max));
+        }
+        range
+    }
+
+    /// Returns whether the parameter checks admit `x` ([`ValidRange::admitting_f32_bounds`]).
+    pub fn admits(&self, x: f64) -> bool {
+        self.admitting_f32_bounds().contains(x)
+    }
+
     /// Returns the range as a phrase: `">= 0 and finite"`, `"in [0, 1]"`.
     pub fn describe(&self) -> String {
         if self.max == f64::INFINITY {
@@ -174,55 +197,56 @@ pub struct ParamSpec {
     pub range: ValidRange,
     /// One line: what the parameter means.
     pub doc: &'static str,
-    /// First float slot of the parameter in the kernel's raw parameter vector.
+    /// First float slot of the parameter in the kernel's raw parameter vector (from the
+    /// model's [`param_slots!`](crate::param_slots) layout).
     pub slot: usize,
 }
 
 /// `kd`: the diffuse colour.
-pub const fn kd(default: f64, slot: usize) -> ParamSpec {
+pub const fn kd(default: f64, slot: ColourSlot) -> ParamSpec {
     ParamSpec {
         name: "kd",
         kind: ParamKind::Colour,
         default: Some(default),
         range: ValidRange::NON_NEGATIVE,
         doc: "diffuse colour (RGB, >= 0)",
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `ks`: the specular colour.
-pub const fn ks(default: f64, slot: usize) -> ParamSpec {
+pub const fn ks(default: f64, slot: ColourSlot) -> ParamSpec {
     ParamSpec {
         name: "ks",
         kind: ParamKind::Colour,
         default: Some(default),
         range: ValidRange::NON_NEGATIVE,
         doc: "specular colour (RGB, >= 0)",
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `p`: the cosine exponent.
-pub const fn exponent(slot: usize) -> ParamSpec {
+pub const fn exponent(slot: ScalarSlot) -> ParamSpec {
     ParamSpec {
         name: "p",
         kind: ParamKind::Scalar,
         default: Some(32.0),
         range: ValidRange::NON_NEGATIVE,
         doc: "cosine exponent (shininess); larger is a narrower lobe",
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `sigma`: the Oren-Nayar roughness.
-pub const fn sigma(slot: usize) -> ParamSpec {
+pub const fn sigma(slot: ScalarSlot) -> ParamSpec {
     ParamSpec {
         name: "sigma",
         kind: ParamKind::Scalar,
         default: Some(0.5),
         range: ValidRange::QUARTER_TURN,
         doc: "roughness: standard deviation of the facet slope angle, radians",
-        slot,
+        slot: slot.first(),
     }
 }
 
@@ -230,7 +254,7 @@ pub const fn sigma(slot: usize) -> ParamSpec {
 pub const fn roughness(
     name: &'static str,
     default: f64,
-    slot: usize,
+    slot: ScalarSlot,
     doc: &'static str,
 ) -> ParamSpec {
     ParamSpec {
@@ -239,19 +263,19 @@ pub const fn roughness(
         default: Some(default),
         range: ValidRange::ROUGHNESS,
         doc,
-        slot,
+        slot: slot.first(),
     }
 }
 
 /// `ks` as Schlick's F0: a colour in [0, 1].
-pub const fn f0(default: f64, slot: usize) -> ParamSpec {
+pub const fn f0(default: f64, slot: ColourSlot) -> ParamSpec {
     ParamSpec {
         name: "ks",
         kind: ParamKind::Colour,
         default: Some(default),
         range: ValidRange::UNIT,
         doc: "F0: specular reflectance at normal incidence (RGB, in [0, 1]; 1 gives F = 1)",
-        slot,
+        slot: slot.first(),
     }
 }
 
@@ -283,6 +307,47 @@ pub struct ModelSpec {
     pub dfg: Option<DfgAxis>,
     /// Whether it has Kulla and Conty's energy-compensation tables (`F = 1`).
     pub energy_table: bool,
+    /// Its `normalization="exact"`, for models that have one.
+    pub exact: Option<ExactNormalization>,
+}
+
+/// A model's `normalization="exact"`: a factor `c` of the lobe's shape parameters
+/// multiplies a colour so that the lobe's directional albedo (no diffuse term, unit
+/// colour, Fresnel factor 1) peaks at exactly 1. The factors are computed in Python
+/// (`brdf_rs._normalization`, which derives each and gives its accuracy), elementwise
+/// on the parameters before the kernel runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExactNormalization {
+    pub factor: ExactFactor,
+    /// The shape parameters `c` is a function of, in the order the factor takes them (its
+    /// shape is theirs, broadcast).
+    pub params: &'static [&'static str],
+    /// The colour parameter `c` multiplies.
+    pub scales: &'static str,
+}
+
+/// How an exact normalization's factor is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExactFactor {
+    /// The lobe as written already peaks at 1: `c = 1`, the parameters are left alone.
+    One,
+    /// The Blinn-Phong lobe `(p+8)/(8π)·cos^p θh`, whose albedo peaks at normal incidence:
+    /// `c(p) = (p+2)(p+4)/((p+8)(p + 2^(−p/2)))` relative to `(p+8)/(8π)`.
+    BlinnClosedForm,
+    /// Defined at normal incidence and interpolated in the shipped table of that name
+    /// (over the logarithms of two roughnesses).
+    Table(&'static str),
+}
+
+impl ExactFactor {
+    /// The name `brdf_rs.models()` gives it (`"one"`, `"blinn_closed_form"`, `"table"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ExactFactor::One => "one",
+            ExactFactor::BlinnClosedForm => "blinn_closed_form",
+            ExactFactor::Table(_) => "table",
+        }
+    }
 }
 
 /// How a family-A model's diffuse term is evaluated on its own (a scene's diffuse or
@@ -377,5 +442,17 @@ mod tests {
         assert!(!ValidRange::UNIT.contains(f64::NAN));
         assert_eq!(ValidRange::POSITIVE.describe(), "> 0 and finite");
         assert_eq!(ValidRange::UNIT.describe(), "in [0, 1]");
+    }
+
+    #[test]
+    fn checks_admit_the_f32_roundings_of_closed_bounds() {
+        let half_pi_f32 = f64::from(std::f64::consts::FRAC_PI_2 as f32);
+        assert!(half_pi_f32 > std::f64::consts::FRAC_PI_2);
+        assert!(!ValidRange::QUARTER_TURN.contains(half_pi_f32));
+        assert!(ValidRange::QUARTER_TURN.admits(half_pi_f32));
+        assert!(!ValidRange::QUARTER_TURN.admits(half_pi_f32 * (1.0 + f64::EPSILON)));
+        // Open and infinite bounds are as written.
+        assert!(!ValidRange::POSITIVE.admits(0.0));
+        assert!(!ValidRange::NON_NEGATIVE.admits(f64::INFINITY));
     }
 }

@@ -5,6 +5,7 @@
 //! unlit side). The assignment's two-colour case is `thresholds=[t_D]`,
 //! `colors=[m_D2, m_D1]`; its listing mixes up `C` and `Cd`: this follows the formula.
 
+use super::slots::{ColourListSlot, ScalarListSlot};
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::cosine_at_least;
@@ -15,6 +16,11 @@ pub const MAX_THRESHOLDS: usize = 7;
 
 /// The toon diffuse kernel.
 pub struct ToonDiffuse;
+
+crate::param_slots! {
+    THRESHOLDS: ScalarListSlot<MAX_THRESHOLDS>,
+    COLORS: ColourListSlot<{ MAX_THRESHOLDS + 1 }>,
+}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "toon_diffuse",
@@ -32,7 +38,7 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: None,
             range: ValidRange::SIGNED_UNIT,
             doc: "ascending band edges in n·l, each in [-1, 1] (1 to 7 of them)",
-            slot: 0,
+            slot: THRESHOLDS.first(),
         },
         ParamSpec {
             name: "colors",
@@ -43,7 +49,7 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: None,
             range: ValidRange::NON_NEGATIVE,
             doc: "band colours c_0..c_k, darkest band first (one more than thresholds)",
-            slot: MAX_THRESHOLDS,
+            slot: COLORS.first(),
         },
     ],
     tangent: TangentUse::None,
@@ -52,6 +58,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Diffuse,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Thresholds (unused ones are +inf) and band colours.
@@ -71,8 +78,8 @@ impl Kernel for ToonDiffuse {
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {
-            thresholds: std::array::from_fn(|k| p.scalar(k)),
-            colors: std::array::from_fn(|k| p.colour(MAX_THRESHOLDS + 3 * k)),
+            thresholds: THRESHOLDS.read(p),
+            colors: COLORS.read(p),
         }
     }
 

@@ -4,6 +4,7 @@
 //! 0 when `n·l <= 0`. The comparison is decided from `1 ∓ v·r` near the ends of the
 //! range (see [`cosine_at_least`]): at `threshold = 1` only the exact mirror direction is inside.
 
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{cosine_at_least, mirror};
@@ -11,6 +12,12 @@ use crate::math::{PowUnit, Real, Vector3};
 
 /// The toon specular kernel.
 pub struct ToonSpecular;
+
+crate::param_slots! {
+    THRESHOLD: ScalarSlot,
+    HIGH: ColourSlot,
+    LOW: ColourSlot,
+}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "toon_specular",
@@ -25,7 +32,7 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: None,
             range: ValidRange::SIGNED_UNIT,
             doc: "highlight edge t_S in v·r, in [-1, 1]",
-            slot: 0,
+            slot: THRESHOLD.first(),
         },
         ParamSpec {
             name: "high",
@@ -33,7 +40,7 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: Some(1.0),
             range: ValidRange::NON_NEGATIVE,
             doc: "colour inside the highlight (m_S1)",
-            slot: 1,
+            slot: HIGH.first(),
         },
         ParamSpec {
             name: "low",
@@ -41,7 +48,7 @@ pub static SPEC: ModelSpec = ModelSpec {
             default: Some(0.0),
             range: ValidRange::NON_NEGATIVE,
             doc: "colour outside the highlight (m_S0)",
-            slot: 4,
+            slot: LOW.first(),
         },
     ],
     tangent: TangentUse::None,
@@ -50,6 +57,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Specular,
     dfg: None,
     energy_table: false,
+    exact: None,
 };
 
 /// Threshold, high and low colours.
@@ -70,9 +78,9 @@ impl Kernel for ToonSpecular {
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {
-            threshold: p.scalar(0),
-            high: p.colour(1),
-            low: p.colour(4),
+            threshold: THRESHOLD.read(p),
+            high: HIGH.read(p),
+            low: LOW.read(p),
         }
     }
 

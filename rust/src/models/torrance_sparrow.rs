@@ -9,9 +9,11 @@
 //! cos_th/(2 cos_b mu_o))`: the same value, but finite at grazing angles where
 //! `4 mu_i mu_o` underflows (no 0·∞).
 
-use super::albedo::{Importance, Term, basis, colour, diffuse_and_lobe};
+use super::albedo::{Importance, Term, basis, diffuse_and_lobe};
+use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, ParamKind, ParamSpec,
+    SceneUse, TangentUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
@@ -19,6 +21,13 @@ use crate::math::{PowUnit, Real, Vector3};
 
 /// The Torrance-Sparrow kernel.
 pub struct TorranceSparrow;
+
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    P: ScalarSlot,
+    ETA: ScalarSlot,
+}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "torrance_sparrow",
@@ -29,16 +38,16 @@ pub static SPEC: ModelSpec = ModelSpec {
               G = min(1, 2·cos_th·mu_o/cos_b, 2·cos_th·mu_i/cos_b)",
     source: "BRDF Summary eqs. 10–14; RTR 3rd ed. eq. 7.51",
     params: &[
-        spec::kd(0.0, 0),
-        spec::ks(1.0, 3),
-        spec::exponent(6),
+        spec::kd(0.0, KD),
+        spec::ks(1.0, KS),
+        spec::exponent(P),
         ParamSpec {
             name: "eta",
             kind: ParamKind::Scalar,
             default: Some(1.5),
             range: ValidRange::POSITIVE,
             doc: "relative index of refraction (scalar: the Fresnel term is grey)",
-            slot: 7,
+            slot: ETA.first(),
         },
     ],
     tangent: TangentUse::None,
@@ -47,6 +56,11 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: Some(ExactNormalization {
+        factor: ExactFactor::One,
+        params: &["p"],
+        scales: "ks",
+    }),
 };
 
 /// Derived constants.
@@ -68,13 +82,13 @@ impl Kernel for TorranceSparrow {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let exponent = p.scalar(6);
-        let eta = p.scalar(7);
+        let exponent = P.read(p);
+        let eta = ETA.read(p);
         let norm = (exponent + F::TWO) * F::HALF * F::FRAC_1_PI;
         let r = (eta - F::ONE) / (eta + F::ONE);
         Prepared {
-            kd_over_pi: p.colour(0).map(|c| c * F::FRAC_1_PI),
-            ks_norm: p.colour(3).map(|c| c * norm),
+            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
+            ks_norm: KS.read(p).map(|c| c * norm),
             p: exponent,
             r0: r * r,
         }
@@ -115,11 +129,11 @@ impl Kernel for TorranceSparrow {
     /// ([`super::strata`]), so that its error bar holds.
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
         let mut terms = Self::sampling_terms(slots, mu)?;
-        let eta = slots[7];
+        let eta = ETA.read(slots);
         let r = (eta - 1.0) / (eta + 1.0);
-        let lobe = basis(slots, &[(0, 0.0), (3, 1.0)]);
+        let lobe = basis(slots, &[(KD, 0.0), (KS, 1.0)]);
         if let Some(strata) =
-            super::strata::torrance_sparrow_terms(colour(slots, 3), lobe, mu, slots[6], r * r)
+            super::strata::torrance_sparrow_terms(KS.read(slots), lobe, mu, P.read(slots), r * r)
         {
             terms.truncate(1);
             terms.extend(strata);
@@ -130,8 +144,10 @@ impl Kernel for TorranceSparrow {
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         Some(diffuse_and_lobe(
             slots,
+            KD,
+            KS,
             1.0,
-            Importance::BlinnHalf { p: slots[6] },
+            Importance::BlinnHalf { p: P.read(slots) },
         ))
     }
 }

@@ -5,14 +5,24 @@
 //! normalized: Gram-Schmidt; +x without one), `y = n × x`. Isotropic when αx = αy (the
 //! tangent then does not matter).
 
-use super::albedo::{Importance, Integral, Term, basis, colour};
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::albedo::{Importance, Integral, Term, basis};
+use super::slots::{ColourSlot, ScalarSlot};
+use super::spec::{
+    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, SceneUse, TangentUse,
+};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
 use crate::math::{PowUnit, Real, Vector3};
 
 /// The Ward kernel.
 pub struct Ward;
+
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    ALPHA_X: ScalarSlot,
+    ALPHA_Y: ScalarSlot,
+}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ward",
@@ -21,15 +31,20 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "f = kd/π + ks·exp(−((h·x/αx)² + (h·y/αy)²)/cos_th²)/(4π·αx·αy·sqrt(mu_i·mu_o))",
     source: "Ward 1992 (SIGGRAPH), anisotropic form; RTR 3rd ed. §7.6",
     params: &[
-        spec::kd(0.0, 0),
-        spec::ks(1.0, 3),
+        spec::kd(0.0, KD),
+        spec::ks(1.0, KS),
         spec::roughness(
             "alpha_x",
             0.2,
-            6,
+            ALPHA_X,
             "roughness along the tangent x (RMS slope)",
         ),
-        spec::roughness("alpha_y", 0.2, 7, "roughness along the bitangent y = n × x"),
+        spec::roughness(
+            "alpha_y",
+            0.2,
+            ALPHA_Y,
+            "roughness along the bitangent y = n × x",
+        ),
     ],
     tangent: TangentUse::Optional,
     reciprocal: true,
@@ -37,6 +52,11 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    exact: Some(ExactNormalization {
+        factor: ExactFactor::Table("ward"),
+        params: &["alpha_x", "alpha_y"],
+        scales: "ks",
+    }),
 };
 
 /// Derived constants.
@@ -59,10 +79,10 @@ impl Kernel for Ward {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let (ax, ay) = (p.scalar(6), p.scalar(7));
+        let (ax, ay) = (ALPHA_X.read(p), ALPHA_Y.read(p));
         Prepared {
-            kd_over_pi: p.colour(0).map(|c| c * F::FRAC_1_PI),
-            ks: p.colour(3),
+            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
+            ks: KS.read(p),
             inv_ax: F::ONE / ax,
             inv_ay: F::ONE / ay,
             norm: F::from_f64(0.25) * F::FRAC_1_PI / (ax * ay),
@@ -114,18 +134,18 @@ impl Kernel for Ward {
     /// `kd·1 + ks·I`, the lobe drawn with Walter's sampling of the Gaussian NDF.
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let importance = Importance::BeckmannHalf {
-            alpha_x: slots[6],
-            alpha_y: slots[7],
+            alpha_x: ALPHA_X.read(slots),
+            alpha_y: ALPHA_Y.read(slots),
         };
         Some(vec![
             Term {
-                colour: colour(slots, 0),
+                colour: KD.read(slots),
                 integral: Integral::Exact(1.0),
             },
             Term {
-                colour: colour(slots, 3),
+                colour: KS.read(slots),
                 integral: Integral::Lobe {
-                    basis: basis(slots, &[(0, 0.0), (3, 1.0)]),
+                    basis: basis(slots, &[(KD, 0.0), (KS, 1.0)]),
                     importance,
                 },
             },

@@ -18,7 +18,7 @@ use crate::eval::{self, EvalInputs, EvalOptions, Plan};
 use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
-use crate::models::spec::SceneUse;
+use crate::models::spec::{ExactFactor, SceneUse};
 use crate::models::{ModelKind, ParamKind, TangentUse};
 use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
@@ -259,6 +259,19 @@ fn check_params<'py>(model: &str, params: &Bound<'py, PyDict>) -> PyResult<()> {
     Ok(())
 }
 
+/// Returns whether `value` passes the range check of `model`'s parameter `param` (the
+/// check `eval` makes), for callers that word their own errors (scene files).
+#[pyfunction]
+fn param_admits(model: &str, param: &str, value: f64) -> PyResult<bool> {
+    let spec = ModelKind::from_name(model)?.spec();
+    let Some(p) = spec.param(param) else {
+        return Err(PyValueError::new_err(format!(
+            "{model} has no parameter {param:?}"
+        )));
+    };
+    Ok(p.range.admits(value))
+}
+
 /// Returns the spec table: one dict per model.
 #[pyfunction]
 fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
@@ -285,6 +298,11 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
                 _ => None,
             };
             d.set_item("max_len", max_len)?;
+            let one_more_than = match p.kind {
+                ParamKind::ColourList { one_more_than, .. } => Some(one_more_than),
+                _ => None,
+            };
+            d.set_item("one_more_than", one_more_than)?;
             params.append(d)?;
         }
         let d = PyDict::new(py);
@@ -314,6 +332,22 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         };
         d.set_item("dfg", dfg)?;
         d.set_item("energy_table", spec.energy_table)?;
+        let exact = match spec.exact {
+            Some(exact) => {
+                let e = PyDict::new(py);
+                e.set_item("factor", exact.factor.name())?;
+                e.set_item("params", exact.params)?;
+                e.set_item("scales", exact.scales)?;
+                let table = match exact.factor {
+                    ExactFactor::Table(name) => Some(name),
+                    _ => None,
+                };
+                e.set_item("table", table)?;
+                Some(e)
+            }
+            None => None,
+        };
+        d.set_item("exact", exact)?;
         d.set_item("params", params)?;
         list.append(d)?;
     }
@@ -583,8 +617,8 @@ fn isa() -> &'static str {
 mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
-        albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads, pdf,
-        sample, set_num_threads,
+        albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads,
+        param_admits, pdf, sample, set_num_threads,
     };
 
     #[pymodule_export]

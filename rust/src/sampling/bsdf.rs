@@ -166,8 +166,16 @@ mod tests {
 
     #[test]
     fn mixture_probabilities_follow_lobe_strength() {
+        use crate::models::torrance_sparrow::{ETA, KD, KS, P};
+        let mut slots = [0.0; 8];
+        KD.write(&mut slots, [0.2; 3]);
+        KS.write(&mut slots, [0.6, 0.0, 0.0]);
+        P.write(&mut slots, 10.0);
+        ETA.write(&mut slots, 1.5);
         let terms = crate::models::albedo::diffuse_and_lobe(
-            &[0.2, 0.2, 0.2, 0.6, 0.0, 0.0, 10.0, 1.5],
+            &slots,
+            KD,
+            KS,
             1.0,
             Importance::BlinnHalf { p: 10.0 },
         );

@@ -709,7 +709,8 @@ mod tests {
             }
             let full = term(kind, &given);
             let mut rest = full.clone();
-            rest.slots[0..3].fill(0.0);
+            let kd = rest.param_slots("kd");
+            rest.slots[kd].fill(0.0);
             let lambert = term(
                 ModelKind::Lambert,
                 &[("kd", vec![0.3 * scale, 0.6 * scale, 0.9 * scale])],
@@ -745,7 +746,11 @@ mod tests {
         let parts = material_parts(&MaterialDesc::Brdf(phong_a.clone()), Component::Both).unwrap();
         assert_eq!(parts.len(), 1);
         assert_eq!(parts[0].term.kind, ModelKind::Lambert);
-        assert!((parts[0].term.slots[0] - 0.5 * std::f64::consts::PI).abs() < 1e-15);
+        assert!(
+            (parts[0].term.slots[crate::models::lambert::KD.first()] - 0.5 * std::f64::consts::PI)
+                .abs()
+                < 1e-15
+        );
         assert!(
             material_parts(&MaterialDesc::Brdf(phong_a), Component::Specular)
                 .unwrap()
@@ -767,7 +772,7 @@ mod tests {
         );
         let spec = &material_parts(&m, Component::Specular).unwrap()[0];
         assert_eq!(spec.term.kind, ModelKind::TorranceSparrow);
-        assert_eq!(&spec.term.slots[0..3], &[0.0; 3]);
+        assert_eq!(&spec.term.slots[spec.term.param_slots("kd")], &[0.0; 3]);
     }
 
     #[test]
@@ -796,8 +801,9 @@ mod tests {
         );
         let spec = material_parts(&m, Component::Specular).unwrap();
         assert_eq!(spec.len(), 1);
-        assert_eq!(spec[0].term.slots[0..3], [0.0; 3]);
-        assert_eq!(spec[0].term.slots[3..], a_s.slots[3..]);
+        let rd = a_s.param_slots("Rd");
+        assert_eq!(spec[0].term.slots[rd.clone()], [0.0; 3]);
+        assert_eq!(spec[0].term.slots[rd.end..], a_s.slots[rd.end..]);
         let refused = material_parts(&m, Component::Diffuse)
             .unwrap_err()
             .to_string();
