@@ -11,7 +11,7 @@ path. Every fenced ``sh`` and ``python`` block runs in README order, in one fold
   first on PATH and ``.venv`` in the folder pointing at the environment (so
   ``.venv/bin/brdf-rs`` works as written). Each must exit 0, and every file it names
   with ``-o``, ``--exr`` or ``--plot`` must exist afterwards and not be empty. The install
-  steps (making the venv, ``pip install .``, ``./scripts/test.sh``) are what the wheel
+  steps (making the venv, ``pip install -v .``, ``./scripts/test.sh``) are what the wheel
   stands in for: they are listed, not run. A line naming ``my_scene.toml`` (the user's
   own scene file) gets a copy of an example scene under that name first.
 - ``python``: the blocks run one after another in one namespace (a reader's session).
@@ -41,7 +41,7 @@ from pathlib import Path
 from typing import Any
 
 # Commands a from-source install runs; an installed wheel stands in for them.
-INSTALL_STEPS = ("python3 -m venv .venv", ".venv/bin/pip install .", "./scripts/test.sh")
+INSTALL_STEPS = ("python3 -m venv .venv", ".venv/bin/pip install -v .", "./scripts/test.sh")
 OUTPUT_FLAGS = ("-o", "--exr", "--plot")
 
 

@@ -8,6 +8,7 @@ if [ ! -x .venv/bin/python ]; then
 fi
 . .venv/bin/activate
 python -m pip install --quiet --upgrade pip
+echo "installing brdf-rs with its test dependencies (the first build compiles the Rust core: a few minutes)"
 python -m pip install --quiet -e ".[test]"
 cargo test --quiet
 python -m pytest -q "$@"
