@@ -250,17 +250,41 @@ const SKEWED_FROM: u64 = 64;
 const MIN_HIT_RATE: u64 = 32;
 /// Partial sums per reduction: a fixed pattern, so the bits do not depend on the ISA.
 const LANES: usize = 8;
-/// The width of a sampler's end region in one of its numbers ([`Lobe::ends`]): one
-/// Sobol stratum of replicates of 16 points (cells of 256 samples). Measured
-/// (`scripts/stderr_calibration.py --grid half_vector`): 1/32 leaves the replicates of 16
-/// points skewed (Ward at normal incidence: mean z 0.1, 1.6% beyond 3 standard errors).
-const END: f64 = 1.0 / 16.0;
-/// The ends of the unit square where a lobe's weight is logarithmic in a sampler's
-/// number ([`Lobe::ends`]): `u0 → 0`, `u0 → 1`, `u1 → 0`, `u1 → 1`.
-const END_U0_LOW: u8 = 0b1;
-const END_U0_HIGH: u8 = 0b10;
-const END_U1_LOW: u8 = 0b100;
-const END_U1_HIGH: u8 = 0b1000;
+/// The end regions of a lobe's sampler numbers ([`Lobe::ends`]): `mask` bit `2d` for
+/// `u_d → 0`, bit `2d + 1` for `u_d → 1`, each region `width` wide.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Ends {
+    mask: u8,
+    width: f64,
+}
+
+impl Ends {
+    const NONE: Ends = Ends {
+        mask: 0,
+        width: 0.0,
+    };
+}
+
+/// The ends of Ward's and Ashikhmin-Shirley's first number (`u0 → 1`), logarithmic all
+/// the way: one Sobol stratum of replicates of 16 points (cells of 256 samples) wide.
+/// Measured (`scripts/stderr_calibration.py --grid half_vector`): 1/32 leaves replicates
+/// of 16 points skewed (Ward at normal incidence: mean z 0.1, 1.6% beyond 3 standard
+/// errors).
+const LOG_ENDS: Ends = Ends {
+    mask: 0b10,
+    width: 1.0 / 16.0,
+};
+
+/// The ends of Beckmann's visible slopes, normal quantiles: both ends of the slope along
+/// `wi`'s azimuth (`u0`) and, across it, the end of the folded quantile (`u1 → 0`), or
+/// both of the full one. Measured as for [`LOG_ENDS`]: 1/64 leaves Beckmann at alpha 0.3
+/// and normal incidence skewed (2.0% beyond 3 standard errors at 4096 samples, mean z
+/// 0.16); 1/16 does not (0.4%, 0.02).
+const SLOPE_ENDS: Ends = Ends {
+    mask: 0b0111,
+    width: 1.0 / 16.0,
+};
+
 /// The largest `f64` below 1.
 const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 
@@ -296,10 +320,10 @@ struct Lobe<P> {
     /// weight, linear in the logarithm, has a skewed (exponential-like) error that no
     /// number of points removes: at and near normal incidence 2–3.5% of cells fell beyond
     /// 3 standard errors (0.9% is honest; `scripts/stderr_calibration.py --grid
-    /// half_vector`). In the last [`END`] of such a coordinate the weight is integrated
-    /// after a change of variables that vanishes at the end, against a control: see
+    /// half_vector`). In the last [`Ends::width`] of such a coordinate the weight is
+    /// integrated after a change of variables that vanishes at the end, against a control: see
     /// [`CellIntegrand::weights`].
-    ends: u8,
+    ends: Ends,
 }
 
 impl<P> Lobe<P> {
@@ -411,7 +435,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         beckmann: None,
                         control: None,
                         stratum: None,
-                        ends: 0,
+                        ends: Ends::NONE,
                     });
                 }
                 Integral::BeckmannVisible { alpha, f0, basis } => {
@@ -432,15 +456,13 @@ impl<K: Kernel> CellIntegrand<K> {
                         warp,
                         ggx: None,
                         bounded: beckmann.is_some() && !sobol,
-                        ends: if sobol && beckmann.is_some() {
-                            // Both ends of the slope along wi's azimuth; across it, the
-                            // end the folded (or both ends the full) normal quantile has.
-                            END_U0_LOW
-                                | END_U0_HIGH
-                                | END_U1_LOW
-                                | if fold { 0 } else { END_U1_HIGH }
-                        } else {
-                            0
+                        ends: match (sobol && beckmann.is_some(), fold) {
+                            (false, _) => Ends::NONE,
+                            (true, true) => SLOPE_ENDS,
+                            (true, false) => Ends {
+                                mask: 0b1111,
+                                ..SLOPE_ENDS
+                            },
                         },
                         beckmann,
                         control: None,
@@ -487,7 +509,11 @@ impl<K: Kernel> CellIntegrand<K> {
                         bounded: false,
                         control: None,
                         stratum: None,
-                        ends: if sobol && log_end { END_U0_HIGH } else { 0 },
+                        ends: if sobol && log_end {
+                            LOG_ENDS
+                        } else {
+                            Ends::NONE
+                        },
                     });
                 }
                 Integral::Stratum {
@@ -566,7 +592,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         bounded: false,
                         control,
                         stratum,
-                        ends: 0,
+                        ends: Ends::NONE,
                     });
                 }
             }
@@ -611,7 +637,7 @@ impl<K: Kernel> CellIntegrand<K> {
                 lobe.ggx = None;
                 lobe.beckmann = None;
                 lobe.bounded = false;
-                lobe.ends = 0;
+                lobe.ends = Ends::NONE;
                 changed = true;
                 if let Some((group, _)) = lobe.stratum {
                     stratified.push(group);
@@ -635,11 +661,11 @@ impl<K: Kernel> CellIntegrand<K> {
     /// the points in the lobe's [`Lobe::ends`], the weight after the change of variables
     /// there.
     ///
-    /// With `s` the distance of a number from its end (in `[0, X)`, `X` = [`END`]), the
-    /// end region's integral is taken in the variable `s` of `u = φ(s) = s·t·(2 − t)`,
-    /// `t = s/X` (`φ(0) = 0`, `φ(X) = X`, `φ'(X) = 1`, `φ'(s) = t·(4 − 3t)`), against the
-    /// control `c = w(X)` (the weight at the region's edge, the other number unchanged),
-    /// whose integral `∫ c·φ' ds = ∫ c ds` is known:
+    /// With `s` the distance of a number from its end (in `[0, X)`, `X` the lobe's
+    /// [`Ends::width`]), the end region's integral is taken in the variable `s` of
+    /// `u = φ(s) = s·t·(2 − t)`, `t = s/X` (`φ(0) = 0`, `φ(X) = X`, `φ'(X) = 1`,
+    /// `φ'(s) = t·(4 − 3t)`), against the control `c = w(X)` (the weight at the region's
+    /// edge, the other number unchanged), whose integral `∫ c·φ' ds = ∫ c ds` is known:
     ///
     /// `∫_0^X w(u) du = ∫_0^X [(w(φ(s)) − c)·φ'(s) + c] ds = ∫_0^X [φ'·w(φ(s)) + (1 − φ')·c] ds`.
     ///
@@ -663,7 +689,7 @@ impl<K: Kernel> CellIntegrand<K> {
         // SAFETY: the caller's contract.
         unsafe { self.raw_weights::<I>(k, u0, u1, u2, w, dirs) };
         let ends = self.lobes[k].ends;
-        if ends == 0 {
+        if ends.mask == 0 {
             return;
         }
         let mut leaves = Leaves::new();
@@ -799,22 +825,23 @@ impl<K: Kernel> CellIntegrand<K> {
 /// their coefficients `φ'(s)` and `1 − φ'(s)` ([`CellIntegrand::weights`]); `None`
 /// elsewhere.
 #[inline(always)]
-fn end_split(ends: u8, u: [f64; 2], d: usize) -> Option<[(f64, f64); 2]> {
-    let low = if ends >> (2 * d) & 1 != 0 && u[d] < END {
+fn end_split(ends: Ends, u: [f64; 2], d: usize) -> Option<[(f64, f64); 2]> {
+    let x = ends.width;
+    let low = if ends.mask >> (2 * d) & 1 != 0 && u[d] < x {
         true
-    } else if ends >> (2 * d + 1) & 1 != 0 && u[d] > 1.0 - END {
+    } else if ends.mask >> (2 * d + 1) & 1 != 0 && u[d] > 1.0 - x {
         false
     } else {
         return None;
     };
     let s = if low { u[d] } else { 1.0 - u[d] };
-    let t = s / END;
+    let t = s / x;
     let slope = t * (4.0 - 3.0 * t);
     let v = s * t * (2.0 - t);
     let (inner, edge) = if low {
-        (v, END)
+        (v, x)
     } else {
-        ((1.0 - v).min(ONE_BELOW), 1.0 - END)
+        ((1.0 - v).min(ONE_BELOW), 1.0 - x)
     };
     Some([(inner, slope), (edge, 1.0 - slope)])
 }
