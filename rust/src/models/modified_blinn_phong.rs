@@ -29,6 +29,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for ModifiedBlinnPhong {
     type Prepared<F: Real> = DiffuseSpecular<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC
