@@ -7,9 +7,13 @@ N random direction pairs (written with ``out=``, so only the kernel is timed) fo
 `--seconds`; the table keeps each build's best round and its ratio to the first build's.
 Rounds alternate the builds, which spreads a shared machine's noise over all of them.
 With one build it is also a steady load to profile (``perf record -- python ...``).
+``--precision LABEL=TIER`` evaluates that build with ``precision=TIER`` (default
+"accurate"): one Python under two labels compares the tiers, interleaved the same way.
 
     python benches/eval_ab.py --model torrance_sparrow --dtype float64 --n 16384 \\
         --build "main=/path/to/main/bin/python" --build "this tree=.venv/bin/python"
+    python benches/eval_ab.py --build "accurate=.venv/bin/python" \\
+        --build "fast=.venv/bin/python" --precision fast=fast
 """
 
 from __future__ import annotations
@@ -29,7 +33,9 @@ def extra_args(model: str) -> dict:
     return {}
 
 
-def worker(model: str, dtype: str, n: int, threads: int, seconds: float) -> None:
+def worker(
+    model: str, dtype: str, n: int, threads: int, seconds: float, precision: str = "accurate"
+) -> None:
     """Times eval here (the build this Python imports); JSON on stdout. Models that need
     a tangent get eval_throughput.py's (1, 0, 0)."""
     import brdf_rs
@@ -47,6 +53,8 @@ def worker(model: str, dtype: str, n: int, threads: int, seconds: float) -> None
     extra = extra_args(model)
     if brdf_rs.models()[model]["tangent"]:
         extra["tangent"] = np.array([1.0, 0.0, 0.0], dtype=dtype)
+    if precision != "accurate":
+        extra["precision"] = precision
     brdf_rs.eval(model, wi, wo, out=out, **extra)  # warm-up
     best = float("inf")
     start = time.perf_counter()
@@ -72,20 +80,30 @@ def main() -> None:
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--seconds", type=float, default=2.0, help="per build and round")
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument(
+        "--precision",
+        action="append",
+        default=[],
+        metavar="LABEL=TIER",
+        help="evaluate build LABEL with precision=TIER (accurate or fast; default accurate)",
+    )
     parser.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
-        worker(args.model, args.dtype, args.n, args.threads, args.seconds)
+        tier = args.precision[0] if args.precision else "accurate"
+        worker(args.model, args.dtype, args.n, args.threads, args.seconds, tier)
         return
     if not args.build or not all("=" in b for b in args.build):
         parser.error("give at least one --build LABEL=PYTHON")
     builds = dict(b.rsplit("=", 1) for b in args.build)
+    tiers = dict(t.split("=", 1) for t in args.precision)
     rounds: dict[str, list[float]] = {label: [] for label in builds}
     for r in range(args.rounds):
         for label, python in builds.items():
             cmd = [python, __file__, "--worker", "--model", args.model, "--dtype", args.dtype]
             cmd += ["--n", str(args.n), "--threads", str(args.threads)]
             cmd += ["--seconds", str(args.seconds)]
+            cmd += ["--precision", tiers.get(label, "accurate")]
             done = subprocess.run(cmd, check=True, capture_output=True, text=True)
             rounds[label].append(json.loads(done.stdout)["mevals"])
             print(f"round {r + 1}, {label}: {rounds[label][-1]:.1f} M evals/s", flush=True)

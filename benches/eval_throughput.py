@@ -3,13 +3,20 @@
 Million evaluations per second, float64 and float32, 1 and 2 threads, N random direction
 pairs (NumPy arrays in, a fresh NumPy array out, as a user calls it; the 'out=' column
 writes into a preallocated array with ``out=`` instead, which saves the kernel's first
-touch of fresh pages). Every number in one table comes from the same run, so the ratios
-compare like with like on a noisy machine; a row's brdf-rs columns (and its Numba column)
-are timed interleaved, call by call.
+touch of fresh pages; the 'fast' columns are ``precision="fast"`` on the same threads, a
+fresh array out and ``out=``).
+Every number in one table comes from the same run, so the ratios compare like with like
+on a noisy machine; a row's brdf-rs columns (and its Numba column) are timed interleaved,
+call by call.
 
-The Numba column (``torrance_sparrow`` and ``ggx``, float64): an ``@njit(parallel=True)``
-kernel of the same formula (benches/numba_models.py) returning a fresh array, checked to
-agree with brdf_rs to 1e-12 relative first; skipped when Numba is not installed.
+The Numba column (``torrance_sparrow`` and ``ggx``): an ``@njit(parallel=True)`` kernel of
+the same formula (benches/numba_models.py) on the row's arrays (float32 arrays in and out
+for the float32 rows, the arithmetic in float64 as Python's floats make it), returning a
+fresh array ('Numba') or a preallocated one ('Numba out='), checked to agree with brdf_rs
+to 1e-12 (float32: 1e-5) relative first; skipped when Numba is not installed. The ratios
+to Numba compare the kernels, both writing into preallocated arrays ('out=' and 'fast out='
+over 'Numba out='): with fresh arrays, the first touch of 100 MB of new pages per call
+bounds every column alike.
 
     python benches/eval_throughput.py                 # all models, N = 4,000,000
     python benches/eval_throughput.py --models torrance_sparrow --repeat 9
@@ -94,16 +101,19 @@ def interleaved_times(columns: dict, repeat: int) -> dict[str, tuple[float, floa
     return {key: (min(t), statistics.median(t)) for key, t in times.items()}
 
 
-def numba_call(model: str, wi: np.ndarray, wo: np.ndarray, extra: dict):
-    """The Numba parallel kernel of `model` as a call returning a fresh array, after
-    checking it against brdf_rs (None where there is no such kernel)."""
-    if wi.dtype != np.float64 or model not in numba_models.KERNELS:
+def numba_call(model: str, wi: np.ndarray, wo: np.ndarray, extra: dict, out=None):
+    """The Numba parallel kernel of `model` as a call returning a fresh array (or writing
+    into `out`), after checking it against brdf_rs (None where there is no such kernel)."""
+    if model not in numba_models.KERNELS:
         return None
     check = slice(0, 100_000)
-    numba_models.check_agreement(model, wi[check], wo[check], extra)
+    rtol = 1e-12 if wi.dtype == np.float64 else 1e-5
+    numba_models.check_agreement(model, wi[check], wo[check], extra, rtol=rtol)
     kernel = numba_models.KERNELS[model]["parallel"]
     args = numba_models.kernel_args(model, extra)
-    return lambda: kernel(wi, wo, *args, np.empty((len(wi), 3)))
+    if out is not None:
+        return lambda: kernel(wi, wo, *args, out)
+    return lambda: kernel(wi, wo, *args, np.empty((len(wi), 3), dtype=wi.dtype))
 
 
 def best_time(fn, repeat: int) -> tuple[float, float]:
@@ -145,7 +155,9 @@ def main() -> None:
     header = (
         f"{'model':24s} {'dtype':8s} {'numpy':>8s}"
         + "".join(f" {f'{t} thr':>8s} {f'{t} thr n':>9s}" for t in args.threads)
-        + f" {'out=':>8s} {'numba':>8s} {'x numpy':>8s}"
+        + f" {'out=':>8s} {'fast':>8s} {'fast o=':>8s} {'numba':>8s} {'numba o=':>8s}"
+        + f" {'x numba':>8s} {'fast x':>7s}"
+        + f" {'x numpy':>8s}"
     )
     print(f"N = {args.n:,}, best of {args.repeat}; M evals/s ('n': normalized=True)")
     print(header)
@@ -183,22 +195,42 @@ def main() -> None:
                 top,
                 functools.partial(brdf_rs.eval, model, wi, wo, out=outs[dtype], **tn, **extra),
             )
+            columns["fast"] = (
+                top,
+                functools.partial(brdf_rs.eval, model, wi, wo, precision="fast", **tn, **extra),
+            )
+            columns["fast_out"] = (
+                top,
+                functools.partial(
+                    brdf_rs.eval, model, wi, wo, out=outs[dtype], precision="fast", **tn, **extra
+                ),
+            )
             numba_fn = numba_call(model, wi, wo, extra)
             if numba_fn is not None:
                 columns["numba"] = (None, numba_fn)
+                columns["numba_out"] = (None, numba_call(model, wi, wo, extra, outs[dtype]))
             timed = interleaved_times(columns, args.repeat)
             for key, (best, median) in timed.items():
                 row[key] = args.n / best / 1e6
                 row[key + "_median"] = args.n / median / 1e6
             row.setdefault("numba", None)
+            row.setdefault("numba_out", None)
             brdf_rs.set_num_threads(top)
             row["speedup"] = row[f"{top}t"] / row["numpy"] if row["numpy"] else None
+            numba = row["numba_out"]
+            row["vs_numba"] = row["out"] / numba if numba else None
+            row["fast_vs_numba"] = row["fast_out"] / numba if numba else None
             rows.append(row)
             line = f"{model:24s} {dtype:8s} {_cell(row['numpy'], 8)}"
             for threads in args.threads:
                 line += f" {row[f'{threads}t']:8.1f} {row[f'{threads}t_normalized']:9.1f}"
             ratio = f"{row['speedup']:7.1f}x" if row["speedup"] else f"{'—':>8s}"
-            print(line + f" {row['out']:8.1f} {_cell(row['numba'], 8)} {ratio}", flush=True)
+            print(
+                line + f" {row['out']:8.1f} {row['fast']:8.1f} {row['fast_out']:8.1f}"
+                f" {_cell(row['numba'], 8)} {_cell(row['numba_out'], 8)}"
+                f" {_cell(row['vs_numba'], 7, 2)}x {_cell(row['fast_vs_numba'], 6, 2)}x {ratio}",
+                flush=True,
+            )
 
     meta = {
         "cpu": cpu_model(),
@@ -234,7 +266,9 @@ def merged(path: Path, meta: dict, rows: list) -> tuple[dict, list]:
     kept = [fresh.pop((r["model"], r["dtype"]), r) for r in old["rows"]]
     rerun = {"date": meta["date"], "models": sorted({r["model"] for r in rows})}
     reruns = [*old["meta"].get("reruns", []), rerun]
-    return {**old["meta"], "reruns": reruns}, kept + list(fresh.values())
+    # The rerun's Numba, when it had one: the table's header says which rows it timed.
+    numba = {k: meta[k] for k in ("numba", "numba_threads") if meta.get("numba")}
+    return {**old["meta"], **numba, "reruns": reruns}, kept + list(fresh.values())
 
 
 def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
@@ -248,22 +282,29 @@ def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
         f"'out=' = {max(threads)} threads writing into a preallocated array; "
         + (
             f"'Numba' = Numba {meta['numba']}'s parallel kernel of the same formula "
-            f"({meta['numba_threads']} threads, a fresh array out; torrance_sparrow and ggx, "
-            "float64), timed interleaved with the brdf-rs columns."
+            f"({meta['numba_threads']} threads, the row's dtype in and out, a fresh array; "
+            "torrance_sparrow and ggx), timed interleaved with the brdf-rs columns; "
+            f"'fast' = `precision=\"fast\"` on {max(threads)} threads (a fresh array; 'fast "
+            "out=': preallocated); 'x Numba' = 'out=' over 'Numba out=' and 'fast x Numba' = "
+            "'fast out=' over 'Numba out=': the kernels compared, each writing into a "
+            "preallocated array (with fresh arrays the first touch of new pages bounds "
+            "every column alike)."
             if meta.get("numba")
             else "'Numba': not installed."
         ),
         "",
         "| model | dtype | NumPy |"
         + "".join(f" {t} thread{'s' if t > 1 else ''} | normalized |" for t in threads)
-        + " out= | Numba | vs NumPy |",
-        "|---|---|---:|" + "---:|---:|" * len(threads) + "---:|---:|---:|",
+        + " out= | fast | fast out= | Numba | Numba out= | x Numba | fast x Numba | vs NumPy |",
+        "|---|---|---:|" + "---:|---:|" * len(threads) + "---:|" * 8 + "---:|",
     ]
     for r in rows:
         cells = "".join(f" {r[f'{t}t']:.1f} | {r[f'{t}t_normalized']:.1f} |" for t in threads)
         lines.append(
             f"| {r['model']} | {r['dtype']} | {_cell(r['numpy'])} |{cells} {r['out']:.1f} |"
-            f" {_cell(r.get('numba'))} |"
+            f" {_cell(r.get('fast'))} | {_cell(r.get('fast_out'))} | {_cell(r.get('numba'))} |"
+            f" {_cell(r.get('numba_out'))} |"
+            f" {_cell(r.get('vs_numba'), digits=2)} | {_cell(r.get('fast_vs_numba'), digits=2)} |"
             f" {_cell(r['speedup'], digits=0)}{'x' if r['speedup'] else ''} |"
         )
     for rerun in meta.get("reruns", []):

@@ -133,6 +133,44 @@ def test_goals_have_teeth():
     assert "NaN" in " ".join(_stress._summarize("lambert", fmt, nan).failures)
 
 
+@pytest.fixture(scope="module")
+def quick_fast_report():
+    return brdf_rs.stress(dtype="both", cases="quick", precision="fast")
+
+
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_quick_stress_meets_the_fast_goals(quick_fast_report, model, dtype):
+    """The fast tier (``precision="fast"``) on the same cases, against its own goals."""
+    s = quick_fast_report.summary(model, dtype)
+    worst = quick_fast_report.worst[f"{model}/{dtype}"]
+    assert s.ok, f"{model} ({dtype}): {s.failures}; worst: {worst}"
+    if not model.endswith("_ms"):
+        assert s.reference and s.well.cases >= 3, s
+    assert json.loads(quick_fast_report.to_json())["precision"] == "fast"
+    assert "precision 'fast'" in quick_fast_report.table()
+
+
+def test_fast_goals_have_teeth():
+    """Off by 2e-12 fails the fast tier's float64 goal (1e-12), off by 3e-6 its float32
+    goal (2e-6); off by 1e-13 and 1e-6 pass them."""
+
+    def off(rel):
+        def kernel(model, case, fmt):
+            got = _stress._kernel(model, case, fmt, precision="fast")
+            return tuple(x * (1 + rel) for x in got)
+
+        return kernel
+
+    for name, bad, fine in (("float64", 2e-12, 1e-13), ("float32", 3e-6, 1e-6)):
+        fmt = _stress._FORMATS[name]
+        cases = _stress._cases("lambert", fmt, True, 0)
+        for rel, ok in ((bad, False), (fine, True)):
+            results = [_stress._measure("lambert", c, fmt, mpref, off(rel)) for c in cases]
+            summary = _stress._summarize("lambert", fmt, results, "fast")
+            assert summary.ok is ok, (name, rel, summary.failures)
+
+
 def test_same_seed_same_cases_other_seed_other_cases():
     fmt = _stress._FORMATS["float32"]
     a = _stress._cases("phong", fmt, True, 3)
@@ -151,6 +189,8 @@ def test_stress_arguments_are_checked():
         brdf_rs.stress(["lambert"], cases="some")
     with pytest.raises(ValueError, match="seed"):
         brdf_rs.stress(["lambert"], seed=-1)
+    with pytest.raises(ValueError, match=r'^precision: expected "accurate" or "fast"; got "quick"'):
+        brdf_rs.stress(["lambert"], precision="quick")
 
 
 def test_reference_meets_the_same_goals():

@@ -11,6 +11,9 @@ from . import _brdf_rs as _core
 
 __all__ = ["Model", "eval", "isa", "models", "num_threads", "set_num_threads"]
 
+#: The accuracy tiers of ``precision=`` (docs/numerics.md).
+PRECISIONS = ("accurate", "fast")
+
 
 def eval(
     model: str,
@@ -23,6 +26,7 @@ def eval(
     check: bool = True,
     out: np.ndarray | None = None,
     normalization: str = "approximate",
+    precision: str = "accurate",
     **params: Any,
 ) -> np.ndarray:
     """Evaluates ``model`` for every pair of directions.
@@ -51,6 +55,11 @@ def eval(
             ``ward`` (whose albedo is unbounded at grazing incidence: exactly 1 at
             normal incidence, from a table the library computed). Details and
             accuracy: ``brdf_rs._normalization``.
+        precision: ``"accurate"`` (the default: the goals of docs/numerics.md, within a
+            few ulps) or ``"fast"``: powers ``x^p`` in plain floating point, relative
+            error at most 1e-12 in float64 and 2e-6 in float32 on well-conditioned
+            inputs (docs/numerics.md); the same results for bad inputs (NaN rows or
+            errors). Models without powers give the same bits in both.
         **params: the model's parameters (docs/models.md names). Scalars, RGB triples for
             colours, or arrays broadcasting against the batch (colours with a trailing
             axis of 3) for spatially varying parameters.
@@ -59,13 +68,19 @@ def eval(
         An array of shape ``broadcast(...) + (3,)`` (RGB): float32 if every direction
         input is float32 (computed by float32 kernels), float64 otherwise.
     """
+    if precision != "accurate" and precision != "fast":
+        _arrays.choice("precision", precision, PRECISIONS)
     if isinstance(normalization, str) and normalization == "approximate":
         # The common call (float arrays or 3-lists, numbers and colours) read in Rust;
         # None where an argument needs the conversions below (same results, same errors).
-        result = _core.eval_fast(model, wi, wo, n, tangent, params, normalized, check, out)
+        result = _core.eval_fast(
+            model, wi, wo, n, tangent, params, normalized, check, out, precision
+        )
         if result is not None:
             return result
-    return _eval_general(model, wi, wo, n, tangent, normalized, check, out, normalization, params)
+    return _eval_general(
+        model, wi, wo, n, tangent, normalized, check, out, normalization, params, precision
+    )
 
 
 def _eval_general(
@@ -79,6 +94,7 @@ def _eval_general(
     out: np.ndarray | None,
     normalization: str,
     params: dict[str, Any],
+    precision: str = "accurate",
 ) -> np.ndarray:
     """:func:`eval` for any arguments: converted here, then evaluated in Rust."""
     _arrays.model_name(model)
@@ -88,7 +104,7 @@ def _eval_general(
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), dtype)
     wi_, wo_ = _arrays.given(v, "wi"), _arrays.given(v, "wo")
     kernel = _core.eval_f32 if dtype == np.float32 else _core.eval_f64
-    return kernel(model, wi_, wo_, v["n"], v["tangent"], p, normalized, check, True, out)
+    return kernel(model, wi_, wo_, v["n"], v["tangent"], p, normalized, check, True, out, precision)
 
 
 def _check_out(out: object, dtype: type[np.floating]) -> None:
@@ -116,12 +132,21 @@ class Model:
     (3,)
     """
 
-    __slots__ = ("_fast", "_given", "_params", "name", "normalization")
+    __slots__ = ("_fast", "_given", "_params", "name", "normalization", "precision")
 
-    def __init__(self, name: str, *, normalization: str = "approximate", **params: Any) -> None:
-        """``normalization`` as in :func:`brdf_rs.eval` (``"exact"`` rescales ``ks`` once,
-        here); ``params`` the model's parameters."""
+    def __init__(
+        self,
+        name: str,
+        *,
+        normalization: str = "approximate",
+        precision: str = "accurate",
+        **params: Any,
+    ) -> None:
+        """``normalization`` and ``precision`` as in :func:`brdf_rs.eval` (``"exact"``
+        rescales ``ks`` once, here; every evaluation uses the ``precision`` tier);
+        ``params`` the model's parameters."""
         _arrays.model_name(name)
+        self.precision = _arrays.choice("precision", precision, PRECISIONS)
         given = _arrays.parameters(params, np.float64)
         _core.check_params(name, given)
         applied = _normalization.apply(name, given, normalization)
@@ -138,7 +163,7 @@ class Model:
 
     def __reduce__(self) -> tuple[Any, ...]:
         # Rebuilt from what it was made of (the prepared core object does not pickle).
-        return (_restore, (self.name, self.normalization, self._given))
+        return (_restore, (self.name, self.normalization, self._given, self.precision))
 
     @property
     def params(self) -> dict[str, np.ndarray]:
@@ -169,7 +194,7 @@ class Model:
         if self._fast is not None:
             # The common call read in Rust with the parameters laid out at __init__; None
             # where an argument needs the conversions below (same results, same errors).
-            result = self._fast.eval(wi, wo, n, tangent, normalized, check, out)
+            result = self._fast.eval(wi, wo, n, tangent, normalized, check, out, self.precision)
             if result is not None:
                 return result
         return self._eval_general(wi, wo, n, tangent, normalized, check, out)
@@ -202,6 +227,7 @@ class Model:
             check,
             recheck,
             out,
+            self.precision,
         )
 
     __call__ = eval
@@ -210,12 +236,19 @@ class Model:
         args = "".join(f", {k}={v.tolist()!r}" for k, v in self._given.items())
         if self.normalization != "approximate":
             args += f", normalization={self.normalization!r}"
+        if self.precision != "accurate":
+            args += f", precision={self.precision!r}"
         return f"Model({self.name!r}{args})"
 
 
-def _restore(name: str, normalization: str, params: dict[str, np.ndarray]) -> Model:
-    """Unpickles a :class:`Model`."""
-    return Model(name, normalization=normalization, **params)
+def _restore(
+    name: str,
+    normalization: str,
+    params: dict[str, np.ndarray],
+    precision: str = "accurate",
+) -> Model:
+    """Unpickles a :class:`Model` (pickles from before ``precision`` have 3 arguments)."""
+    return Model(name, normalization=normalization, precision=precision, **params)
 
 
 def models() -> dict[str, _spec.ModelSpec]:

@@ -54,6 +54,7 @@ def eval_f64(
     check: bool,
     check_params: bool,
     out: _F64 | None = None,
+    precision: str = "accurate",
 ) -> _F64: ...
 def eval_f32(
     model: str,
@@ -66,6 +67,7 @@ def eval_f32(
     check: bool,
     check_params: bool,
     out: _F32 | None = None,
+    precision: str = "accurate",
 ) -> _F32: ...
 def eval_fast(
     model: object,
@@ -77,6 +79,7 @@ def eval_fast(
     normalized: object,
     check: object,
     out: object,
+    precision: str = "accurate",
 ) -> _F64 | _F32 | None: ...
 def prepare_model(model: str, params: dict[str, _F64]) -> PreparedModel | None: ...
 
@@ -91,6 +94,7 @@ class PreparedModel:
         normalized: object,
         check: object,
         out: object,
+        precision: str = "accurate",
     ) -> _F64 | _F32 | None: ...
 
 def check_params(model: str, params: dict[str, _F64]) -> None: ...

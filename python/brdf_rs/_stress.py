@@ -33,11 +33,18 @@ error ≤ 1e-12 except where ``8·κ·u`` is larger (then within it); float32: r
 ≤ 1e-5 on well-conditioned cases. ``ggx_ms`` and ``beckmann_ms`` interpolate embedded
 tables and have no 50-digit reference: they count for NaN and infinities only.
 
+``precision="fast"`` runs the same cases through ``brdf_rs.eval(..., precision="fast")``
+and checks that tier's own goals (:data:`FAST_GOALS`): no NaN and no illegitimate
+infinity; float64: relative error ≤ 1e-12 on well-conditioned cases and within
+``max(1e-12, 8·κ·u)`` on ill-conditioned ones (no ulp goal); float32: relative error ≤ 2e-6
+on well-conditioned cases.
+
 mpmath is an optional dependency: ``pip install 'brdf-rs[stress]'``.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import struct
@@ -49,9 +56,9 @@ from typing import Any
 
 import numpy as np
 
-from . import _api, _spec
+from . import _api, _arrays, _spec
 
-__all__ = ["GOALS", "StressReport", "stress"]
+__all__ = ["FAST_GOALS", "GOALS", "StressReport", "stress"]
 
 #: κ at most this: well-conditioned.
 WELL_CONDITIONED = 4.0
@@ -74,6 +81,24 @@ GOALS: dict[str, dict[str, float]] = {
         "well_rel_max": 1e-5,
     },
 }
+
+#: The goals of the fast tier (``precision="fast"``): relative errors, no ulp goal.
+FAST_GOALS: dict[str, dict[str, float]] = {
+    "float64": {
+        "nan": 0,
+        "illegitimate_inf": 0,
+        "rel_max": 1e-12,
+        "kappa_factor": KAPPA_FACTOR,
+    },
+    "float32": {
+        "nan": 0,
+        "illegitimate_inf": 0,
+        "well_rel_max": 2e-6,
+    },
+}
+
+#: The goals of each tier.
+TIER_GOALS = {"accurate": GOALS, "fast": FAST_GOALS}
 
 
 def _require_mpmath() -> Any:
@@ -508,13 +533,21 @@ class _Result:
     error: str | None = None
 
 
-def _kernel(model: str, case: _Case, fmt: _Format) -> tuple[float, float, float]:
+def _kernel(
+    model: str, case: _Case, fmt: _Format, precision: str = "accurate"
+) -> tuple[float, float, float]:
     def arr(v: Any) -> np.ndarray | None:
         return None if v is None else np.asarray(v, dtype=fmt.dtype)
 
     params = dict(case.params)
     value = _api.eval(
-        model, arr(case.wi), arr(case.wo), arr(case.n), tangent=arr(case.tangent), **params
+        model,
+        arr(case.wi),
+        arr(case.wo),
+        arr(case.n),
+        tangent=arr(case.tangent),
+        precision=precision,
+        **params,
     )
     red, green, blue = (float(x) for x in value)
     return red, green, blue
@@ -608,7 +641,9 @@ class ModelSummary:
         return not self.failures
 
 
-def _summarize(model: str, fmt: _Format, results: list[_Result]) -> ModelSummary:
+def _summarize(
+    model: str, fmt: _Format, results: list[_Result], precision: str = "accurate"
+) -> ModelSummary:
     reference = any(r.exact is not None for r in results)
     measured = [r for r in results if r.exact is not None and r.error is None]
     well = [r for r in measured if r.kappa is not None and r.kappa <= WELL_CONDITIONED]
@@ -638,9 +673,10 @@ def _summarize(model: str, fmt: _Format, results: list[_Result]) -> ModelSummary
     bad_inf = summary.inf - summary.inf_legitimate
     if bad_inf:
         f.append(f"{bad_inf} illegitimate infinit{'y' if bad_inf == 1 else 'ies'}")
+    goals = TIER_GOALS[precision]
     if fmt.name == "float64":
-        goal = GOALS["float64"]
-        if summary.well.ulp_p99 > goal["well_ulp_p99"]:
+        goal = goals["float64"]
+        if "well_ulp_p99" in goal and summary.well.ulp_p99 > goal["well_ulp_p99"]:
             f.append(
                 f"well-conditioned p99 {summary.well.ulp_p99:g} ulp > {goal['well_ulp_p99']:g}"
             )
@@ -656,9 +692,12 @@ def _summarize(model: str, fmt: _Format, results: list[_Result]) -> ModelSummary
                 f"{worst.rel:.3g} at κ = {worst.kappa:.3g} ({worst.case.label})"
             )
     else:
-        goal = GOALS["float32"]
+        goal = goals["float32"]
         if summary.well.rel_max > goal["well_rel_max"]:
-            f.append(f"well-conditioned relative error {summary.well.rel_max:.3g} > 1e-5")
+            f.append(
+                f"well-conditioned relative error {summary.well.rel_max:.3g} > "
+                f"{goal['well_rel_max']:g}"
+            )
     return summary
 
 
@@ -705,6 +744,7 @@ class StressReport:
     seed: int
     seconds: float
     worst: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
+    precision: str = "accurate"
 
     @property
     def ok(self) -> bool:
@@ -724,7 +764,8 @@ class StressReport:
                     "cases": self.cases,
                     "seed": self.seed,
                     "seconds": self.seconds,
-                    "goals": GOALS,
+                    "precision": self.precision,
+                    "goals": TIER_GOALS[self.precision],
                     "well_conditioned": f"kappa <= {WELL_CONDITIONED:g}",
                     "reach_ulps": REACH_ULPS,
                     "models": [{**asdict(s), "ok": s.ok} for s in self.summaries],
@@ -778,7 +819,8 @@ class StressReport:
                 lines.append(f"FAILED {s.model} ({s.dtype}): {failure}")
         lines.append(
             f"{'all goals met' if self.ok else 'goals NOT met'} "
-            f"({self.cases} cases, seed {self.seed}, {self.seconds:.1f} s)"
+            f"(precision {self.precision!r}, {self.cases} cases, seed {self.seed}, "
+            f"{self.seconds:.1f} s)"
         )
         return "\n".join(lines)
 
@@ -817,6 +859,7 @@ def stress(
     cases: str = "all",
     seed: int = 0,
     progress: Callable[[str, str, int, int], None] | None = None,
+    precision: str = "accurate",
 ) -> StressReport:
     """Runs every model (or ``models``) over the adversarial input set; see the module doc.
 
@@ -827,14 +870,18 @@ def stress(
             ``"quick"`` (a stratified sample of about ten per model: seconds).
         seed: the generator's seed (same seed, same cases, same report).
         progress: called as ``progress(model, dtype, done, total)`` after each model.
+        precision: the tier evaluated (``brdf_rs.eval``'s ``precision=``), whose goals
+            are checked: :data:`GOALS` for ``"accurate"``, :data:`FAST_GOALS` for
+            ``"fast"``.
 
     Returns:
         A :class:`StressReport`; ``report.ok`` says whether every goal is met.
 
     Raises:
         ImportError: mpmath is not installed.
-        ValueError: an unknown model, dtype or case set.
+        ValueError: an unknown model, dtype, case set or precision.
     """
+    _arrays.choice("precision", precision, _api.PRECISIONS)
     mpref = _require_mpmath()
     known = list(_spec.specs())
     if models is None:
@@ -855,12 +902,13 @@ def stress(
     total = len(names) * len(formats)
     for fmt in formats:
         for name in names:
+            evaluate = functools.partial(_kernel, precision=precision)
             results = [
-                _measure(name, case, fmt, mpref)
+                _measure(name, case, fmt, mpref, evaluate)
                 for case in _cases(name, fmt, cases == "quick", int(seed))
             ]
-            summaries.append(_summarize(name, fmt, results))
+            summaries.append(_summarize(name, fmt, results, precision))
             worst[f"{name}/{fmt.name}"] = _worst(results, fmt)
             if progress is not None:
                 progress(name, fmt.name, len(summaries), total)
-    return StressReport(summaries, cases, int(seed), time.perf_counter() - start, worst)
+    return StressReport(summaries, cases, int(seed), time.perf_counter() - start, worst, precision)

@@ -837,7 +837,12 @@ def cmd_stress(args: argparse.Namespace) -> int:
 
     try:
         report = _stress.stress(
-            models, dtype=args.dtype, cases=args.cases, seed=args.seed, progress=progress
+            models,
+            dtype=args.dtype,
+            cases=args.cases,
+            seed=args.seed,
+            progress=progress,
+            precision=args.precision,
         )
     finally:
         if bar is not None:
@@ -1153,6 +1158,13 @@ def build_parser() -> argparse.ArgumentParser:
         default="quick",
         choices=["quick", "all"],
         help="quick: ~10 cases per model (seconds); all: ~400 (minutes)",
+    )
+    p.add_argument(
+        "--precision",
+        default="accurate",
+        choices=["accurate", "fast"],
+        help="the tier of brdf_rs.eval to run, whose goals are checked (fast: relative "
+        "error at most 1e-12 in float64, 2e-6 in float32, on well-conditioned cases)",
     )
     p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")

@@ -12,10 +12,10 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
-use super::Plan;
 use super::rows::Rows;
+use super::{Plan, Precision};
 use crate::math::geometry::{tangent_parallel, wide_cosine};
-use crate::math::{Real, TablePow, Vector3};
+use crate::math::{FastPow, PowUnit, Real, TablePow, Vector3};
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
 
@@ -244,19 +244,47 @@ macro_rules! for_lanes {
 
 /// Normalizes one scratch vector in place (unless `normalized`), and clears `ok` for
 /// rows that are NaN, infinite or zero-length.
+///
+/// In the fast tier (`P::FAST`), a block whose rows all have squared lengths in
+/// [`Real::ORDINARY_LENGTH_SQUARED`] is normalized the short way
+/// ([`Real::normalize_ordinary`]: `f64` within about 2 ulps). Any other block (a NaN,
+/// infinite, zero, tiny or huge row among its first `len`) takes [`Real::normalize`]
+/// whole, so bad rows are flagged, and extreme ones normalized, as in the accurate tier.
 #[inline(always)]
-fn normalize_block<F: Real>(
+fn normalize_block<F: Real, P: PowUnit>(
     v: &mut [[F; BLOCK]; 3],
     ok: &mut [bool; BLOCK],
     normalized: bool,
     lanes: usize,
+    len: usize,
 ) {
     let [x, y, z] = v;
     if normalized {
         for_lanes!(lanes, |j| {
             ok[j] &= F::usable(F::V3::new(x[j], y[j], z[j]));
         });
-    } else {
+        return;
+    }
+    if P::FAST {
+        let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
+        let mut all_ordinary = true;
+        for_lanes!(lanes, |j| {
+            // NaN fails both comparisons; lanes past `len` hold stale scratch.
+            let l2 = F::V3::new(x[j], y[j], z[j]).length_squared();
+            all_ordinary &= ((l2 >= lo) & (l2 <= hi)) | (j >= len);
+        });
+        if all_ordinary {
+            for_lanes!(lanes, |j| {
+                let raw = F::V3::new(x[j], y[j], z[j]);
+                let u = F::normalize_ordinary(raw);
+                x[j] = u.x();
+                y[j] = u.y();
+                z[j] = u.z();
+            });
+            return;
+        }
+    }
+    {
         for_lanes!(lanes, |j| {
             let (u, usable) = F::normalize(F::V3::new(x[j], y[j], z[j]));
             x[j] = u.x();
@@ -267,10 +295,12 @@ fn normalize_block<F: Real>(
     }
 }
 
-/// Evaluates rows `first_row .. first_row + out.len()/3` of the plan with kernel `K`.
+/// Evaluates rows `first_row .. first_row + out.len()/3` of the plan with kernel `K`,
+/// its powers computed by `P` ([`TablePow`]; [`FastPow`] for the fast tier, which also
+/// normalizes ordinary blocks the short way, see [`normalize_block`]).
 /// Returns whether any row had an unusable input vector.
 #[inline(always)]
-fn run_range<F: Real, K: Kernel, const MODE: u8>(
+fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
@@ -351,11 +381,12 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                 continue;
             }
             load_vector(source, &plan.batch, row0, len, &mut scratch.vectors[i]);
-            normalize_block(
+            normalize_block::<F, P>(
                 &mut scratch.vectors[i],
                 &mut scratch.ok,
                 plan.options.normalized,
                 lanes,
+                len,
             );
         }
         if check_tangent {
@@ -394,9 +425,9 @@ fn run_range<F: Real, K: Kernel, const MODE: u8>(
                     slots: &scratch.params,
                     j,
                 };
-                K::eval_with::<F, TablePow>(&K::prepare(&params), &d)
+                K::eval_with::<F, P>(&K::prepare(&params), &d)
             } else {
-                K::eval_with::<F, TablePow>(&uniform, &d)
+                K::eval_with::<F, P>(&uniform, &d)
             };
             let ok = scratch.ok[j];
             bad_in_block |= !ok & (j < len);
@@ -531,38 +562,40 @@ const MODE_VARYING: u8 = 2;
 /// The signature of a compiled range loop.
 type RangeFn<F> = for<'p, 'a, 'o> unsafe fn(&'p Plan<'a, F>, usize, &'o mut [F]) -> bool;
 
-fn range_baseline<F: Real, K: Kernel, const MODE: u8>(
+fn range_baseline<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
-    run_range::<F, K, MODE>(plan, first_row, out)
+    run_range::<F, K, P, MODE>(plan, first_row, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-fn range_avx2<F: Real, K: Kernel, const MODE: u8>(
+fn range_avx2<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
-    run_range::<F, K, MODE>(plan, first_row, out)
+    run_range::<F, K, P, MODE>(plan, first_row, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-fn range_avx512<F: Real, K: Kernel, const MODE: u8>(
+fn range_avx512<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     plan: &Plan<'_, F>,
     first_row: usize,
     out: &mut [F],
 ) -> bool {
-    run_range::<F, K, MODE>(plan, first_row, out)
+    run_range::<F, K, P, MODE>(plan, first_row, out)
 }
 
-/// Picks the compiled loop for a model, an instruction set and a mode.
+/// Picks the compiled loop for a model, an instruction set, a mode and a tier.
 struct SelectLoop<F> {
     isa: Isa,
     mode: u8,
+    /// The fast tier: its loops where the model has powers ([`Kernel::POWERS`]).
+    fast: bool,
     _float: PhantomData<F>,
 }
 
@@ -570,12 +603,24 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
     type Output = RangeFn<F>;
 
     fn visit<K: Kernel>(self) -> RangeFn<F> {
+        macro_rules! pick_mode {
+            ($f:ident, $p:ty) => {
+                match self.mode {
+                    MODE_NORMAL_Z => $f::<F, K, $p, MODE_NORMAL_Z> as RangeFn<F>,
+                    MODE_VARYING => $f::<F, K, $p, MODE_VARYING> as RangeFn<F>,
+                    _ => $f::<F, K, $p, MODE_UNIFORM> as RangeFn<F>,
+                }
+            };
+        }
+        // `K::POWERS` and `F::FAST_TIER` are constants: models without powers, and `f32`,
+        // compile no fast-tier loops, nor does the baseline instruction set (x86-64 CPUs
+        // without AVX2 are rare, and the accurate loops meet the fast tier's bound).
         macro_rules! pick {
             ($f:ident) => {
-                match self.mode {
-                    MODE_NORMAL_Z => $f::<F, K, MODE_NORMAL_Z> as RangeFn<F>,
-                    MODE_VARYING => $f::<F, K, MODE_VARYING> as RangeFn<F>,
-                    _ => $f::<F, K, MODE_UNIFORM> as RangeFn<F>,
+                if K::POWERS && F::FAST_TIER && self.fast {
+                    pick_mode!($f, FastPow)
+                } else {
+                    pick_mode!($f, TablePow)
                 }
             };
         }
@@ -585,7 +630,7 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
             Isa::Avx2 => return pick!(range_avx2),
             Isa::Baseline => {}
         }
-        pick!(range_baseline)
+        pick_mode!(range_baseline, TablePow)
     }
 }
 
@@ -622,6 +667,7 @@ pub fn run_polled<F: Real>(
     let range = plan.kind.visit(SelectLoop::<F> {
         isa,
         mode,
+        fast: plan.options.precision == Precision::Fast,
         _float: PhantomData,
     });
     let task_rows = TASK_BLOCKS * BLOCK;

@@ -32,6 +32,34 @@ pub struct EvalInputs<'a, F> {
     pub params: Vec<(&'a str, ArrayViewD<'a, F>)>,
 }
 
+/// The accuracy tier of an evaluation (`precision=` in Python).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Precision {
+    /// The library's accuracy goals (docs/numerics.md): powers to within an ulp.
+    #[default]
+    Accurate,
+    /// Powers in plain floating point ([`crate::math::FastPow`]) and a short path for the
+    /// normalization of ordinary vectors: relative error at most 1e-12 (`f64`) and 2e-6
+    /// (`f32`) on well-conditioned inputs; the same handling of bad inputs.
+    Fast,
+}
+
+impl Precision {
+    /// The tier named `name` (`"accurate"` or `"fast"`).
+    ///
+    /// # Errors
+    /// [`BrdfError::InvalidArgument`] naming the argument for any other name.
+    pub fn from_name(name: &str) -> Result<Precision, BrdfError> {
+        match name {
+            "accurate" => Ok(Precision::Accurate),
+            "fast" => Ok(Precision::Fast),
+            _ => Err(BrdfError::InvalidArgument(format!(
+                "precision: expected \"accurate\" or \"fast\"; got {name:?}"
+            ))),
+        }
+    }
+}
+
 /// How to treat the inputs.
 #[derive(Clone, Copy, Debug)]
 pub struct EvalOptions {
@@ -42,6 +70,8 @@ pub struct EvalOptions {
     pub check: bool,
     /// Check parameter values against their ranges (off only when already checked).
     pub check_params: bool,
+    /// The accuracy tier.
+    pub precision: Precision,
 }
 
 impl Default for EvalOptions {
@@ -50,6 +80,7 @@ impl Default for EvalOptions {
             normalized: false,
             check: true,
             check_params: true,
+            precision: Precision::Accurate,
         }
     }
 }

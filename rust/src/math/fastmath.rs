@@ -797,6 +797,137 @@ pub fn log_f32(x: f32) -> f32 {
     if x >= 0.0 { r } else { f32::NAN }
 }
 
+// ----------------------------------------------------------- the fast tier
+
+// fdlibm's `e_log.c` minimax coefficients of (log(1+f) - 2s)/s - ... in s^2 (relative
+// error below 2^-58.45 on |s| <= 0.1716), and its split of ln 2 (the high part has 32
+// significant bits: k * LN2_HI is exact for |k| < 2^21).
+const LG1: f64 = f64::from_bits(0x3FE5555555555593); // 6.666666666666735130e-01
+const LG2: f64 = f64::from_bits(0x3FD999999997FA04); // 3.999999999940941908e-01
+const LG3: f64 = f64::from_bits(0x3FD2492494229359); // 2.857142874366239149e-01
+const LG4: f64 = f64::from_bits(0x3FCC71C51D8E78AF); // 2.222219843214978396e-01
+const LG5: f64 = f64::from_bits(0x3FC7466496CB03DE); // 1.818357216161805012e-01
+const LG6: f64 = f64::from_bits(0x3FC39A09D078C69F); // 1.531383769920937332e-01
+const LG7: f64 = f64::from_bits(0x3FC2F112DF3E5244); // 1.479819860511658591e-01
+const SQRT2_F64: f64 = std::f64::consts::SQRT_2;
+
+/// ln(x·2^-kx) for x in [0, 1] given with `one_minus_x` (used for x > √3/2, where it is
+/// the reduced argument, exactly as given), in plain `f64`: fdlibm's `log` scheme,
+/// x = 2^k (1 + f) with 1 + f in [1/√2, √2], s = f/(2 + f), ln(1 + f) = f − (f²/2 −
+/// s (f²/2 + R(s²))). Within about 1 ulp of the exact logarithm; x = 0 gives a finite
+/// value (the caller selects the result).
+#[inline(always)]
+fn ln_fast_f64(x: f64, one_minus_x: f64, kx: f64) -> f64 {
+    let tiny = x < f64::MIN_POSITIVE;
+    let xs = if tiny { x * TWO54_F64 } else { x };
+    let bits = xs.to_bits();
+    let e = f64::from_bits((bits >> 52) | TWO52_BITS_F64) - 4503599627371519.0; // 2^52+1023
+    let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | ONE_BITS_F64);
+    let big = m > SQRT2_F64;
+    let m = if big { m * 0.5 } else { m };
+    // From √3/2 on the complement is the base, as for the accurate powers (the caller's x
+    // and 1 − x may disagree in their last bits); below, f = x − 1 is exact.
+    let near = x > SQRT3_HALF_F64;
+    let k = e + if big { 1.0 } else { 0.0 } - if tiny { 54.0 } else { 0.0 } - kx;
+    let k = if near { 0.0 } else { k };
+    let f = if near { -one_minus_x } else { m - 1.0 }; // m − 1: exact (Sterbenz)
+    // A division, not Newton's reciprocal (three steps from a linear estimate, 2.5e-15):
+    // measured with benches/eval_ab.py, the division's shorter latency ran Torrance-Sparrow
+    // float64 4% faster, though the divider is the loop's busiest unit.
+    let s = f / (2.0 + f);
+    let z = s * s;
+    // Below 2^-500, R(z) is negligible next to f; the clamp keeps z² out of the
+    // subnormal range (a subnormal result costs a microcode assist).
+    let z = if z < TWO_M500_F64 { TWO_M500_F64 } else { z };
+    let w = z * z;
+    let t1 = w * (LG2 + w * (LG4 + w * LG6));
+    let t2 = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7)));
+    let r = t2 + t1;
+    let fc = if f.abs() < TWO_M400_F64 { 0.0 } else { f };
+    let hfsq = 0.5 * fc * fc;
+    k * LN2_H32_F64 - ((hfsq - (s * (hfsq + r) + k * LN2_L32_F64)) - f)
+}
+
+/// e^y·2^-e for an integer |e| <= 1100: exactly 0 below 2^-1100 (through the
+/// subnormals with one rounding, [`scale_f64`]) and +inf beyond the float range. The
+/// reduction y = n ln 2 + r takes n·ln2 in two parts (n·LN2_H32 exact), e^r (|r| <=
+/// ln2/2) is [`exp_mant_f64`]'s polynomial: about 1 ulp, plus the error y carries in.
+#[inline(always)]
+fn exp_fast_f64(y: f64, e: f64) -> f64 {
+    let lo = (e - 1100.0) * LN2_F64;
+    let hi = (e + 1025.0) * LN2_F64;
+    let y = if y < lo { lo } else { y };
+    let y = if y > hi { hi } else { y };
+    let kd = y * LOG2E_F64 + SHIFT_F64;
+    let n = kd - SHIFT_F64;
+    let r = (y - n * LN2_H32_F64) - n * LN2_L32_F64;
+    // e^r − 1 − r = r²/2 + r³ P(r), Estrin's scheme.
+    let r2 = r * r;
+    let r4 = r2 * r2;
+    let p01 = r * P64_1 + P64_0;
+    let p23 = r * P64_3 + P64_2;
+    let p45 = r * P64_5 + P64_4;
+    let p67 = r * P64_7 + P64_6;
+    let p03 = r2 * p23 + p01;
+    let p47 = r2 * p67 + p45;
+    let p48 = r4 * P64_8 + p47;
+    let pr = r4 * p48 + p03;
+    let q = r2 * (r * pr + 0.5);
+    scale_f64(1.0 + (r + q), kd - e)
+}
+
+/// x^p·2^-e / m for x·2^-kx (x in [0, 1] with `one_minus_x`, integers |e| <= 1100 and
+/// 0 <= kx <= 600, m in [1, 2)): e^(p·ln x) in plain `f64`. A quotient above 1 is formed
+/// from halves, so it does not overflow below 2^1024. Special cases as [`pow_unit_f64`].
+#[inline(always)]
+fn pow_fast_scaled_f64(x: f64, one_minus_x: f64, p: f64, e: f64, kx: f64, m: f64) -> f64 {
+    let y = p * ln_fast_f64(x, one_minus_x, kx);
+    let big = y - e * LN2_F64 > 0.0;
+    let e = if big { e + 1.0 } else { e };
+    let m = if big { m * 0.5 } else { m };
+    let r = exp_fast_f64(y, e);
+    // 2^-e, exact (+inf for e < -1024)
+    let one = scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e });
+    let r = if one_minus_x == 0.0 { one } else { r };
+    let r = if x == 0.0 { 0.0 } else { r };
+    let r = if p == 0.0 { one } else { r };
+    r / m
+}
+
+/// The fast tier's x^p (`brdf_rs.eval(..., precision="fast")`): the contract of
+/// [`pow_unit_f64`] (domain, the complement, special cases, no NaN, underflow through
+/// the subnormals) with the logarithm and the product p·ln x in plain `f64` instead of
+/// double-double. Branch-free and table-free, so it vectorizes without gathers.
+///
+/// Error: ln x is within about 1 ulp and the product rounds once more, so y = p·ln x is
+/// off by at most about 1.5·|y|·2^-52 absolute, which e^y turns into the same relative
+/// error, plus about 1.5 ulp of its own: relative error <= (3 + 3|y|)·2^-53. A normal
+/// result has |y| < 745, so at most 2.5e-13 (measured by `fast_pow_is_within_its_bound`
+/// against [`pow_unit_f64`], itself within 0.64 ulp of the exact power); the subnormal
+/// results are within that relative error plus one unit of 2^-1074.
+#[inline(always)]
+pub fn pow_unit_fast_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
+    pow_fast_scaled_f64(x, one_minus_x, p, 0.0, 0.0, 1.0)
+}
+
+/// [`pow_unit_over_f64`] in the fast tier: `x^p / d`, without underflow of `x^p` first;
+/// see [`pow_unit_fast_f64`]. A quotient in the normal range has |y| below about 1460,
+/// hence relative error at most about 5e-13.
+#[inline(always)]
+pub fn pow_unit_over_fast_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
+    let (m, e) = split_f64(d);
+    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
+    pow_fast_scaled_f64(x, one_minus_x, p, e, 0.0, m)
+}
+
+/// [`pow_unit_over_scaled_f64`] in the fast tier (the base `x·2^-kx`).
+#[inline(always)]
+pub fn pow_unit_over_scaled_fast_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
+    let (m, e) = split_f64(d);
+    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
+    pow_fast_scaled_f64(x, one_minus_x, p, e, kx, m)
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     //! Spot checks against libm. The exhaustive accuracy runs quoted above (mpmath
@@ -975,6 +1106,100 @@ pub(crate) mod tests {
             }
         }
         assert!(worst <= 1.0, "table vs series power: {worst} ulp");
+    }
+
+    /// The fast tier's power keeps the contract's special cases and never gives NaN.
+    #[test]
+    fn fast_pow_special_cases_are_exact() {
+        for &(x, omc) in &[
+            (0.0, 1.0),
+            (1.0, 0.0),
+            (0.5, 0.5),
+            (1.0, 1e-320),
+            (1e-320, 1.0),
+        ] {
+            assert_eq!(pow_unit_fast_f64(x, omc, 0.0), 1.0);
+        }
+        assert_eq!(pow_unit_fast_f64(1.0, 0.0, 1e300), 1.0);
+        assert_eq!(pow_unit_fast_f64(0.0, 1.0, 3.0), 0.0);
+        assert_eq!(pow_unit_fast_f64(0.5, 0.5, 1074.0), f64::from_bits(1));
+        assert_eq!(pow_unit_fast_f64(0.5, 0.5, 1076.0), 0.0);
+        assert_eq!(pow_unit_fast_f64(0.5, 0.5, 1e300), 0.0);
+        assert_eq!(pow_unit_fast_f64(1e-300, 1.0, 1e300), 0.0);
+        // 0.5^1100 is below the float range; over 2^-100 it is 2^-1000 (to the bound).
+        let got = pow_unit_over_fast_f64(0.5, 0.5, 1100.0, 2f64.powi(-100));
+        let bound = (4.0 + 3.0 * 1100.0 * 2f64.ln()) * f64::EPSILON / 2.0;
+        assert!((got / 2f64.powi(-1000) - 1.0).abs() <= bound, "{got:e}");
+        assert_eq!(pow_unit_over_fast_f64(0.0, 1.0, 0.0, 0.25), 4.0);
+        assert_eq!(
+            pow_unit_over_fast_f64(0.3, 0.7, 0.0, f64::from_bits(1)),
+            f64::INFINITY
+        );
+        assert_eq!(pow_unit_over_fast_f64(1.0, 0.0, 1e6, 1e-320), f64::INFINITY);
+        assert_eq!(pow_unit_over_fast_f64(0.0, 1.0, 2.0, 1e-300), 0.0);
+    }
+
+    /// The fast tier's power against the accurate one (within 0.64 ulp of the exact
+    /// power) over its whole domain: bases uniform, log-uniform down to 1e-300 and within
+    /// 1e-16 of 1 (with the exact complement), exponents from 1e-4 to 1e8, divisors from
+    /// 1e-310 to 1e290. Relative error at most (4 + 3|y|)·2^-53 (y = p·ln x, the stated
+    /// bound plus the reference's own error) wherever the result is normal, so at most
+    /// 2.6e-13 for a plain power and 5e-13 for a quotient; subnormal results within
+    /// that relative error plus 2 units of 2^-1074.
+    #[test]
+    fn fast_pow_is_within_its_bound() {
+        let u = f64::EPSILON / 2.0;
+        let mut s = 23;
+        let (mut worst_plain, mut worst_over) = (0f64, 0f64);
+        for _ in 0..300_000 {
+            let x = match (uniform(&mut s) * 4.0) as u32 {
+                0 => uniform(&mut s),
+                1 => 10f64.powf(-300.0 * uniform(&mut s)),
+                _ => 1.0 - 10f64.powf(-16.0 * uniform(&mut s)),
+            };
+            let omc = 1.0 - x; // exact where it matters (x >= 1/2, Sterbenz)
+            let p = 10f64.powf(uniform(&mut s) * 12.0 - 4.0);
+            let d = 10f64.powf(uniform(&mut s) * 600.0 - 310.0);
+            let y = (p * x.ln()).abs();
+            let bound = (4.0 + 3.0 * y) * u;
+            let (got, want) = (pow_unit_fast_f64(x, omc, p), pow_unit_f64(x, omc, p));
+            assert!(!got.is_nan(), "{x} {omc} {p}");
+            if want >= f64::MIN_POSITIVE {
+                let rel = (got - want).abs() / want;
+                assert!(rel <= bound, "{x}^{p}: {got} vs {want} ({rel:e})");
+                worst_plain = worst_plain.max(rel);
+            } else {
+                let tol = bound * want + 2.0 * f64::from_bits(1);
+                assert!((got - want).abs() <= tol, "{x}^{p}: {got} vs {want}");
+            }
+            let (got, want) = (
+                pow_unit_over_fast_f64(x, omc, p, d),
+                pow_unit_over_f64(x, omc, p, d),
+            );
+            assert!(!got.is_nan(), "{x} {omc} {p} {d}");
+            let y_over = (p * x.ln() - d.ln()).abs().max(y);
+            if (f64::MIN_POSITIVE..f64::MAX / 2.0).contains(&want) {
+                let rel = (got - want).abs() / want;
+                assert!(
+                    rel <= (5.0 + 3.0 * y_over) * u,
+                    "{x}^{p}/{d}: {got} vs {want} ({rel:e})"
+                );
+                worst_over = worst_over.max(rel);
+            }
+            let kx = 600.0;
+            let xs = 10f64.powf(-400.0 - 300.0 * uniform(&mut s));
+            let (got, want) = (
+                pow_unit_over_scaled_fast_f64(xs, 1.0, p.min(2.0), kx, d),
+                pow_unit_over_scaled_f64(xs, 1.0, p.min(2.0), kx, d),
+            );
+            if (f64::MIN_POSITIVE..f64::MAX / 2.0).contains(&want) {
+                let rel = (got - want).abs() / want;
+                assert!(rel <= 5e-13, "({xs}·2^-600)^{p}/{d}: {got} vs {want}");
+            }
+        }
+        assert!(worst_plain <= 2.6e-13, "plain: {worst_plain:e}");
+        assert!(worst_over <= 5e-13, "over: {worst_over:e}");
+        eprintln!("fast pow: plain {worst_plain:e}, over {worst_over:e}");
     }
 
     #[test]

@@ -156,6 +156,27 @@ pub trait Real:
     /// the sign of every dot product with an axis-aligned normal stays exact, so a
     /// direction just above the surface is never taken for one on it.
     fn normalize(v: Self::V3) -> (Self::V3, bool);
+    /// The squared lengths, `[lo, hi]`, of the vectors that [`Real::normalize`] scales by
+    /// no power of two (whatever the rounding of the squared length): `[2^-998, 2^999]`
+    /// for `f64`, `[2^-78, 2^79]` for `f32` (its largest component is then within
+    /// `[2^-500, 2^500]`, `[2^-40, 2^40]`), where no square overflows or underflows
+    /// beyond a subnormal that cannot matter.
+    const ORDINARY_LENGTH_SQUARED: (Self, Self);
+    /// Whether the fast tier (`precision="fast"`) has loops of its own in this width:
+    /// `f64`. In `f32` it would compute the accurate tier's bits ([`FastPow`] and
+    /// [`Real::normalize_ordinary`] are its arithmetic there), so the engine runs the
+    /// accurate loops and compiles none.
+    const FAST_TIER: bool;
+    /// `v / |v|` for a `v` whose squared length lies in [`Real::ORDINARY_LENGTH_SQUARED`]
+    /// (so usable): the fast tier's normalization. `f64`: without a square root or a
+    /// division, `1/|v|` by Newton's iteration from the bit-pattern estimate (relative
+    /// error 0.035, squared by each of 4 steps), to within about 2 ulps, which the
+    /// components inherit (measured on Torrance-Sparrow, the normalization's share of
+    /// the loop fell from 23% to 13%). `f32`: [`Real::normalize`]'s arithmetic without its
+    /// range selects, bit for bit (Newton's 3 steps there gained nothing measurable and
+    /// doubled the length error, which exponents amplify). A nonzero component that
+    /// underflows keeps its sign as in [`Real::normalize`]. Anything for any other `v`.
+    fn normalize_ordinary(v: Self::V3) -> Self::V3;
     /// Returns [`Real::normalize`]'s unit vector together with [`Real::length`]'s `|v|`,
     /// sharing the scaling and the square root (bit for bit the values of the two).
     fn normalize_length(v: Self::V3) -> (Self::V3, Self);
@@ -176,6 +197,13 @@ pub trait Real:
     fn pow_unit_over_table(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
     /// [`Real::pow_unit_over_scaled`] from tables (`f64`); see [`PowUnit`].
     fn pow_unit_over_scaled_table(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
+    /// [`Real::pow_unit`] of the fast tier ([`FastPow`]; [`fastmath::pow_unit_fast_f64`];
+    /// `f32`: [`Real::pow_unit`]).
+    fn pow_unit_fast(x: Self, one_minus_x: Self, p: Self) -> Self;
+    /// [`Real::pow_unit_over`] of the fast tier ([`FastPow`]).
+    fn pow_unit_over_fast(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
+    /// [`Real::pow_unit_over_scaled`] of the fast tier ([`FastPow`]; `f32` ignores `kx`).
+    fn pow_unit_over_scaled_fast(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
     /// Returns whether `v` is finite and nonzero, without normalizing it.
     fn usable(v: Self::V3) -> bool;
     /// Returns `|v|² − 1` for a vector of about unit length (components of magnitude at
@@ -214,11 +242,16 @@ pub trait Real:
 pub trait PowUnit: 'static {
     /// Whether `f64` powers come from the tables.
     const TABLES: bool;
+    /// Whether this is the fast tier's power ([`FastPow`]), which also selects the fast
+    /// tier's handling around the kernels in the eval engine.
+    const FAST: bool = false;
 
     /// Returns `x^p`, as [`Real::pow_unit`].
     #[inline(always)]
     fn pow_unit<F: Real>(x: F, one_minus_x: F, p: F) -> F {
-        if Self::TABLES {
+        if Self::FAST {
+            F::pow_unit_fast(x, one_minus_x, p)
+        } else if Self::TABLES {
             F::pow_unit_table(x, one_minus_x, p)
         } else {
             F::pow_unit(x, one_minus_x, p)
@@ -228,7 +261,9 @@ pub trait PowUnit: 'static {
     /// Returns `x^p / d`, as [`Real::pow_unit_over`].
     #[inline(always)]
     fn pow_unit_over<F: Real>(x: F, one_minus_x: F, p: F, d: F) -> F {
-        if Self::TABLES {
+        if Self::FAST {
+            F::pow_unit_over_fast(x, one_minus_x, p, d)
+        } else if Self::TABLES {
             F::pow_unit_over_table(x, one_minus_x, p, d)
         } else {
             F::pow_unit_over(x, one_minus_x, p, d)
@@ -238,7 +273,9 @@ pub trait PowUnit: 'static {
     /// Returns `(x·2^-kx)^p / d`, as [`Real::pow_unit_over_scaled`].
     #[inline(always)]
     fn pow_unit_over_scaled<F: Real>(x: F, one_minus_x: F, p: F, kx: F, d: F) -> F {
-        if Self::TABLES {
+        if Self::FAST {
+            F::pow_unit_over_scaled_fast(x, one_minus_x, p, kx, d)
+        } else if Self::TABLES {
             F::pow_unit_over_scaled_table(x, one_minus_x, p, kx, d)
         } else {
             F::pow_unit_over_scaled(x, one_minus_x, p, kx, d)
@@ -258,6 +295,20 @@ pub struct TablePow;
 
 impl PowUnit for TablePow {
     const TABLES: bool = true;
+}
+
+/// The fast tier's power (`precision="fast"`): in `f64`, `exp(p·ln x)` in plain floating
+/// point, table-free and vectorizable, within a stated relative error instead of an ulp
+/// ([`fastmath::pow_unit_fast_f64`]: at most 2.5e-13 for a normal result). In `f32`, the
+/// series power ([`fastmath::pow_unit_f32`], 0.68 ulp): `y = p·ln x` rounded in `f32` is
+/// off by up to `|y|·2^-24`, 4e-6 at `|y| = 70`, beyond the tier's 2e-6, and the same
+/// power computed in `f64` (measured) ran slower than the series one, whose float-float
+/// logarithm keeps 16 lanes.
+pub struct FastPow;
+
+impl PowUnit for FastPow {
+    const TABLES: bool = false;
+    const FAST: bool = true;
 }
 
 /// Returns the larger of `a` and `b` (the second if they compare unordered).
@@ -298,7 +349,7 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 macro_rules! impl_real {
     ($f:ident, $v:ty, $pow:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
      exact_lengths = $exact_lengths:expr, small = $small:expr, big = $big:expr, up = $up:expr,
-     down = $down:expr) => {
+     down = $down:expr, ordinary = $ordinary:expr, newton = $newton:expr) => {
         impl Real for $f {
             type V3 = $v;
             const ZERO: Self = 0.0;
@@ -312,6 +363,8 @@ macro_rules! impl_real {
             const DTYPE: &'static str = stringify!($f);
             const EXACT_LENGTHS: bool = $exact_lengths;
             const EXTENDED_COSINES: bool = $exact_lengths;
+            const ORDINARY_LENGTH_SQUARED: (Self, Self) = $ordinary;
+            const FAST_TIER: bool = $exact_lengths;
 
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
@@ -411,6 +464,47 @@ macro_rules! impl_real {
                 }
             }
             #[inline(always)]
+            fn pow_unit_fast(x: Self, one_minus_x: Self, p: Self) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_fast_f64(x as f64, one_minus_x as f64, p as f64) as $f
+                } else {
+                    fastmath::$pow(x, one_minus_x, p)
+                }
+            }
+            #[inline(always)]
+            fn pow_unit_over_fast(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_over_fast_f64(
+                        x as f64,
+                        one_minus_x as f64,
+                        p as f64,
+                        d as f64,
+                    ) as $f
+                } else {
+                    fastmath::$pow_over(x, one_minus_x, p, d)
+                }
+            }
+            #[inline(always)]
+            fn pow_unit_over_scaled_fast(
+                x: Self,
+                one_minus_x: Self,
+                p: Self,
+                kx: Self,
+                d: Self,
+            ) -> Self {
+                if $exact_lengths {
+                    fastmath::pow_unit_over_scaled_fast_f64(
+                        x as f64,
+                        one_minus_x as f64,
+                        p as f64,
+                        kx as f64,
+                        d as f64,
+                    ) as $f
+                } else {
+                    fastmath::$pow_over(x, one_minus_x, p, d)
+                }
+            }
+            #[inline(always)]
             fn exp(self) -> Self {
                 fastmath::$exp(self)
             }
@@ -451,6 +545,31 @@ macro_rules! impl_real {
                 // when it was: test the raw one. The unused length folds away.
                 let (u, _) = Self::normalize_length(v);
                 (u, finite_nonzero::<$f>(v))
+            }
+            #[inline(always)]
+            fn normalize_ordinary(v: Self::V3) -> Self::V3 {
+                let l2 = v.length_squared();
+                let r = match $newton {
+                    // `normalize_length`'s arithmetic without its selects: bit for bit.
+                    None => 1.0 / l2.sqrt(),
+                    Some((magic, steps)) => {
+                        let half = 0.5 * l2;
+                        let mut r = $f::from_bits(magic - (l2.to_bits() >> 1));
+                        for _ in 0..steps {
+                            r = r * (1.5 - half * r * r);
+                        }
+                        r
+                    }
+                };
+                let u = v * r;
+                let keep = |u: $f, raw: $f| {
+                    if u == 0.0 && raw != 0.0 {
+                        $f::from_bits(1).copysign(raw)
+                    } else {
+                        u
+                    }
+                };
+                <$v>::new(keep(u.x, v.x), keep(u.y, v.y), keep(u.z, v.z))
             }
             #[inline(always)]
             fn normalize_length(v: Self::V3) -> (Self::V3, Self) {
@@ -505,7 +624,13 @@ impl_real!(
     small = 3.054936363499605e-151, // 2^-500
     big = 3.273390607896142e150,    // 2^500
     up = 4.149515568880993e180,     // 2^600
-    down = 2.409919865102884e-181   // 2^-600
+    down = 2.409919865102884e-181,  // 2^-600
+    ordinary = (
+        f64::from_bits((1023 - 998) << 52), // 2^-998
+        f64::from_bits((1023 + 999) << 52)  // 2^999
+    ),
+    // 1/sqrt by Newton's iteration: the bit-pattern estimate's constant, and the steps.
+    newton = Some((0x5FE6_EB50_C7B5_37A9_u64, 4))
 );
 // f32: |v| in [2^-40, 2^40] squares safely; outside, rescale by 2^(+-100).
 impl_real!(
@@ -521,7 +646,12 @@ impl_real!(
     small = 9.094947e-13, // 2^-40
     big = 1.0995116e12,   // 2^40
     up = 1.2676506e30,    // 2^100
-    down = 7.888609e-31   // 2^-100
+    down = 7.888609e-31,  // 2^-100
+    ordinary = (
+        f32::from_bits((127 - 78) << 23), // 2^-78
+        f32::from_bits((127 + 79) << 23)  // 2^79
+    ),
+    newton = None::<(u32, u32)>
 );
 
 #[cfg(test)]

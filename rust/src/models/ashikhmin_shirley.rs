@@ -103,6 +103,7 @@ fn coupling<F: Real>(x: F) -> F {
 
 impl Kernel for AshikhminShirley {
     type Prepared<F: Real> = Prepared<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

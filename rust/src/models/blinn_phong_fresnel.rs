@@ -52,6 +52,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 impl Kernel for BlinnPhongFresnel {
     /// `kd/π`, `F0` (as given) and `p`, with the lobe normalization `(p+8)/(8π)`.
     type Prepared<F: Real> = (DiffuseSpecular<F>, F);
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

@@ -41,6 +41,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for KajiyaKay {
     type Prepared<F: Real> = super::lobes::DiffuseSpecular<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

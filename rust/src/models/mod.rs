@@ -108,6 +108,12 @@ pub trait Kernel: 'static {
     /// one that is fastest in its loop (the eval engine: [`crate::math::TablePow`]).
     fn eval_with<F: Real, P: PowUnit>(prepared: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3];
 
+    /// Whether [`Kernel::eval_with`] raises anything to a power through its `P`: the eval
+    /// engine compiles the fast tier's loops (`precision="fast"`, [`crate::math::FastPow`])
+    /// only for such models, and evaluates the others, which it would not change, with the
+    /// accurate loops.
+    const POWERS: bool = false;
+
     /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
     /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one
     /// is (Ward's `1/sqrt(mu_i·mu_o)`). Most models only need its sign, which

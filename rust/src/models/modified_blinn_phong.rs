@@ -32,6 +32,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for ModifiedBlinnPhong {
     type Prepared<F: Real> = DiffuseSpecular<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

@@ -33,6 +33,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for ModifiedPhong {
     type Prepared<F: Real> = DiffuseSpecular<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

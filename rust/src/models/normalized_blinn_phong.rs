@@ -40,6 +40,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for NormalizedBlinnPhong {
     type Prepared<F: Real> = DiffuseSpecular<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

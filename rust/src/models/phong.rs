@@ -34,6 +34,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for Phong {
     type Prepared<F: Real> = DiffuseSpecular<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

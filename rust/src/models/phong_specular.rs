@@ -35,6 +35,7 @@ pub static SPEC: ModelSpec = ModelSpec {
 
 impl Kernel for PhongSpecular {
     type Prepared<F: Real> = ([F; 3], F);
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

@@ -75,6 +75,7 @@ pub struct Prepared<F> {
 
 impl Kernel for TorranceSparrow {
     type Prepared<F: Real> = Prepared<F>;
+    const POWERS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC

@@ -17,7 +17,7 @@ use pyo3::types::{PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 use super::run_plan;
 use crate::error::BrdfError;
-use crate::eval::{self, EvalInputs, EvalOptions};
+use crate::eval::{self, EvalInputs, EvalOptions, Precision};
 use crate::math::Real;
 use crate::models::ModelKind;
 
@@ -150,12 +150,18 @@ fn out_array<'py, F: Element>(
     out.cast::<PyArrayDyn<F>>().ok().map(|a| Some(a.clone()))
 }
 
-/// `normalized` and `check` as the general path reads them.
-fn options(normalized: &Bound<'_, PyAny>, check: &Bound<'_, PyAny>) -> Option<EvalOptions> {
+/// `normalized` and `check` as the general path reads them, and the tier (`precision`,
+/// checked by the Python layer: an unknown name is the general path's error).
+fn options(
+    normalized: &Bound<'_, PyAny>,
+    check: &Bound<'_, PyAny>,
+    precision: &str,
+) -> Option<EvalOptions> {
     Some(EvalOptions {
         normalized: normalized.extract().ok()?,
         check: check.extract().ok()?,
         check_params: true,
+        precision: Precision::from_name(precision).ok()?,
     })
 }
 
@@ -193,7 +199,7 @@ impl Param<'_> {
 /// `brdf_rs.eval` with `normalization="approximate"` (the Python layer checks that), or
 /// `None` where the general path must convert an argument.
 #[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, out))]
+#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, out, precision="accurate"))]
 #[allow(clippy::too_many_arguments)]
 pub fn eval_fast<'py>(
     py: Python<'py>,
@@ -206,6 +212,7 @@ pub fn eval_fast<'py>(
     normalized: &Bound<'py, PyAny>,
     check: &Bound<'py, PyAny>,
     out: &Bound<'py, PyAny>,
+    precision: &str,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
     let Ok(model) = model.cast::<PyString>() else {
         return Ok(None);
@@ -213,7 +220,7 @@ pub fn eval_fast<'py>(
     let Some(dirs) = Directions::of([wi, wo, n, tangent]) else {
         return Ok(None);
     };
-    let Some(options) = options(normalized, check) else {
+    let Some(options) = options(normalized, check, precision) else {
         return Ok(None);
     };
     let mut values = Vec::with_capacity(params.len());
@@ -302,7 +309,7 @@ pub fn prepare_model(model: &str, params: &Bound<'_, PyDict>) -> PyResult<Option
 #[pymethods]
 impl PreparedModel {
     /// `Model.eval`, or `None` where the general path must convert an argument.
-    #[pyo3(signature = (wi, wo, n, tangent, normalized, check, out))]
+    #[pyo3(signature = (wi, wo, n, tangent, normalized, check, out, precision="accurate"))]
     #[allow(clippy::too_many_arguments)]
     fn eval<'py>(
         &self,
@@ -314,11 +321,12 @@ impl PreparedModel {
         normalized: &Bound<'py, PyAny>,
         check: &Bound<'py, PyAny>,
         out: &Bound<'py, PyAny>,
+        precision: &str,
     ) -> PyResult<Option<Bound<'py, PyAny>>> {
         let Some(dirs) = Directions::of([wi, wo, n, tangent]) else {
             return Ok(None);
         };
-        let Some(options) = options(normalized, check) else {
+        let Some(options) = options(normalized, check, precision) else {
             return Ok(None);
         };
         if dirs.float32 {

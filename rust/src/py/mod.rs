@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::error::{BrdfError, ErrorClass, try_filled_vec};
-use crate::eval::{self, EvalInputs, EvalOptions, Plan};
+use crate::eval::{self, EvalInputs, EvalOptions, Plan, Precision};
 use crate::integrate::cells::CellGrid;
 use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, SamplerChoice};
 use crate::math::Real;
@@ -197,7 +197,7 @@ fn empty<'py, F: Element>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'p
 
 /// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
 #[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None))]
+#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
 #[allow(clippy::too_many_arguments)]
 fn eval_f64<'py>(
     py: Python<'py>,
@@ -211,18 +211,20 @@ fn eval_f64<'py>(
     check: bool,
     check_params: bool,
     out: Option<Bound<'py, PyArrayDyn<f64>>>,
+    precision: &str,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let options = EvalOptions {
         normalized,
         check,
         check_params,
+        precision: Precision::from_name(precision)?,
     };
     eval_impl(py, model, wi, wo, n, tangent, params, options, out)
 }
 
 /// Evaluates a model on float32 arrays with the float32 kernels (see `brdf_rs.eval`).
 #[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None))]
+#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
 #[allow(clippy::too_many_arguments)]
 fn eval_f32<'py>(
     py: Python<'py>,
@@ -236,11 +238,13 @@ fn eval_f32<'py>(
     check: bool,
     check_params: bool,
     out: Option<Bound<'py, PyArrayDyn<f32>>>,
+    precision: &str,
 ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
     let options = EvalOptions {
         normalized,
         check,
         check_params,
+        precision: Precision::from_name(precision)?,
     };
     eval_impl(py, model, wi, wo, n, tangent, params, options, out)
 }

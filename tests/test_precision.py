@@ -1,0 +1,272 @@
+"""The ``precision=`` tiers of ``brdf_rs.eval`` and ``brdf_rs.Model``: the fast tier's
+stated bound (relative error at most 1e-12 in float64 and 2e-6 in float32 on
+well-conditioned inputs) against the pure-Python reference on random and adversarial
+inputs, against the accurate tier on large random batches, and its handling of bad input
+(the accurate tier's, row for row)."""
+
+from __future__ import annotations
+
+import pickle
+
+import brdf_rs
+import numpy as np
+import pytest
+from conftest import (
+    MODEL_NAMES,
+    REFERENCE_MODELS,
+    condition,
+    random_directions,
+    random_params,
+    reference_rgb,
+    required_extras,
+    row_params,
+    takes_tangent,
+)
+from test_reference import _adversarial_geometry, close, random_case
+
+EPS64 = np.finfo(np.float64).eps
+EPS32 = np.finfo(np.float32).eps
+#: The fast tier's stated bounds (docs/numerics.md).
+FAST_RTOL64 = 1e-12
+FAST_RTOL32 = 2e-6
+# Relative to max(|exact|, smallest normal), as the stress suite measures it: subnormal
+# results are held to an absolute error.
+ATOL64 = FAST_RTOL64 * np.finfo(np.float64).tiny
+# float32 lobes below 2^-100 are flushed to 0 in both tiers (see test_reference.py).
+ATOL32 = 2.0**-100 * 1e8
+#: The models whose kernels raise something to a power: the fast tier changes only them.
+POWER_MODELS = [
+    "phong",
+    "modified_phong",
+    "normalized_phong",
+    "blinn_phong",
+    "modified_blinn_phong",
+    "normalized_blinn_phong",
+    "blinn_phong_fresnel",
+    "torrance_sparrow",
+    "ashikhmin_shirley",
+    "phong_specular",
+    "blinn_specular",
+    "kajiya_kay",
+]
+
+
+def f32(v):
+    return None if v is None else np.asarray(v, np.float32)
+
+
+def r32(v):
+    """``v`` rounded to float32, as float64 values (the float32 kernel's exact input)."""
+    return None if v is None else f32(v).astype(np.float64).tolist()
+
+
+def _exponents(model: str) -> list[str]:
+    names = {p["name"] for p in brdf_rs.models()[model]["params"]}
+    return [k for k in ("p", "nu", "nv") if k in names]
+
+
+def test_unknown_precision_is_a_clear_error():
+    wi = np.array([0.0, 0.0, 1.0])
+    for call in (
+        lambda p: brdf_rs.eval("phong", wi, wi, precision=p),
+        lambda p: brdf_rs.eval("phong", [0, 0, 1], [0, 0, 1], precision=p),
+        lambda p: brdf_rs.eval("phong", wi, wi, normalization="exact", precision=p),
+        lambda p: brdf_rs.Model("phong", precision=p),
+    ):
+        with pytest.raises(
+            ValueError, match=r'^precision: expected "accurate" or "fast"; got "Fast"'
+        ):
+            call("Fast")
+        with pytest.raises(TypeError, match=r"^precision: expected"):
+            call(None)
+
+
+def test_accurate_is_the_default_bit_for_bit(rng):
+    wi, wo = random_directions(rng, 1000), random_directions(rng, 1000)
+    for model in MODEL_NAMES:
+        extra = required_extras(model)
+        a = brdf_rs.eval(model, wi, wo, **extra)
+        b = brdf_rs.eval(model, wi, wo, precision="accurate", **extra)
+        assert a.tobytes() == b.tobytes(), model
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_models_without_powers_are_unchanged_and_with_powers_change(rng, dtype):
+    """The fast tier runs the accurate loops for models without powers (same bits) and
+    its own for the others in float64 (different last bits somewhere): the list above
+    must be the engine's. In float32 the fast tier is the accurate one, bit for bit."""
+    count = 20_000
+    wi = random_directions(rng, count).astype(dtype)
+    wo = random_directions(rng, count).astype(dtype)
+    wi[:, 2], wo[:, 2] = np.abs(wi[:, 2]), np.abs(wo[:, 2])
+    for model in MODEL_NAMES:
+        extra = required_extras(model)
+        if "tangent" in extra:
+            extra["tangent"] = np.asarray(extra["tangent"], dtype)
+        if _exponents(model):
+            extra.update({k: 37.3 for k in _exponents(model)})
+        a = brdf_rs.eval(model, wi, wo, **extra)
+        b = brdf_rs.eval(model, wi, wo, precision="fast", **extra)
+        changed = model in POWER_MODELS and dtype == np.float64
+        assert (a.tobytes() != b.tobytes()) == changed, model
+
+
+@pytest.mark.parametrize("model", POWER_MODELS)
+def test_fast_power_is_within_its_bound_of_accurate_on_large_batches(rng, model):
+    """With unit inputs and ``normalized=True`` the tiers differ in the power alone: per
+    row, the fast value is within the fast power's bound (at most 5e-13 relative for a
+    quotient cos^p/mu in float64) of the accurate one, over exponents from 1e-3 to 1e8;
+    float32 values are the same in both tiers."""
+    count = 200_000
+    wi, wo, n, tangent = random_case(rng, model, count)
+    unit = lambda a: None if a is None else a / np.linalg.norm(a, axis=-1, keepdims=True)  # noqa: E731
+    wi, wo, n, tangent = unit(wi), unit(wo), unit(n), unit(tangent)
+    params = random_params(rng, model, size=count)
+    for k in _exponents(model):
+        params[k] = 10.0 ** rng.uniform(-3, 8, size=count)
+    args = (wi, wo, n)
+    acc = brdf_rs.eval(model, *args, tangent=tangent, normalized=True, **params)
+    fast = brdf_rs.eval(model, *args, tangent=tangent, normalized=True, precision="fast", **params)
+    assert not np.isnan(fast).any()
+    both_inf = np.isinf(acc) & (acc == fast)
+    rel = np.abs(fast - acc) / np.maximum(np.abs(acc), np.finfo(np.float64).tiny)
+    assert np.all(both_inf | (rel <= 6e-13)), float(np.max(np.where(both_inf, 0.0, rel)))
+    assert np.any(rel > 0), "the fast power was not used"
+    p32 = {k: np.asarray(v, np.float32) for k, v in params.items()}
+    a32 = [f32(a) for a in (wi, wo, n)]
+    t32 = f32(tangent)
+    acc32 = brdf_rs.eval(model, *a32, tangent=t32, normalized=True, **p32)
+    fast32 = brdf_rs.eval(model, *a32, tangent=t32, normalized=True, precision="fast", **p32)
+    assert acc32.tobytes() == fast32.tobytes()
+
+
+@pytest.mark.parametrize("model", [m for m in POWER_MODELS if m in REFERENCE_MODELS])
+def test_fast_random_inputs_match_reference(model, rng):
+    """As test_reference.py's random test, with the fast tier's bound: within 1e-12
+    (float64) and 2e-6 (float32) of the reference, or within what the inputs' own
+    precision allows where the reference is ill-conditioned."""
+    count = 3000
+    wi, wo, n, tangent = random_case(rng, model, count)
+    params = random_params(rng, model, size=count)
+    for k in _exponents(model):
+        params[k] = 10.0 ** rng.uniform(-2, 6, size=count)
+    got64 = brdf_rs.eval(model, wi, wo, n, tangent=tangent, precision="fast", **params)
+    f32 = {k: np.asarray(v, np.float32) for k, v in params.items()}
+    as32 = lambda a: None if a is None else a.astype(np.float32)  # noqa: E731
+    got32 = brdf_rs.eval(
+        model, as32(wi), as32(wo), as32(n), tangent=as32(tangent), precision="fast", **f32
+    )
+    assert not np.isnan(got64).any() and not np.isnan(got32).any()
+    excused = nonzero = 0
+    for i in range(count):
+        t = None if tangent is None else tangent[i].tolist()
+        p = row_params(model, params, i)
+        want = reference_rgb(model, wi[i], wo[i], n[i], t, **p)
+        nonzero += bool(np.any(want != 0))
+        p32 = row_params(model, f32, i)
+        t32 = None if tangent is None else as32(tangent[i]).astype(np.float64).tolist()
+        want32 = reference_rgb(
+            model, as32(wi[i]).tolist(), as32(wo[i]).tolist(), as32(n[i]).tolist(), t32, **p32
+        )
+        check32 = np.all(np.isfinite(want32)) and np.max(np.abs(want32)) < 1e30
+        if close(got64[i], want, 0.0, FAST_RTOL64, EPS64, ATOL64) and (
+            not check32 or close(got32[i], want32, 0.0, FAST_RTOL32, EPS32, ATOL32)
+        ):
+            continue
+        cond = condition(model, wi[i].tolist(), wo[i].tolist(), n[i].tolist(), t, p, rng, want)
+        excused += cond > 1e4
+        assert close(got64[i], want, cond, FAST_RTOL64, EPS64, ATOL64), (
+            f"{model} float64 row {i}: {got64[i]} vs {want}, condition {cond:.3g}"
+        )
+        if check32:
+            assert close(got32[i], want32, cond, FAST_RTOL32, EPS32, ATOL32), (
+                f"{model} float32 row {i}: {got32[i]} vs {want32}, condition {cond:.3g}"
+            )
+    assert excused < 0.05 * count, excused
+    assert nonzero > 0.3 * count, nonzero
+
+
+@pytest.mark.parametrize("model", [m for m in POWER_MODELS if m in REFERENCE_MODELS])
+def test_fast_adversarial_inputs_match_reference(model):
+    """Grazing angles down to 1e-300, the mirror direction and next to it, wi = -wo, tiny,
+    huge and subnormal vectors, exponents up to 1e8: never NaN, within the bound."""
+    rng = np.random.default_rng(3)
+    tangent = (0.6, 0.0, 0.8) if takes_tangent(model) else None
+    base = random_params(np.random.default_rng(7), model)
+    variants = [("random", base)]
+    for k in _exponents(model):
+        variants += [(f"{k}={p}", {**base, k: p}) for p in (0.0, 0.5, 1e4, 1e6, 1e8)]
+    for plabel, params in variants:
+        for glabel, wi, wo, n in _adversarial_geometry():
+            label = f"{glabel}, {plabel}"
+            got = brdf_rs.eval(model, wi, wo, n, tangent=tangent, precision="fast", **params)
+            assert not np.isnan(got).any(), f"{model}: NaN for {label}"
+            plain = {k: np.asarray(v).tolist() for k, v in params.items()}
+            want = reference_rgb(model, wi, wo, n, tangent, **plain)
+            if not close(got, want, 0.0, FAST_RTOL64, EPS64, ATOL64):
+                cond = condition(model, list(wi), list(wo), list(n), tangent, plain, rng, want)
+                assert close(got, want, cond, FAST_RTOL64, EPS64, ATOL64), (
+                    f"{model} {label}: {got} vs {want}, condition {cond:.3g}"
+                )
+            if glabel in ("tiny vectors", "huge vectors", "subnormal"):
+                continue  # beyond float32's range: NaN-free is all that is asked
+            got32 = brdf_rs.eval(
+                model, f32(wi), f32(wo), f32(n), tangent=f32(tangent), precision="fast", **params
+            )
+            assert not np.isnan(got32).any(), f"{model}: float32 NaN for {label}"
+            p32 = {
+                k: np.asarray(v, np.float32).astype(np.float64).tolist() for k, v in params.items()
+            }
+            want32 = reference_rgb(model, r32(wi), r32(wo), r32(n), r32(tangent), **p32)
+            if np.all(np.isfinite(want32)) and np.max(np.abs(want32)) < 1e30:
+                if not close(got32, want32, 0.0, FAST_RTOL32, EPS32, ATOL32):
+                    cond = condition(
+                        model, r32(wi), r32(wo), r32(n), r32(tangent), p32, rng, want32
+                    )
+                    assert close(got32, want32, cond, FAST_RTOL32, EPS32, ATOL32), (
+                        f"{model} float32 {label}: {got32} vs {want32}, condition {cond:.3g}"
+                    )
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_bad_rows_behave_as_in_the_accurate_tier(dtype):
+    """NaN, infinite, zero, tiny and huge rows in a block of ordinary ones: the same NaN
+    rows (check=False) and the same error (check=True) in both tiers; the ordinary rows
+    of such a block are the accurate tier's normalization too."""
+    rng = np.random.default_rng(5)
+    wi = random_directions(rng, 300).astype(dtype)
+    wo = random_directions(rng, 300).astype(dtype)
+    wi[:, 2], wo[:, 2] = np.abs(wi[:, 2]), np.abs(wo[:, 2])
+    big = 1e300 if dtype == np.float64 else 1e30
+    wi[7] = [np.nan, 0, 1]
+    wi[140] = [0, 0, 0]
+    wo[141] = [np.inf, 0, 1]
+    wo[142] = [big, 0, big]
+    wi[143] = [1 / big, 1 / big, 1 / big]
+    for precision in ("accurate", "fast"):
+        got = brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, check=False, precision=precision)
+        bad = np.isnan(got).any(axis=1)
+        assert np.flatnonzero(bad).tolist() == [7, 140, 141], precision
+        with pytest.raises(ValueError, match=r"^wi\[7\] is NaN \(first bad index \[7\]\)"):
+            brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, precision=precision)
+    acc = brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, check=False)
+    fast = brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, check=False, precision="fast")
+    ok = ~np.isnan(acc).any(axis=1)
+    rtol = 6e-13 if dtype == np.float64 else 4 * EPS32
+    assert np.allclose(fast[ok], acc[ok], rtol=rtol, atol=0), precision
+
+
+def test_model_takes_precision_and_keeps_it():
+    m = brdf_rs.Model("torrance_sparrow", p=300.0, kd=0.1, precision="fast")
+    assert m.precision == "fast"
+    assert "precision='fast'" in repr(m)
+    rng = np.random.default_rng(2)
+    wi, wo = random_directions(rng, 5000), random_directions(rng, 5000)
+    want = brdf_rs.eval("torrance_sparrow", wi, wo, p=300.0, kd=0.1, precision="fast")
+    assert m.eval(wi, wo).tobytes() == want.tobytes()
+    assert m(wi.tolist()[0], wo.tolist()[0]).tobytes() == want[0].tobytes()
+    assert m.eval(wi.astype(np.float32), wo.astype(np.float32)).dtype == np.float32
+    again = pickle.loads(pickle.dumps(m))
+    assert again.precision == "fast" and again.eval(wi, wo).tobytes() == want.tobytes()
+    assert brdf_rs.Model("torrance_sparrow", p=300.0).precision == "accurate"
+    assert "precision" not in repr(brdf_rs.Model("phong"))
