@@ -140,7 +140,14 @@ def main() -> None:
         help="re-time only --models and keep every other row of the existing results "
         "(each rerun row records its own date, and the table says which rows were rerun)",
     )
+    parser.add_argument(
+        "--replot", action="store_true", help="redraw the plot from the saved JSON; no timing"
+    )
     args = parser.parse_args()
+    if args.replot:
+        saved = json.loads(args.out.with_suffix(".json").read_text())
+        write_plot(args.out.with_suffix(".png"), saved["meta"], saved["rows"], args.threads)
+        return
     if not numba_models.available():
         print("numba is not installed: the Numba column is skipped (pip install numba)")
 
@@ -326,14 +333,16 @@ def write_plot(path: Path, meta: dict, rows: list, threads: list) -> None:
         print("matplotlib not installed: no plot")
         return
     models = list(dict.fromkeys(r["model"] for r in rows))
-    fig, axes = plt.subplots(1, 2, figsize=(14, 0.4 * len(models) + 2), sharey=True)
+    series = [("numpy", "NumPy")] + [(f"{t}t", f"brdf-rs, {t} thread(s)") for t in threads]
+    if any(r.get("fast") for r in rows):
+        series.append(("fast", f'brdf-rs, precision="fast", {max(threads)} thread(s)'))
+    if any(r.get("numba") for r in rows):
+        series.append(("numba", "Numba, parallel"))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 0.45 * len(models) + 2.5), sharey=True)
+    h = 0.8 / len(series)
     for ax, dtype in zip(axes, ("float64", "float32"), strict=True):
         sub = {r["model"]: r for r in rows if r["dtype"] == dtype}
         y = np.arange(len(models))
-        series = [("numpy", "NumPy")] + [(f"{t}t", f"brdf-rs, {t} thread(s)") for t in threads]
-        if any(sub[m].get("numba") for m in models):
-            series.append(("numba", "Numba, parallel"))
-        h = 0.8 / len(series)
         for k, (key, label) in enumerate(series):
             ax.barh(y + k * h, [sub[m].get(key) or 0.0 for m in models], height=h, label=label)
         ax.set_xscale("log")
@@ -341,9 +350,11 @@ def write_plot(path: Path, meta: dict, rows: list, threads: list) -> None:
         ax.set_xlabel("million evaluations / s (log)")
         ax.set_title(dtype)
         ax.invert_yaxis()
-    axes[0].legend(loc="lower right")
+    # One legend for both panels, below them, where it covers no bar.
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(series), frameon=False)
     fig.suptitle(f"brdf_rs.eval throughput, N = {meta['n']:,}, {meta['cpu']}")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
