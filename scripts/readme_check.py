@@ -4,7 +4,7 @@
     python scripts/readme_check.py README.md --full     # also the full stress run (minutes)
 
 .ci/run runs it in a fresh virtual environment holding only the wheel and the extras the
-README names (png, plot, exr), from an empty folder, so the repository is not on the
+README names (png, plot, exr, stress), from an empty folder, so the repository is not on the
 path. Every fenced ``sh`` and ``python`` block runs in README order, in one folder:
 
 - ``sh``: each line (``&&`` chains split), through bash, with the environment's scripts
