@@ -382,10 +382,27 @@ def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
 #: (their labels name code that no release contains). They stay in benches/results/.
 NOT_FOR_USERS = ("ab_builds",)
 
-#: Titles of result pages whose first line is not a heading.
+#: Titles of result pages whose first line is not a heading, or whose heading is shared
+#: with other pages (the calibration runs).
 TITLES = {
     "eval_layouts": "brdf_rs.eval by input memory layout",
     "furnace": "White furnace of the multiple-scattering lobes (ggx_ms, beckmann_ms)",
+    "install_time": "From-source install time",
+    "stderr_calibration": "Standard errors of brdf_rs.albedo: the named cases",
+    "stderr_calibration_deep": (
+        "Standard errors of brdf_rs.albedo: Torrance-Sparrow at 2^20 samples"
+    ),
+    "stderr_calibration_grid_half_vector": (
+        "Standard errors of brdf_rs.albedo: Ward, Ashikhmin-Shirley and Beckmann over "
+        "incidence and roughness"
+    ),
+    "stderr_calibration_grid_power_cosine": (
+        "Standard errors of brdf_rs.albedo: the Phong and Blinn-Phong families over "
+        "incidence and exponent"
+    ),
+    "stderr_calibration_grid_torrance_sparrow": (
+        "Standard errors of brdf_rs.albedo: Torrance-Sparrow over eta, incidence and exponent"
+    ),
 }
 
 
@@ -404,7 +421,7 @@ CAPTIONS = {
 
 def benchmarks_page(results: Path) -> str | None:
     """Collects benches/results/*.md: each one's title and description, its figure."""
-    pages = [p for p in sorted(results.glob("*.md")) if p.stem not in NOT_FOR_USERS]
+    pages = [p for p in sorted(results.glob("*.md")) if not p.stem.startswith(NOT_FOR_USERS)]
     if not pages:
         return None
     rel = Path("..") / results.relative_to(ROOT)  # docs/ is beside benches/
@@ -420,7 +437,8 @@ def benchmarks_page(results: Path) -> str | None:
         if text and text[0].startswith("#"):
             title, text = text[0].lstrip("# ").strip(), text[1:]
         else:
-            title = TITLES.get(page.stem, page.stem)
+            title = page.stem
+        title = TITLES.get(page.stem, title)
         intro = []
         for line in text:
             if line.startswith(("|", "#")):
