@@ -78,7 +78,7 @@ use crate::models::albedo::{Control, Importance, Integral, StratumLobe, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
-use crate::sampling::{Frame, Warp};
+use crate::sampling::{Frame, ONE_BELOW, Warp};
 use loops::{DirectionBlock, Loops};
 
 mod beckmann;
@@ -285,9 +285,6 @@ const SLOPE_ENDS: Ends = Ends {
     width: 1.0 / 16.0,
 };
 
-/// The largest `f64` below 1.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
-
 /// A lobe ready to sample: the prepared basis evaluation and its warp. The warp also
 /// says where it points: half vectors reflected into `wo` (Blinn), about the mirror
 /// direction (Phong), about the normal (cosine, uniform).
@@ -313,16 +310,11 @@ struct Lobe<P> {
     /// whole lobe), and whether it is that stratum ([`Integral::Stratum`]): strata
     /// fall back together.
     stratum: Option<(usize, bool)>,
-    /// Ends of the unit square (bit `2d`: `u_d → 0`, bit `2d + 1`: `u_d → 1`) where the
-    /// weight is a smooth function of `ln u_d` (or `ln(1 − u_d)`) with Sobol points:
-    /// Ward's `tan²θh = −α²·ln(1 − u0)`, Ashikhmin-Shirley's `cos θh = (1 − u0)^(1/(n+1))`.
-    /// There every Sobol replicate has one point in the last `1/m` of the range, whose
-    /// weight, linear in the logarithm, has a skewed (exponential-like) error that no
-    /// number of points removes: at and near normal incidence 2–3.5% of cells fell beyond
-    /// 3 standard errors (0.9% is honest; `scripts/stderr_calibration.py --grid
-    /// half_vector`). In the last [`Ends::width`] of such a coordinate the weight is
-    /// integrated after a change of variables that vanishes at the end, against a control: see
-    /// [`CellIntegrand::weights`].
+    /// The end regions of the sampler's numbers where, with Sobol points, the weight
+    /// runs off along a logarithm or a normal quantile ([`LOG_ENDS`], [`SLOPE_ENDS`]):
+    /// every replicate has one point there, and its skewed error is not reduced by more
+    /// points. There the weight is integrated after a change of variables that vanishes
+    /// at the end, against a control ([`CellIntegrand::weights`]).
     ends: Ends,
 }
 

@@ -107,7 +107,7 @@ impl Mixture {
         for (k, c) in self.components.iter().enumerate() {
             if u0 < c.probability || k + 1 == self.components.len() {
                 chosen = k;
-                u0 = (u0 / c.probability).min(1.0 - f64::EPSILON / 2.0);
+                u0 = (u0 / c.probability).min(crate::sampling::ONE_BELOW);
                 break;
             }
             u0 -= c.probability;
@@ -328,8 +328,8 @@ pub mod batch {
                     let mixture = Mixture::new(&terms, sampler);
                     let (wo, pdf, ok) = if sampling {
                         let u = [
-                            row2[0].clamp(0.0, 1.0 - f64::EPSILON / 2.0),
-                            row2[1].clamp(0.0, 1.0 - f64::EPSILON / 2.0),
+                            row2[0].clamp(0.0, crate::sampling::ONE_BELOW),
+                            row2[1].clamp(0.0, crate::sampling::ONE_BELOW),
                         ];
                         let (wo, pdf) = mixture.sample(wi_v, &frame, u);
                         (

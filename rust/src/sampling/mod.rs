@@ -382,6 +382,9 @@ impl Warp {
     }
 }
 
+/// The largest `f64` below 1: the top of the range `[0, 1)` of the sampler's numbers.
+pub const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+
 /// Returns the mirror of unit `w` about unit `h`: `2 (w·h) h − w`.
 #[inline(always)]
 pub fn reflect(w: DVec3, h: DVec3) -> DVec3 {
