@@ -1,4 +1,5 @@
-"""Prints a hash of ``brdf_rs.eval``'s bits per model and dtype, to compare two builds.
+"""Prints a hash of ``brdf_rs.eval``'s bits per model and dtype, and of a few tables, to
+compare two builds.
 
 The inputs are fixed (seeded): random directions above and below the surface, near
 the horizon, tilted normals and tangents, and each model's parameters drawn inside their
@@ -70,6 +71,36 @@ def main() -> None:
             except (ValueError, TypeError) as exc:
                 digest = f"error: {type(exc).__name__}"
             print(f"{name:24s} {np.dtype(dtype).name:8s} {digest}")
+    tables()
+
+
+def digest_of(*arrays: np.ndarray) -> str:
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()[:16]
+
+
+#: Small albedo tables that exercise each sampler family, the end regions, strata,
+#: the random sequence and adaptive stopping.
+TABLES = [
+    ("ggx", {"alpha": [0.05, 0.3, 1.0]}, {}),
+    ("beckmann", {"alpha": [0.05, 0.3, 1.0]}, {}),
+    ("torrance_sparrow", {"p": [1.0, 30.0, 300.0]}, {}),
+    ("ward", {"alpha_x": [0.05, 0.3]}, {"alpha_y": 0.2}),
+    ("ashikhmin_shirley", {"nu": [1.0, 100.0]}, {"nv": 10.0}),
+    ("oren_nayar", {"sigma": [0.1, 1.0]}, {}),
+    ("ggx_ms", {"alpha": [0.1, 0.8]}, {}),
+]
+
+
+def tables() -> None:
+    mu = [0.05, 0.5, 0.99, 1.0]
+    for name, axes, fixed in TABLES:
+        for options in ({"samples": 256}, {"sequence": "random", "samples": 256}, {"tol": 1e-3}):
+            t = brdf_rs.albedo_table(name, {"mu": mu, **axes}, seed=3, **options, **fixed)
+            label = "+".join(f"{k}={v}" for k, v in options.items())
+            print(f"{name:24s} table    {label:24s} {digest_of(t.value, t.stderr, t.samples)}")
 
 
 if __name__ == "__main__":
