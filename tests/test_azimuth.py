@@ -303,7 +303,7 @@ def test_cli_phi_in_degrees_and_average(tmp_path) -> None:
 def test_dask_blocks_of_a_phi_axis_have_the_local_bits() -> None:
     """brdf_rs.dask's blocks (computed here without a scheduler, so without dask) use
     the local build's azimuth cells and ids: the same bits for any chunking."""
-    from brdf_rs import _albedo
+    from brdf_rs import _grid
     from brdf_rs import dask as brdf_dask
 
     axes = {
@@ -315,7 +315,7 @@ def test_dask_blocks_of_a_phi_axis_have_the_local_bits() -> None:
     options = {"samples": 512, "sampler": "auto", "sequence": "sobol", "seed": 3}
     options |= {"tol": None, "max_samples": None, "replicates": 16}
     local = brdf_rs.albedo_table("ward", axes, **fixed, samples=512, seed=3)
-    names, coords, colour = _albedo._table_axes("ward", axes, fixed)
+    names, coords, colour = _grid.table_axes("ward", axes, fixed)
     for chunks in [((3,), (8,), (2,)), ((1, 2), (3, 3, 2), (1, 1))]:
         plan = brdf_dask._Plan("ward", names, colour, coords, fixed, options, chunks, "t")
         value = np.full_like(local.value, np.nan)

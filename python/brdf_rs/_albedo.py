@@ -17,8 +17,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _arrays, _atomic, _display, _normalization, _png, _spec
+from . import _arrays, _atomic, _display, _grid, _normalization, _options, _png, _spec
 from . import _brdf_rs as _core
+from ._brdf_rs import __version__
+from ._options import DEFAULT_REPLICATES
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (xarray is optional)
     import xarray
@@ -38,9 +40,6 @@ __all__ = [
 ]
 
 log = logging.getLogger("brdf_rs")
-
-#: Independent scrambles per cell for ``sequence="sobol"`` (the error bar's basis).
-DEFAULT_REPLICATES = 16
 
 
 @dataclasses.dataclass(frozen=True)
@@ -64,100 +63,6 @@ class Albedo:
 
     def _repr_html_(self) -> str:
         return _display.albedo_html(self)
-
-
-#: The integrator's limits (the core checks them again): samples per cell, scrambles.
-_MAX_SAMPLES = 2**40
-_MAX_REPLICATES = 4096
-_U64_MAX = _arrays.U64_MAX
-SAMPLERS = ("auto", "importance", "cosine", "uniform")
-SEQUENCES = ("sobol", "random")
-
-
-def _cell_ids(cell_ids: Any) -> np.ndarray | None:
-    """``cell_ids`` as a C-contiguous uint64 array: integers from 0 to 2**64 - 1."""
-    if cell_ids is None:
-        return None
-    expected = f"integers from 0 to {_U64_MAX}"
-    # Python numbers are read one by one: NumPy would turn [5, 2**63] into floats.
-    given = cell_ids if isinstance(cell_ids, np.ndarray) else np.asarray(cell_ids, dtype=object)
-    try:
-        a = np.asarray(given)
-    except Exception as exc:  # ragged lists and the like
-        raise TypeError(f"cell_ids: expected an array of {expected} ({exc})") from None
-    if a.dtype.kind == "O":
-        for index in np.ndindex(a.shape):
-            x = a[index]
-            if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
-                raise TypeError(f"cell_ids{list(index)}: expected {expected}, got {x!r}")
-            if not 0 <= x <= _U64_MAX:
-                raise ValueError(
-                    f"cell_ids{list(index)} = {x} is out of range: expected {expected}"
-                )
-        return np.ascontiguousarray(a, dtype=np.uint64)
-    if a.dtype.kind not in "iu":
-        raise TypeError(f"cell_ids: expected {expected}, got dtype {a.dtype}")
-    if a.size and a.min() < 0:
-        flat = a.ravel()
-        i = int(np.flatnonzero(flat < 0)[0])
-        index = [int(k) for k in np.unravel_index(i, a.shape)]
-        raise ValueError(f"cell_ids{index} = {flat[i]} is out of range: expected {expected}")
-    return np.ascontiguousarray(a, dtype=np.uint64)
-
-
-def _options(
-    samples: Any,
-    sampler: Any,
-    sequence: Any,
-    seed: Any,
-    tol: Any,
-    max_samples: Any,
-    replicates: Any,
-) -> dict[str, Any]:
-    integer = _arrays.integer
-    options: dict[str, Any] = {
-        "samples": integer("samples", samples, 1, _MAX_SAMPLES, "2**40"),
-        "sampler": _arrays.choice("sampler", sampler, SAMPLERS),
-        "sequence": _arrays.choice("sequence", sequence, SEQUENCES),
-        "seed": integer("seed", seed, 0, _U64_MAX),
-        "tol": None,
-        "max_samples": None,
-        "replicates": integer("replicates", replicates, 2, _MAX_REPLICATES),
-    }
-    if tol is not None:
-        tol = _arrays.real("tol", tol, "a positive number (a standard error)")
-        if not tol > 0:
-            raise ValueError(f"tol: must be a positive number; got {tol}")
-        options["tol"] = tol
-    if max_samples is not None:
-        options["max_samples"] = integer("max_samples", max_samples, 1, _MAX_SAMPLES, "2**40")
-    return options
-
-
-def _anisotropic(model: str) -> bool:
-    """Whether a family-A model's albedo depends on the azimuth of ``wi`` (it reads a
-    tangent: Ward, Ashikhmin-Shirley)."""
-    spec = _spec.specs().get(model)
-    return bool(
-        spec is not None
-        and spec["family"] == "A"
-        and (spec["tangent"] or spec.get("tangent_optional", False))
-    )
-
-
-def _azimuth(phi: Any) -> tuple[np.ndarray | None, bool]:
-    """Checks ``phi``: returns ``(array or None, average)``."""
-    if isinstance(phi, str):
-        if phi == "average":
-            return None, True
-        raise ValueError(f'phi: expected radians (a number or an array) or "average"; got {phi!r}')
-    if phi is None or isinstance(phi, (bool, np.bool_)):
-        raise TypeError(f'phi: expected radians (a number or an array) or "average"; got {phi!r}')
-    a = np.asarray(_arrays._as_numeric("phi", phi), dtype=np.float64)
-    if not np.all(np.isfinite(a)):
-        bad = np.flatnonzero(~np.isfinite(a.ravel()))[0]
-        raise ValueError(f"phi: must be finite (radians); got {a.ravel()[bad]} at flat index {bad}")
-    return a, False  # any layout (the core reads strides); 0-d stays 0-d
 
 
 def albedo(
@@ -226,12 +131,12 @@ def albedo(
         :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
     """
     _arrays.model_name(model)
-    phi_array, average = _azimuth(phi)
+    phi_array, average = _options.azimuth(phi)
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
-    options = _options(samples, sampler, sequence, seed, tol, max_samples, replicates)
-    ids = _cell_ids(cell_ids)
+    options = _options.check(samples, sampler, sequence, seed, tol, max_samples, replicates)
+    ids = _options.cell_ids(cell_ids)
     value, stderr, drawn = _core.albedo(
         model,
         mu_array,
@@ -552,13 +457,6 @@ PNG_META_KEY = "brdf-rs:meta"
 _PNG_MAX = 65535
 
 
-def _channel_names(meta: Mapping[str, Any]) -> list[str]:
-    """What the three channels of a table hold: R, G, B, or a split-sum table's A, B."""
-    if str(meta.get("quantity", "")).startswith("split-sum"):
-        return ["A (scale)", "B (bias)", "unused (0)"]
-    return ["R", "G", "B"]
-
-
 def _save_png(table: Table, path: Path, meta: dict[str, Any]) -> None:
     value = np.asarray(table.value, dtype=np.float64)
     if value.ndim != 3:
@@ -574,7 +472,7 @@ def _save_png(table: Table, path: Path, meta: dict[str, Any]) -> None:
     axes = {
         "rows": {"name": rows, "values": np.asarray(r, dtype=np.float64).tolist()},
         "columns": {"name": columns, "values": np.asarray(c, dtype=np.float64).tolist()},
-        "channels": _channel_names(meta),
+        "channels": _display.channel_names(meta),
     }
     text = {
         "Software": f"brdf-rs {meta.get('brdf_rs', '')}".strip(),
@@ -678,11 +576,11 @@ def albedo_table(
     (``R(φ) = R(−φ) = R(π − φ)``) for the anisotropic models, and one cell in all for
     the isotropic ones (which do not depend on ``phi``); the other cells copy those.
     """
-    names, coords, colour = _table_axes(model, axes, fixed)
+    names, coords, colour = _grid.table_axes(model, axes, fixed)
     computed = dict(coords)
     inverse = ids = None
     if "phi" in coords:
-        at, first = _azimuth_cells(model, coords["phi"])
+        at, first = _grid.azimuth_cells(model, coords["phi"])
         keep = np.unique(first)
         computed["phi"] = at[keep]
         inverse = np.searchsorted(keep, first)
@@ -691,7 +589,7 @@ def albedo_table(
             np.meshgrid(*index, indexing="ij", sparse=True), [coords[n].size for n in names]
         )
         ids = np.ascontiguousarray(np.broadcast_to(flat, [i.size for i in index]), dtype=np.uint64)
-    mu, grid, rest = _grid_inputs(names, colour, [computed[n] for n in names], fixed)
+    mu, grid, rest = _grid.grid_inputs(names, colour, [computed[n] for n in names], fixed)
     result = albedo(
         model,
         mu,
@@ -723,193 +621,8 @@ def albedo_table(
         "max_samples": max_samples,
         "replicates": replicates,
     }
-    meta = _table_meta(model, names, rest, options)
+    meta = _grid.table_meta(model, names, rest, options)
     return Table(value, stderr, drawn, coords, meta)
-
-
-def _reduced_azimuth(phi: np.ndarray) -> np.ndarray:
-    """``φ`` folded onto ``[0, π/2]`` by ``R(φ) = R(−φ) = R(π − φ)``."""
-    r = np.mod(np.abs(phi), np.pi)
-    return np.asarray(np.where(r > np.pi / 2, np.pi - r, r), dtype=np.float64)
-
-
-def _azimuth_cells(model: str, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For a ``phi`` axis: the azimuth each entry is computed at and the axis index whose
-    cell (id) computes it. Anisotropic models: ``φ`` folded onto ``[0, π/2]``, entries
-    with equal folded values sharing the first one's cell; isotropic ones: one cell.
-    Shared with ``brdf_rs.dask`` so both builds give the same bits."""
-    _azimuth(phi)  # finite
-    if _anisotropic(model):
-        reduced = _reduced_azimuth(phi)
-        _, first, inverse = np.unique(reduced, return_index=True, return_inverse=True)
-        return reduced, first[inverse.reshape(-1)]
-    return np.full_like(phi, phi[0]), np.zeros(phi.size, dtype=np.intp)
-
-
-#: Keywords of :func:`albedo` that :func:`albedo_table` passes on with the fixed values.
-_TABLE_OPTIONS = ("normalization", "fold_azimuth")
-
-
-def _table_axes(
-    model: str, axes: Mapping[str, Any], fixed: Mapping[str, Any]
-) -> tuple[tuple[str, ...], dict[str, np.ndarray], frozenset[str]]:
-    """Checks a table's inputs before any work: the model, the axes' names and values,
-    the fixed values. Returns the axes' names (in order), their 1-D float64 coordinates
-    and the names of the colour axes (which hold greys)."""
-    _arrays.model_name(model)
-    specs = _spec.specs()
-    if model not in specs:
-        _core.check_params(model, {})  # the core's message: known models, a suggestion
-    if specs[model]["family"] != "A":
-        raise ValueError(
-            f"{model}: a family-{specs[model]['family']} shading term has no albedo; an albedo"
-            " table needs a family-A model (brdf_rs.models() lists them)"
-        )
-    if not isinstance(axes, Mapping):
-        raise TypeError(
-            "axes: expected a mapping {name: coordinates}, e.g. {'mu': np.linspace(0, 1, 64)};"
-            f" got {type(axes).__name__}"
-        )
-    if not axes:
-        raise ValueError("axes: give at least one axis, e.g. {'mu': np.linspace(0, 1, 64)}")
-    param_specs = {p["name"]: p for p in specs[model]["params"]}
-    known = ("mu", "phi", *param_specs)
-    for name in axes:
-        if name not in known:
-            raise ValueError(
-                f"axes[{name!r}]: unknown axis; {model} tabulates over {', '.join(known)}"
-            )
-    for name in fixed:
-        if name not in known and name not in _TABLE_OPTIONS:
-            raise TypeError(
-                f"{name}: unknown keyword; {model} takes the parameters"
-                f" {', '.join(param_specs)}, mu, phi and {', '.join(_TABLE_OPTIONS)}"
-            )
-        if name in axes:
-            raise ValueError(f"{name}: given both as an axis and as a fixed value")
-    if "mu" not in axes and "mu" not in fixed:
-        raise ValueError("axes: needs a 'mu' axis (or a fixed mu=...)")
-    _check_fixed(model, param_specs, fixed)
-    names = tuple(axes)
-    coords = {}
-    for name in names:
-        label = f"axes[{name!r}]"
-        a = np.asarray(_arrays.parameters({label: axes[name]}, np.float64)[label])
-        if a.ndim != 1 or a.size == 0:
-            raise ValueError(
-                f"{label}: expected a non-empty 1-D list of values; got shape {a.shape}"
-            )
-        _check_axis_values(model, label, name, a, fixed)
-        coords[name] = a
-    kinds = {n: p["kind"] for n, p in param_specs.items()}
-    return names, coords, frozenset(n for n in names if kinds.get(n) == "colour")
-
-
-def _check_fixed(model: str, param_specs: Mapping[str, Any], fixed: Mapping[str, Any]) -> None:
-    """Values held fixed over a table are single values: a number (a colour: or an RGB
-    triple; a list parameter: its list); ``mu`` a cosine in [0, 1]."""
-    for name, value in fixed.items():
-        if name in _TABLE_OPTIONS or (name == "phi" and isinstance(value, str)):
-            continue
-        a = _arrays._as_numeric(name, value)
-        kind = "scalar" if name in ("mu", "phi") else param_specs[name]["kind"]
-        single = a.ndim == 0 or (kind == "colour" and a.shape == (3,)) or "list" in kind
-        if not single:
-            what = "a number or an RGB triple" if kind == "colour" else "a number"
-            raise ValueError(
-                f"{name}: a value held fixed over the table is one value ({what}); got shape"
-                f" {a.shape}. To tabulate over it, give it as an axis: axes={{..., {name!r}:"
-                " [...]}"
-            )
-        if name == "mu" and not 0 <= float(a) <= 1:
-            raise ValueError(f"mu = {float(a)} is out of range: must be in [0, 1]")
-    params = {k: v for k, v in fixed.items() if k not in ("mu", "phi", *_TABLE_OPTIONS)}
-    _core.check_params(model, _arrays.parameters(params, np.float64))
-
-
-def _check_axis_values(
-    model: str, label: str, name: str, a: np.ndarray, fixed: Mapping[str, Any]
-) -> None:
-    """Checks an axis's values one by one, so an error names the axis's own index."""
-    if name == "phi":
-        bad = ~np.isfinite(a)
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise ValueError(f"{label}[{i}] = {a[i]} is not finite (radians)")
-        return
-    if name == "mu":
-        bad = ~((a >= 0) & (a <= 1))
-        if bad.any():
-            i = int(np.argmax(bad))
-            raise ValueError(
-                f"{label}[{i}] = {a[i]} is out of range: must be in [0, 1] (the cosine of the"
-                " incidence angle)"
-            )
-        return
-    params = {k: v for k, v in fixed.items() if k not in ("mu", "phi", *_TABLE_OPTIONS)}
-    base = _arrays.parameters(params, np.float64)
-    try:
-        _core.check_params(model, {**base, name: a[:, None] if a.ndim == 1 else a})
-    except ValueError:
-        for i, x in enumerate(a):
-            try:
-                _core.check_params(model, {**base, name: np.asarray(x)})
-            except ValueError as exc:
-                raise ValueError(f"{label}[{i}]: {exc}") from None
-        raise
-
-
-def _axis_values(model: str, label: str, name: str, values: Any) -> np.ndarray:
-    """A 1-D axis of :func:`dfg_table` or :func:`energy_compensation_table`, checked
-    value by value (``name``: the parameter it holds, or ``mu``)."""
-    a = np.asarray(_arrays.parameters({label: values}, np.float64)[label])
-    if a.ndim != 1 or a.size == 0:
-        raise ValueError(f"{label}: expected a non-empty 1-D list of values; got shape {a.shape}")
-    _check_axis_values(model, label, name, a, {})
-    return a
-
-
-def _grid_inputs(
-    names: Sequence[str],
-    colour: frozenset[str],
-    coords: Sequence[np.ndarray],
-    fixed: Mapping[str, Any],
-) -> tuple[np.ndarray, dict[str, Any], dict[str, Any]]:
-    """``mu``, the axis parameters and the fixed ones (``mu`` removed), shaped for
-    :func:`albedo`: one grid dimension per table axis; a colour axis holds greys."""
-    grid: dict[str, Any] = {}
-    for k, name in enumerate(names):
-        shape = [1] * len(names)
-        shape[k] = -1
-        a = coords[k].reshape(shape)
-        if name in colour:
-            a = a[..., None]
-        grid[name] = a
-    fixed = dict(fixed)
-    # phi (an axis, or fixed) goes to albedo's own ``phi=`` keyword with the parameters.
-    mu = grid.pop("mu") if "mu" in grid else np.asarray(fixed.pop("mu"), dtype=np.float64)
-    mu = np.broadcast_to(mu, [coords[k].size if n == "mu" else 1 for k, n in enumerate(names)])
-    return mu, grid, fixed
-
-
-def _table_meta(
-    model: str, names: Sequence[str], fixed: Mapping[str, Any], options: Mapping[str, Any]
-) -> dict[str, Any]:
-    """A table's metadata: the model, axes, fixed parameters (``mu`` excluded) and the
-    integrator's options."""
-    from . import __version__
-
-    return {
-        "model": model,
-        "axis_names": list(names),
-        "fixed": {k: np.asarray(v).tolist() for k, v in fixed.items()},
-        **{
-            k: options[k]
-            for k in ("samples", "sampler", "sequence", "seed", "tol", "max_samples", "replicates")
-        },
-        "brdf_rs": __version__,
-        "quantity": "directional albedo R(mu): integral of f(wi, wo) cos(theta_o) d(omega_o)",
-    }
 
 
 # ------------------------------------------------------------------------- DFG, energy
@@ -941,8 +654,8 @@ def dfg_table(
         known = ", ".join(dfg)
         raise ValueError(f"{model}: a split-sum table needs a Schlick-Fresnel model: {known}")
     rough = dfg[model]["param"]
-    mu = _axis_values(model, "mu", "mu", mu)
-    r = _axis_values(model, "roughness", rough, roughness)
+    mu = _grid.axis_values(model, "mu", "mu", mu)
+    r = _grid.axis_values(model, "roughness", rough, roughness)
     ids = np.arange(mu.size * r.size, dtype=np.uint64).reshape(mu.size, r.size)
     mus = mu[:, None]
     roughness_axis: dict[str, Any] = {rough: r[None, :]}
@@ -974,8 +687,6 @@ def dfg_table(
     value[..., 1] = zero.value[..., 0]
     stderr[..., 0] = np.hypot(one.stderr[..., 0], zero.stderr[..., 0])
     stderr[..., 1] = zero.stderr[..., 0]
-    from . import __version__
-
     meta = {
         "model": model,
         "axis_names": ["mu", rough],
@@ -1024,7 +735,7 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
     """
     _arrays.model_name(model)
     # The refinement uses seed + 1.
-    seed = _arrays.integer("seed", seed, 0, _U64_MAX - 1)
+    seed = _arrays.integer("seed", seed, 0, _arrays.U64_MAX - 1)
     mu = np.concatenate([[0.005], np.arange(1, 65) / 64.0])
     coarse = albedo(model, mu, samples=samples, seed=seed, **params)
     best = int(np.argmax(coarse.value.max(axis=-1)))
@@ -1093,8 +804,8 @@ def energy_compensation_table(
     compensated = _spec.with_energy_table()
     if model not in compensated:
         raise ValueError(f"{model}: energy compensation tables exist for {', '.join(compensated)}")
-    mu = _axis_values(model, "mu", "mu", mu)
-    alpha = _axis_values(model, "alpha", "alpha", alpha)
+    mu = _grid.axis_values(model, "mu", "mu", mu)
+    alpha = _grid.axis_values(model, "alpha", "alpha", alpha)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}
     grid = albedo(model, mu[:, None], alpha=alpha[None, :], **common)
     # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).

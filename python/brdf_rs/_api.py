@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import numpy as np
@@ -268,7 +269,7 @@ def models() -> dict[str, _spec.ModelSpec]:
     an array over the batch), ``max_len`` and ``one_more_than`` (for a colour list, the
     list it has one more entry than). The types are ``brdf_rs._spec.ModelSpec``.
     """
-    return _spec.models()
+    return copy.deepcopy(_spec.specs())
 
 
 def set_num_threads(n: int) -> None:

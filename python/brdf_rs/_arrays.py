@@ -19,7 +19,7 @@ import numpy as np
 _NUMERIC_KINDS = frozenset("fiu")
 
 
-def _show(value: Any) -> str:
+def show(value: Any) -> str:
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
@@ -38,7 +38,7 @@ def _first_unconvertible(array: np.ndarray) -> tuple[tuple[int, ...], Any]:
     return (), array  # pragma: no cover - only called after a conversion failed
 
 
-def _as_numeric(name: str, value: Any) -> np.ndarray:
+def as_numeric(name: str, value: Any) -> np.ndarray:
     """Returns ``value`` as a NumPy array of real numbers, or raises ``TypeError`` (not
     numbers) or ``ValueError`` (a number beyond float64's range), naming ``name``."""
     try:
@@ -62,10 +62,10 @@ def _as_numeric(name: str, value: Any) -> np.ndarray:
                 raise TypeError(f"{where}: expected a real number, got {bad!r}") from None
             if isinstance(bad, int) or isinstance(exc, OverflowError):
                 raise ValueError(
-                    f"{where} = {_show(bad)} is out of range: beyond float64's {FLOAT64_MAX:.4g}"
+                    f"{where} = {show(bad)} is out of range: beyond float64's {FLOAT64_MAX:.4g}"
                 ) from None
             raise TypeError(
-                f"{where}: expected a real number, got {type(bad).__name__} {_show(bad)}"
+                f"{where}: expected a real number, got {type(bad).__name__} {show(bad)}"
             ) from None
     raise TypeError(f"{name}: expected real numbers, got dtype {array.dtype}")
 
@@ -75,7 +75,7 @@ def model_name(model: Any) -> str:
     if not isinstance(model, str):
         raise TypeError(
             f"model: expected a model name (a string such as 'ggx'; brdf_rs.models() lists"
-            f" them), got {type(model).__name__} {_show(model)}"
+            f" them), got {type(model).__name__} {show(model)}"
         )
     return model
 
@@ -85,7 +85,7 @@ def choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
     quoted = [f'"{c}"' for c in choices]
     options = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
     if not isinstance(value, str):
-        raise TypeError(f"{name}: expected {options}; got {type(value).__name__} {_show(value)}")
+        raise TypeError(f"{name}: expected {options}; got {type(value).__name__} {show(value)}")
     if value not in choices:
         shown = value if len(value) <= 60 else value[:57] + "..."
         raise ValueError(f"{name}: expected {options}; got {json.dumps(shown)}")
@@ -102,12 +102,12 @@ def is_real(value: Any) -> bool:
 def real(name: str, value: Any, what: str = "a number") -> float:
     """One finite real number as a float, or an error naming ``name`` and ``what``."""
     if not is_real(value):
-        raise TypeError(f"{name}: expected {what}, got {type(value).__name__} {_show(value)}")
+        raise TypeError(f"{name}: expected {what}, got {type(value).__name__} {show(value)}")
     try:
         x = float(value)
     except OverflowError:
         raise ValueError(
-            f"{name}: expected {what}, got {_show(value)} (beyond float64's {FLOAT64_MAX:.4g})"
+            f"{name}: expected {what}, got {show(value)} (beyond float64's {FLOAT64_MAX:.4g})"
         ) from None
     if not np.isfinite(x):
         raise ValueError(f"{name}: expected {what} (finite), got {x}")
@@ -126,11 +126,11 @@ def integer(name: str, value: Any, lo: int, hi: int = U64_MAX, hi_text: str = ""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise TypeError(
             f"{name}: expected an integer from {lo} to {hi_text or hi}, got"
-            f" {type(value).__name__} {_show(value)}"
+            f" {type(value).__name__} {show(value)}"
         )
     if not lo <= value <= hi:
         raise ValueError(
-            f"{name}: expected an integer from {lo} to {hi_text or hi}, got {_show(value)}"
+            f"{name}: expected an integer from {lo} to {hi_text or hi}, got {show(value)}"
         )
     return int(value)
 
@@ -150,7 +150,7 @@ def _is_float32(dtype: np.dtype) -> bool:
 
 def directions(**given: Any) -> tuple[type[np.floating], dict[str, np.ndarray | None]]:
     """Converts the direction arguments; returns the compute dtype and the arrays."""
-    arrays = {k: _as_numeric(k, v) for k, v in given.items() if v is not None}
+    arrays = {k: as_numeric(k, v) for k, v in given.items() if v is not None}
     dtype = compute_dtype(arrays)
     out: dict[str, np.ndarray | None] = dict.fromkeys(given)
     for k, a in arrays.items():
@@ -168,7 +168,7 @@ def given(arrays: dict[str, np.ndarray | None], name: str) -> np.ndarray:
 
 def numeric(params: dict[str, Any]) -> dict[str, np.ndarray]:
     """The parameters as arrays of numbers (not converted further), checked as such."""
-    return {k: _as_numeric(k, v) for k, v in params.items()}
+    return {k: as_numeric(k, v) for k, v in params.items()}
 
 
 def parameters(params: dict[str, Any], dtype: type[np.floating]) -> dict[str, np.ndarray]:
@@ -176,5 +176,5 @@ def parameters(params: dict[str, Any], dtype: type[np.floating]) -> dict[str, np
     out: dict[str, np.ndarray] = {}
     with np.errstate(over="ignore", invalid="ignore"):
         for k, v in params.items():
-            out[k] = np.asarray(_as_numeric(k, v), dtype=dtype)
+            out[k] = np.asarray(as_numeric(k, v), dtype=dtype)
     return out

@@ -141,7 +141,7 @@ def run(
         )
     if not (tol > 0 and np.isfinite(tol)):
         raise ValueError(f"tol: must be a positive number; got {tol}")
-    from . import __version__
+    from ._brdf_rs import __version__
 
     machine = {
         "brdf_rs": __version__,

@@ -20,7 +20,15 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from ._albedo import Albedo, Energy, Table
 
-__all__ = ["albedo_html", "albedo_png", "energy_html", "energy_png", "table_html", "table_png"]
+__all__ = [
+    "albedo_html",
+    "albedo_png",
+    "channel_names",
+    "energy_html",
+    "energy_png",
+    "table_html",
+    "table_png",
+]
 
 #: How axes are labelled: the cosine of incidence and the azimuth get their meaning.
 _AXIS_LABELS = {"mu": "μ = cos θi", "phi": "φ (radians)"}
@@ -121,6 +129,13 @@ def _heat_maps(
     return list(panels)
 
 
+def channel_names(meta: Mapping[str, Any]) -> list[str]:
+    """What the three channels of a table hold: R, G, B, or a split-sum table's A, B."""
+    if str(meta.get("quantity", "")).startswith("split-sum"):
+        return ["A (scale)", "B (bias)", "unused (0)"]
+    return ["R", "G", "B"]
+
+
 def _quantity(meta: Mapping[str, Any]) -> str:
     """A table's quantity in a few words: the part of ``meta['quantity']`` before ':'."""
     text = str(meta.get("quantity") or "value")
@@ -136,15 +151,13 @@ def _title(model: Any, stderr: Any, what: str = "") -> str:
 
 
 def table_png(table: Table) -> bytes | None:
-    from ._albedo import _channel_names
-
     value = np.asarray(table.value)
     if value.ndim not in (2, 3) or value.shape[-1] != 3 or not np.all(np.isfinite(value)):
         return None
     fig = _figure(5.5 if value.ndim == 2 else 4.2 * _width(table), 3.4)
     if fig is None:
         return None
-    channels = _channels(value, _channel_names(table.meta))
+    channels = _channels(value, channel_names(table.meta))
     quantity = _quantity(table.meta)
     if value.ndim == 2:
         (name, x) = next(iter(table.axes.items()))
@@ -160,9 +173,7 @@ def table_png(table: Table) -> bytes | None:
 
 
 def _width(table: Table) -> int:
-    from ._albedo import _channel_names
-
-    return len(_channels(np.asarray(table.value), _channel_names(table.meta)))
+    return len(_channels(np.asarray(table.value), channel_names(table.meta)))
 
 
 def _summary_rows(value: np.ndarray, stderr: np.ndarray, names: Sequence[str]) -> list[str]:
@@ -195,8 +206,6 @@ def _table_html(head: Sequence[str], rows: Sequence[str]) -> str:
 
 
 def table_html(table: Table) -> str:
-    from ._albedo import _channel_names
-
     value, stderr = np.asarray(table.value), np.asarray(table.stderr)
     model = html.escape(str(table.meta.get("model")))
     shape = " × ".join(f"{html.escape(k)}[{len(v)}]" for k, v in table.axes.items())
@@ -211,7 +220,7 @@ def table_html(table: Table) -> str:
     ]
     details = _table_html(["axis", "points", "from", "to"], axes) + _table_html(
         ["channel", "min", "max", "largest stderr"],
-        _summary_rows(value, stderr, _channel_names(table.meta)),
+        _summary_rows(value, stderr, channel_names(table.meta)),
     )
     return _html(summary, table_png(table), details)
 

@@ -4,7 +4,6 @@ normalization) comes from here, so no Python module names a model to know what i
 
 from __future__ import annotations
 
-import copy
 from functools import cache
 from typing import Literal, TypedDict
 
@@ -92,14 +91,9 @@ class ModelSpec(TypedDict):
 
 @cache
 def specs() -> dict[str, ModelSpec]:
-    """Every model's spec by name, in a stable order: read once, shared (do not mutate;
-    :func:`brdf_rs.models` hands out copies)."""
+    """Every model's spec by name, in a stable order: read once from the extension and
+    shared by every module (do not mutate; :func:`brdf_rs.models` hands out copies)."""
     return {m["name"]: m for m in _core.models()}
-
-
-def models() -> dict[str, ModelSpec]:
-    """A copy of :func:`specs` that the caller may change."""
-    return copy.deepcopy(specs())
 
 
 def admits(model: str, param: str, value: float) -> bool:

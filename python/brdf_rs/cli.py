@@ -176,7 +176,7 @@ DEFAULT_TABLE: dict[str, Any] = {
 
 
 def cmd_table(args: argparse.Namespace) -> int:
-    from . import _albedo
+    from . import _albedo, _grid, _options
 
     defaulted = args.model is None
     model = DEFAULT_TABLE["model"] if defaulted else args.model
@@ -191,22 +191,22 @@ def cmd_table(args: argparse.Namespace) -> int:
         axes["phi"] = np.radians(axes["phi"])
     tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
     # Everything is checked before any work (and before a progress bar is drawn).
-    _albedo._table_axes(model, axes, params)
-    _albedo._options(
+    _grid.table_axes(model, axes, params)
+    _options.check(
         args.samples,
         args.sampler,
         args.sequence,
         args.seed,
         tol,
         args.max_samples,
-        _albedo.DEFAULT_REPLICATES,
+        _options.DEFAULT_REPLICATES,
     )
     out = _table_output(args.output, f"albedo_{model}.npz", TABLE_FORMATS, args.plot)
     plot_path = _plot_path(args.plot)
     # Cells computed: a phi axis computes only its distinct folded azimuths.
     lengths = {k: len(v) for k, v in axes.items()}
     if "phi" in axes:
-        lengths["phi"] = int(np.unique(_albedo._azimuth_cells(model, axes["phi"])[1]).size)
+        lengths["phi"] = int(np.unique(_grid.azimuth_cells(model, axes["phi"])[1]).size)
     cells = int(np.prod(list(lengths.values())))
     bar = _progress_bar(cells, args.quiet)
     last = [0, 0]
@@ -459,9 +459,9 @@ def _plot_path(text: str | None) -> Path | None:
     if text is None:
         return None
     path = _output_path(text, PLOT_FORMATS, "--plot")
-    from . import plot
+    from . import _optional
 
-    plot._matplotlib()
+    _optional.matplotlib()
     return path
 
 
@@ -562,7 +562,8 @@ def cmd_dfg(args: argparse.Namespace) -> int:
 
 def save_energy(result: Any, path: Path) -> Path:
     """Writes an :class:`~brdf_rs.EnergyCompensation` as ``.npz`` (arrays and metadata)."""
-    from . import __version__, _atomic
+    from . import _atomic
+    from ._brdf_rs import __version__
 
     meta = {
         "model": result.model,
@@ -702,10 +703,10 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def cmd_plot_lobe(args: argparse.Namespace) -> int:
-    from . import plot
+    from . import _optional, plot
 
     path = _output_path(args.output, PLOT_FORMATS)
-    plot._matplotlib()
+    _optional.matplotlib()
     theta = args.theta_i or [45.0]
     plot.polar_lobe(
         args.model,
@@ -963,7 +964,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import __version__
+    from ._brdf_rs import __version__
 
     parser = _Parser(
         prog="brdf-rs",

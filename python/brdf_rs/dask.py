@@ -60,7 +60,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _albedo
+from . import _albedo, _grid, _options
 from ._albedo import Table
 
 if TYPE_CHECKING:
@@ -121,7 +121,7 @@ class _Block:
     fixed: dict[str, Any]
     options: dict[str, Any]
     # A phi axis: the full-grid axis index whose cell id each of the block's azimuths
-    # uses (its coordinates are already the azimuths computed; see _albedo._azimuth_cells).
+    # uses (its coordinates are already the azimuths computed; see _grid.azimuth_cells).
     phi_index: np.ndarray | None = None
 
     @property
@@ -135,7 +135,7 @@ class _Block:
 def _compute_block(block: _Block) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Integrates one block; returns its ``(value, stderr, samples)``."""
     shape = block.block_shape
-    mu, grid, fixed = _albedo._grid_inputs(block.names, block.colour, block.coords, block.fixed)
+    mu, grid, fixed = _grid.grid_inputs(block.names, block.colour, block.coords, block.fixed)
     ranges = [np.arange(s, s + n) for s, n in zip(block.start, shape, strict=True)]
     if block.phi_index is not None:
         ranges[block.names.index("phi")] = block.phi_index
@@ -193,7 +193,7 @@ class _Plan:
         computed = dict(self.coords)
         first = None
         if "phi" in computed:  # the local build's azimuth cells, for the same bits
-            computed["phi"], first = _albedo._azimuth_cells(self.model, computed["phi"])
+            computed["phi"], first = _grid.azimuth_cells(self.model, computed["phi"])
         for index in itertools.product(*(range(len(c)) for c in self.chunks)):
             start = tuple(int(offsets[k][i]) for k, i in enumerate(index))
             stop = tuple(int(offsets[k][i + 1]) for k, i in enumerate(index))
@@ -268,7 +268,7 @@ def _probe(
     quick = {**options, "samples": 1, "tol": None, "max_samples": None}
     for k in range(len(names)):
         line = [coords[n] if j == k else coords[n][:1] for j, n in enumerate(names)]
-        mu, grid, rest = _albedo._grid_inputs(names, colour, line, fixed)
+        mu, grid, rest = _grid.grid_inputs(names, colour, line, fixed)
         r = _albedo.albedo(model, mu, **quick, **grid, **rest)
         expected = tuple(a.size for a in line)
         if r.value.shape != (*expected, 3):
@@ -293,17 +293,17 @@ def _make_plan(model: str, axes: Mapping[str, Any], chunks: Any, options: dict[s
         "seed": 0,
         "tol": None,
         "max_samples": None,
-        "replicates": _albedo.DEFAULT_REPLICATES,
+        "replicates": _options.DEFAULT_REPLICATES,
     }
     opts = {**defaults, **opts}
-    checked = _albedo._options(**opts)  # the local build's checks and messages
+    checked = _options.check(**opts)  # the local build's checks and messages
     bound = checked["max_samples"]
     if checked["tol"] is not None and bound is not None and bound < checked["samples"]:
         raise ValueError(
             f"max_samples: must be between samples ({checked['samples']}) and 2^40; got {bound}"
         )
     fixed = options
-    names, coords, colour = _albedo._table_axes(model, axes, fixed)
+    names, coords, colour = _grid.table_axes(model, axes, fixed)
     _probe(model, names, colour, coords, fixed, opts)
     shape = tuple(coords[n].size for n in names)
     normalized = _normalize_chunks(chunks, names, shape, checked["samples"])
@@ -316,7 +316,7 @@ def _make_plan(model: str, axes: Mapping[str, Any], chunks: Any, options: dict[s
 def _meta(plan: _Plan) -> dict[str, Any]:
     """The ``meta`` of the local ``brdf_rs.albedo_table`` for the same request."""
     fixed = {k: v for k, v in plan.fixed.items() if not (k == "mu" and "mu" not in plan.names)}
-    return _albedo._table_meta(plan.model, plan.names, fixed, plan.options)
+    return _grid.table_meta(plan.model, plan.names, fixed, plan.options)
 
 
 def _arrays_of(plan: _Plan) -> tuple[Any, Any, Any]:

@@ -33,6 +33,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _albedo, _api, _atomic, _spec
+from ._optional import matplotlib as _matplotlib
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from matplotlib.axes import Axes
@@ -70,17 +71,6 @@ _AXIS_LABELS = {
 #: Default figure sizes (inches): readable at 100 dpi with 9-11 pt text.
 LOBE_SIZE = (6.4, 3.2)
 CURVES_SIZE = (6.4, 3.8)
-
-
-def _matplotlib() -> Any:
-    """Imports matplotlib (lazily: ``import brdf_rs`` never pays for it)."""
-    try:
-        import matplotlib
-    except ImportError:
-        raise ImportError(
-            "brdf_rs.plot needs matplotlib: pip install 'brdf-rs[plot]' (or matplotlib>=3.7)"
-        ) from None
-    return matplotlib
 
 
 def _figure(

@@ -75,8 +75,9 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 
-from . import _arrays, _atomic, _png, _spec
+from . import _arrays, _atomic, _options, _png, _spec
 from . import _brdf_rs as _core
+from ._brdf_rs import __version__
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
     from ._albedo import Table
@@ -132,7 +133,7 @@ class _Where:
     def expected(self, what: str, got: Any, *, float32: bool = False) -> SceneError:
         """``float32``: the value goes to the renderer, which holds float32 numbers."""
         note = _range_note(got) if float32 else ""
-        return self.error(f"expected {what}, got {_arrays._show(got)}{note}")
+        return self.error(f"expected {what}, got {_arrays.show(got)}{note}")
 
 
 #: The renderer computes in float32: every number of a scene must be within its range.
@@ -290,7 +291,7 @@ def _term(where: _Where, value: Any, *, family: str, slot: str | None) -> dict[s
         close = difflib.get_close_matches(str(model), list(specs), n=1, cutoff=0.6)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         raise (where / "model").error(
-            f"unknown model {_arrays._show(model)}{hint}; known models: {', '.join(specs)}"
+            f"unknown model {_arrays.show(model)}{hint}; known models: {', '.join(specs)}"
         )
     spec = specs[model]
     if spec["family"] != family:
@@ -415,7 +416,7 @@ def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         defined = ", ".join(known) if known else "none"
         raise (where / "material").error(
-            f"unknown material {_arrays._show(name)}{hint}; defined materials: {defined}"
+            f"unknown material {_arrays.show(name)}{hint}; defined materials: {defined}"
         )
     out: dict[str, Any] = {"shape": shape, "material": name}
     if shape == "sphere":
@@ -436,8 +437,8 @@ def _object(where: _Where, value: Any, materials: Mapping[str, Any]) -> dict[str
             out["tangent"] = _vector(where / "tangent", table["tangent"], nonzero=True)
             if _parallel(out["tangent"], out["normal"]):
                 raise (where / "tangent").error(
-                    f"{_arrays._show(table['tangent'])} is parallel to the plane's normal"
-                    f" {_arrays._show(table['normal'])}: it gives no direction in the plane"
+                    f"{_arrays.show(table['tangent'])} is parallel to the plane's normal"
+                    f" {_arrays.show(table['normal'])}: it gives no direction in the plane"
                 )
         else:
             out["tangent"] = None
@@ -747,7 +748,7 @@ def _apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:
     # 400-digit integer is refused, not an OverflowError).
     if not (_is_number(exposure) and bool(abs(exposure) <= sys.float_info.max)):
         raise ValueError(
-            f"exposure: expected a finite number of stops, got {_arrays._show(exposure)}"
+            f"exposure: expected a finite number of stops, got {_arrays.show(exposure)}"
         )
     if kind == "none" and exposure == 0:
         return image
@@ -765,7 +766,7 @@ def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.nda
     and finite input never gives NaN.
     """
     with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
-        out = np.array(_arrays._as_numeric("image", image), dtype=np.float32, order="C", copy=True)
+        out = np.array(_arrays.as_numeric("image", image), dtype=np.float32, order="C", copy=True)
     return _apply_tonemap(out, kind, exposure)
 
 
@@ -794,7 +795,7 @@ def _material_core(where: _Where, material: Mapping[str, Any]) -> dict[str, Any]
 
 
 def _vectors(name: str, value: Any) -> np.ndarray:
-    a = np.asarray(_arrays._as_numeric(name, value), dtype=np.float64)
+    a = np.asarray(_arrays.as_numeric(name, value), dtype=np.float64)
     if a.ndim == 0 or a.shape[-1] != 3:
         raise ValueError(f"{name}: expected an array of shape (..., 3), got shape {a.shape}")
     return a
@@ -955,7 +956,7 @@ def encode_png(image: np.ndarray) -> bytes:
 
 def _image(name: str, image: Any) -> np.ndarray:
     with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
-        a = np.ascontiguousarray(_arrays._as_numeric(name, image), dtype=np.float32)
+        a = np.ascontiguousarray(_arrays.as_numeric(name, image), dtype=np.float32)
     if a.ndim != 3 or a.shape[2] != 3:
         raise ValueError(f"{name}: expected shape (height, width, 3), got {a.shape}")
     return a
@@ -1085,12 +1086,11 @@ def scene_tables(
 
     ``progress(material, cells_done, cells)`` is called while a table is built.
     """
-    from . import __version__
-    from ._albedo import DEFAULT_REPLICATES, _options, albedo_table
+    from ._albedo import albedo_table
 
     scene = _as_scene(scene)
     mu_count = _arrays.integer("mu_count", mu_count, 1, 1 << 20)
-    checked = _options(samples, "auto", "sobol", seed, tol, None, DEFAULT_REPLICATES)
+    checked = _options.check(samples, "auto", "sobol", seed, tol, None, _options.DEFAULT_REPLICATES)
     samples, seed, tol = checked["samples"], checked["seed"], checked["tol"]
     directory = Path(cache_dir) if cache_dir is not None else default_cache_dir()
     directory.mkdir(parents=True, exist_ok=True)
@@ -1111,7 +1111,7 @@ def scene_tables(
             "sequence": "sobol",
             "seed": seed,
             "tol": tol,
-            "replicates": DEFAULT_REPLICATES,
+            "replicates": _options.DEFAULT_REPLICATES,
             "brdf_rs": __version__,
         }
         digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()
