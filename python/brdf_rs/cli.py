@@ -26,7 +26,8 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from . import _api, _spec
+from . import _api, _options, _spec
+from ._brdf_rs import __version__
 
 EXIT_USAGE = 2
 EXIT_FAILURE = 1
@@ -176,7 +177,7 @@ DEFAULT_TABLE: dict[str, Any] = {
 
 
 def cmd_table(args: argparse.Namespace) -> int:
-    from . import _albedo, _grid, _options
+    from . import _albedo, _grid
 
     defaulted = args.model is None
     model = DEFAULT_TABLE["model"] if defaulted else args.model
@@ -563,7 +564,6 @@ def cmd_dfg(args: argparse.Namespace) -> int:
 def save_energy(result: Any, path: Path) -> Path:
     """Writes an :class:`~brdf_rs.EnergyCompensation` as ``.npz`` (arrays and metadata)."""
     from . import _atomic
-    from ._brdf_rs import __version__
 
     meta = {
         "model": result.model,
@@ -725,105 +725,6 @@ def cmd_plot_lobe(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_user_commands(sub: Any) -> None:
-    """Registers dfg, energy, bench and plot-lobe."""
-    by_param: dict[str, list[str]] = {}
-    for name, axis in _spec.with_dfg().items():
-        by_param.setdefault(axis["param"], []).append(name)
-    roughness = ", ".join(f"{param} for {' and '.join(names)}" for param, names in by_param.items())
-    p = sub.add_parser(
-        "dfg",
-        help="build a split-sum (DFG) table: scale A and bias B with R_spec = F0*A + B",
-        description="Tabulate the split-sum terms of a Schlick-Fresnel model over mu and "
-        f"roughness ({roughness}). Channel 0 of the "
-        "table is the scale A, channel 1 the bias B.",
-    )
-    p.add_argument(
-        "model", nargs="?", default="ggx", help=f"{', '.join(_spec.with_dfg())} (default ggx)"
-    )
-    p.add_argument(
-        "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"
-    )
-    p.add_argument(
-        "--roughness",
-        type=_values,
-        default=None,
-        help="roughness axis spec (default mid:0:1:32 for alpha, log:1:10000:32 for p)",
-    )
-    p.add_argument("--samples", type=int, default=1 << 14, help="samples per cell")
-    p.add_argument(
-        "--tol",
-        type=float,
-        default=None,
-        help="stop each cell at this standard error (default: none, --samples per cell)",
-    )
-    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
-    p.add_argument("-o", "--output", default=None, help="dfg.npz | dfg.exr | dfg.png")
-    p.add_argument("--plot", default=None, help="also draw A and B (needs matplotlib): out.png")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
-    p.set_defaults(run=cmd_dfg)
-
-    p = sub.add_parser(
-        "energy",
-        help="build a Kulla-Conty energy compensation table: E(mu, alpha) and E_avg(alpha)",
-        description="The single-scattering albedo E(mu, alpha) of a microfacet model with "
-        "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy the "
-        "multiple-scattering lobe (ggx_ms, beckmann_ms) restores.",
-    )
-    p.add_argument("model", help=" or ".join(_spec.with_energy_table()))
-    p.add_argument(
-        "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"
-    )
-    p.add_argument(
-        "--alpha", type=_values, default="mid:0:1:32", help="roughness (default mid:0:1:32)"
-    )
-    p.add_argument("--samples", type=int, default=1 << 12, help="samples per cell (first round)")
-    p.add_argument("--tol", type=float, default=1e-5, help="standard error per cell")
-    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
-    p.add_argument("-o", "--output", default=None, help="energy.npz")
-    p.add_argument("--plot", default=None, help="also draw E and E_avg (needs matplotlib): out.png")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
-    p.set_defaults(run=cmd_energy)
-
-    p = sub.add_parser(
-        "bench",
-        help="a short benchmark: eval throughput and an albedo table, on this machine",
-        description="Measures million evaluations per second of a few models (float64 and "
-        "float32) and builds a small normalized_phong albedo table to a tolerance, checking "
-        "it against its exact value at mu = 1. A few seconds; benches/ in the repository has "
-        "the full benchmarks.",
-    )
-    p.add_argument("--models", nargs="+", default=None, help="models to time (default: 5 kinds)")
-    p.add_argument("--n", type=int, default=1_000_000, help="direction pairs per call")
-    p.add_argument("--repeat", type=int, default=3, help="timed calls (the best is kept)")
-    p.add_argument("--table-size", type=int, default=16, help="the albedo table is SIZE x SIZE")
-    p.add_argument("--tol", type=float, default=1e-4, help="the albedo table's standard error")
-    p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
-    p.add_argument("--json", action="store_true", help="machine-readable results")
-    p.set_defaults(run=cmd_bench)
-
-    p = sub.add_parser(
-        "plot-lobe",
-        help="polar plot of a model's lobe in the plane of incidence (needs matplotlib)",
-        description="Draws f(wi, wo) for wo in the plane of incidence, light arriving from "
-        "the left at each --theta-i (degrees), like Disney's BRDF Explorer.",
-    )
-    p.add_argument("model", help="a model name (brdf-rs models lists them)")
-    p.add_argument(
-        "--theta-i", type=float, action="append", default=[], help="degrees (repeat; default 45)"
-    )
-    p.add_argument(
-        "--param", "-p", type=_param, action="append", default=[], help="name=value (repeat)"
-    )
-    p.add_argument("--tangent", type=_vector, default=None, help="tangent x,y,z")
-    p.add_argument("--cosine", action="store_true", help="multiply by cos(theta_o)")
-    p.add_argument("-o", "--output", required=True, help="lobe.png | .svg | .pdf")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
-    p.set_defaults(run=cmd_plot_lobe)
-
-
 def cmd_stress(args: argparse.Namespace) -> int:
     from . import _stress
 
@@ -963,18 +864,98 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.prog}: {message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    from ._brdf_rs import __version__
+# ------------------------------------------------------------------------- the parser
+#
+# One builder: build_parser() registers each command with its own _add_* function; the
+# options several commands share are defined once, by the helpers below (their help
+# texts are the commands' too).
 
-    parser = _Parser(
-        prog="brdf-rs",
-        description="Evaluate, integrate and tabulate reflectance models (BRDFs).",
-        epilog="brdf-rs COMMAND --help describes a command. Exit codes: 0 success, 1 failure,"
-        " 2 usage error, 130 interrupted.",
+TOL_PER_CELL_HELP = "stop each cell at this standard error (default: none, --samples per cell)"
+SCENE_HELP = "a scene file (TOML), or an example scene that ships with brdf-rs: "
+
+
+def _add_model(p: Any, help: str = "a model name (brdf-rs models lists them)") -> None:
+    p.add_argument("model", help=help)
+
+
+def _add_params(p: Any, help: str = "name=value (repeat)") -> None:
+    """``--param name=value``, repeated."""
+    p.add_argument("--param", "-p", type=_param, action="append", default=[], help=help)
+
+
+def _add_tangent(p: Any) -> None:
+    p.add_argument("--tangent", type=_vector, default=None, help="tangent x,y,z")
+
+
+def _add_incidences(p: Any) -> None:
+    """``--mu``: the incidences of a split-sum or energy table."""
+    p.add_argument(
+        "--mu", type=_values, default="mid:0:1:32", help="incidences (default mid:0:1:32)"
     )
-    parser.add_argument("--version", action="version", version=f"brdf-rs {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
+
+def _add_integrator(
+    p: Any,
+    *,
+    samples: int,
+    samples_help: str,
+    tol: float | None = None,
+    tol_help: str = TOL_PER_CELL_HELP,
+    sampling: bool = False,
+) -> None:
+    """``--samples``, ``--tol``, (with ``sampling``: ``--max-samples``, ``--sampler``,
+    ``--sequence``) and ``--seed``: the integrator's options."""
+    p.add_argument("--samples", type=int, default=samples, help=samples_help)
+    p.add_argument("--tol", type=float, default=tol, help=tol_help)
+    if sampling:
+        p.add_argument(
+            "--max-samples",
+            type=int,
+            default=None,
+            help="cap per cell with --tol (default: the larger of --samples and 2^24)",
+        )
+        p.add_argument(
+            "--sampler",
+            default="auto",
+            choices=list(_options.SAMPLERS),
+            help="how directions are drawn (auto: the model's importance sampling)",
+        )
+        p.add_argument(
+            "--sequence",
+            default="sobol",
+            choices=list(_options.SEQUENCES),
+            help="scrambled Sobol points or independent random numbers",
+        )
+    _add_seed(p)
+
+
+def _add_seed(p: Any) -> None:
+    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
+
+
+def _add_table_files(p: Any, output_help: str, plot_help: str) -> None:
+    """``-o`` (the table file) and ``--plot`` (a figure of it)."""
+    p.add_argument("-o", "--output", default=None, help=output_help)
+    p.add_argument("--plot", default=None, help=plot_help)
+
+
+def _add_reporting(
+    p: Any,
+    *,
+    quiet_help: str | None = "no progress bar",
+    json_help: str = "machine-readable summary",
+) -> None:
+    """``--quiet`` (unless ``quiet_help`` is None) and ``--json``."""
+    if quiet_help is not None:
+        p.add_argument("--quiet", "-q", action="store_true", help=quiet_help)
+    p.add_argument("--json", action="store_true", help=json_help)
+
+
+def _add_scene(p: Any) -> None:
+    p.add_argument("scene", help=SCENE_HELP + ", ".join(_example_names()))
+
+
+def _add_models_command(sub: Any) -> None:
     p = sub.add_parser(
         "models",
         help="list the models (or the named ones): family, formula, source, parameters",
@@ -985,21 +966,23 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="NAME",
         help="only these models (default: every model)",
     )
-    p.add_argument("--json", action="store_true", help="machine-readable output")
+    _add_reporting(p, quiet_help=None, json_help="machine-readable output")
     p.set_defaults(run=cmd_models)
 
+
+def _add_eval_command(sub: Any) -> None:
     p = sub.add_parser("eval", help="evaluate one model for one pair of directions")
-    p.add_argument("model", help="a model name (brdf-rs models lists them)")
+    _add_model(p)
     p.add_argument("--wi", type=_vector, required=True, help="toward the light: x,y,z")
     p.add_argument("--wo", type=_vector, required=True, help="toward the viewer: x,y,z")
     p.add_argument("--n", type=_vector, default=None, help="surface normal (default 0,0,1)")
-    p.add_argument("--tangent", type=_vector, default=None, help="tangent x,y,z")
-    p.add_argument(
-        "--param", "-p", type=_param, action="append", default=[], help="name=value (repeat)"
-    )
-    p.add_argument("--json", action="store_true", help="machine-readable output")
+    _add_tangent(p)
+    _add_params(p)
+    _add_reporting(p, quiet_help=None, json_help="machine-readable output")
     p.set_defaults(run=cmd_eval)
 
+
+def _add_table_command(sub: Any) -> None:
     p = sub.add_parser(
         "table",
         help="build an albedo table (the main job)",
@@ -1031,55 +1014,30 @@ def build_parser() -> argparse.ArgumentParser:
         "depend on it (an axis: --axis phi=..., also in degrees; "
         "the saved table's phi axis is in radians, as brdf_rs.albedo_table takes it)",
     )
-    p.add_argument(
-        "--param", "-p", type=_param, action="append", default=[], help="fixed name=value"
-    )
-    p.add_argument(
-        "--samples", type=int, default=4096, help="samples per cell (first round with --tol)"
-    )
-    p.add_argument(
-        "--tol",
-        type=float,
-        default=None,
-        help="stop each cell at this standard error (default: 1e-4 for the default"
+    _add_params(p, help="fixed name=value")
+    _add_integrator(
+        p,
+        samples=4096,
+        samples_help="samples per cell (first round with --tol)",
+        tol_help="stop each cell at this standard error (default: 1e-4 for the default"
         " table, else none: --samples per cell)",
+        sampling=True,
     )
-    p.add_argument(
-        "--max-samples",
-        type=int,
-        default=None,
-        help="cap per cell with --tol (default: the larger of --samples and 2^24)",
+    _add_table_files(
+        p, "table.npz | table.exr | table.png", "also draw the table (needs matplotlib): out.png"
     )
-    p.add_argument(
-        "--sampler",
-        default="auto",
-        choices=["auto", "importance", "cosine", "uniform"],
-        help="how directions are drawn (auto: the model's importance sampling)",
-    )
-    p.add_argument(
-        "--sequence",
-        default="sobol",
-        choices=["sobol", "random"],
-        help="scrambled Sobol points or independent random numbers",
-    )
-    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
-    p.add_argument("-o", "--output", default=None, help="table.npz | table.exr | table.png")
-    p.add_argument("--plot", default=None, help="also draw the table (needs matplotlib): out.png")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    _add_reporting(p)
     p.set_defaults(run=cmd_table)
 
+
+def _add_render_command(sub: Any) -> None:
     p = sub.add_parser(
         "render",
         help="render a scene file (TOML) to PNG, EXR or NPY",
         description="Render a scene: PNG gets the tone-mapped, sRGB-encoded image; EXR and "
         "NPY get linear radiance (float32).",
     )
-    p.add_argument(
-        "scene",
-        help="a scene file (TOML), or an example scene that ships with brdf-rs: "
-        + ", ".join(_example_names()),
-    )
+    _add_scene(p)
     p.add_argument("-o", "--output", default=None, help="image.png | image.exr | image.npy")
     p.add_argument("--exr", default=None, help="also write linear radiance as .exr")
     p.add_argument("--npy", default=None, help="also write linear radiance as .npy")
@@ -1097,10 +1055,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="render one component without computing the other",
     )
     p.add_argument("--resolution", type=_resolution, default=None, help="WIDTHxHEIGHT override")
-    p.add_argument("--quiet", "-q", action="store_true", help="print nothing")
-    p.add_argument("--json", action="store_true", help="machine-readable summary and statistics")
+    _add_reporting(
+        p, quiet_help="print nothing", json_help="machine-readable summary and statistics"
+    )
     p.set_defaults(run=cmd_render)
 
+
+def _add_tables_command(sub: Any) -> None:
     p = sub.add_parser(
         "tables",
         help="build (or find cached) the albedo tables a scene's materials need",
@@ -1108,30 +1069,110 @@ def build_parser() -> argparse.ArgumentParser:
         "R(mu), cached on disk under a hash of the model, parameters, sampler settings and "
         "library version; a second run skips every table already built.",
     )
-    p.add_argument(
-        "scene",
-        help="a scene file (TOML), or an example scene that ships with brdf-rs: "
-        + ", ".join(_example_names()),
-    )
+    _add_scene(p)
     p.add_argument(
         "--cache-dir", default=None, help="default: $BRDF_RS_CACHE or ~/.cache/brdf-rs/tables"
     )
     p.add_argument("--mu-count", type=int, default=32, help="incidences (cell midpoints of [0, 1])")
-    p.add_argument(
-        "--samples", type=int, default=4096, help="samples per cell (first round with --tol)"
-    )
-    p.add_argument(
-        "--tol",
-        type=float,
-        default=None,
-        help="stop each cell at this standard error (default: none, --samples per cell)",
-    )
-    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
+    _add_integrator(p, samples=4096, samples_help="samples per cell (first round with --tol)")
+    _add_reporting(p)
     p.set_defaults(run=cmd_tables)
-    _add_user_commands(sub)
 
+
+def _add_dfg_command(sub: Any) -> None:
+    by_param: dict[str, list[str]] = {}
+    for name, axis in _spec.with_dfg().items():
+        by_param.setdefault(axis["param"], []).append(name)
+    roughness = ", ".join(f"{param} for {' and '.join(names)}" for param, names in by_param.items())
+    p = sub.add_parser(
+        "dfg",
+        help="build a split-sum (DFG) table: scale A and bias B with R_spec = F0*A + B",
+        description="Tabulate the split-sum terms of a Schlick-Fresnel model over mu and "
+        f"roughness ({roughness}). Channel 0 of the "
+        "table is the scale A, channel 1 the bias B.",
+    )
+    p.add_argument(
+        "model", nargs="?", default="ggx", help=f"{', '.join(_spec.with_dfg())} (default ggx)"
+    )
+    _add_incidences(p)
+    p.add_argument(
+        "--roughness",
+        type=_values,
+        default=None,
+        help="roughness axis spec (default mid:0:1:32 for alpha, log:1:10000:32 for p)",
+    )
+    _add_integrator(p, samples=1 << 14, samples_help="samples per cell")
+    _add_table_files(
+        p, "dfg.npz | dfg.exr | dfg.png", "also draw A and B (needs matplotlib): out.png"
+    )
+    _add_reporting(p)
+    p.set_defaults(run=cmd_dfg)
+
+
+def _add_energy_command(sub: Any) -> None:
+    p = sub.add_parser(
+        "energy",
+        help="build a Kulla-Conty energy compensation table: E(mu, alpha) and E_avg(alpha)",
+        description="The single-scattering albedo E(mu, alpha) of a microfacet model with "
+        "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy the "
+        "multiple-scattering lobe (ggx_ms, beckmann_ms) restores.",
+    )
+    _add_model(p, help=" or ".join(_spec.with_energy_table()))
+    _add_incidences(p)
+    p.add_argument(
+        "--alpha", type=_values, default="mid:0:1:32", help="roughness (default mid:0:1:32)"
+    )
+    _add_integrator(
+        p,
+        samples=1 << 12,
+        samples_help="samples per cell (first round)",
+        tol=1e-5,
+        tol_help="standard error per cell",
+    )
+    _add_table_files(p, "energy.npz", "also draw E and E_avg (needs matplotlib): out.png")
+    _add_reporting(p)
+    p.set_defaults(run=cmd_energy)
+
+
+def _add_bench_command(sub: Any) -> None:
+    p = sub.add_parser(
+        "bench",
+        help="a short benchmark: eval throughput and an albedo table, on this machine",
+        description="Measures million evaluations per second of a few models (float64 and "
+        "float32) and builds a small normalized_phong albedo table to a tolerance, checking "
+        "it against its exact value at mu = 1. A few seconds; benches/ in the repository has "
+        "the full benchmarks.",
+    )
+    p.add_argument("--models", nargs="+", default=None, help="models to time (default: 5 kinds)")
+    p.add_argument("--n", type=int, default=1_000_000, help="direction pairs per call")
+    p.add_argument("--repeat", type=int, default=3, help="timed calls (the best is kept)")
+    p.add_argument("--table-size", type=int, default=16, help="the albedo table is SIZE x SIZE")
+    p.add_argument("--tol", type=float, default=1e-4, help="the albedo table's standard error")
+    p.add_argument("--threads", type=int, default=None, help="worker threads (default: all)")
+    _add_reporting(p, quiet_help=None, json_help="machine-readable results")
+    p.set_defaults(run=cmd_bench)
+
+
+def _add_plot_lobe_command(sub: Any) -> None:
+    p = sub.add_parser(
+        "plot-lobe",
+        help="polar plot of a model's lobe in the plane of incidence (needs matplotlib)",
+        description="Draws f(wi, wo) for wo in the plane of incidence, light arriving from "
+        "the left at each --theta-i (degrees), like Disney's BRDF Explorer.",
+    )
+    _add_model(p)
+    p.add_argument(
+        "--theta-i", type=float, action="append", default=[], help="degrees (repeat; default 45)"
+    )
+    _add_params(p)
+    _add_tangent(p)
+    p.add_argument("--cosine", action="store_true", help="multiply by cos(theta_o)")
+    p.add_argument("-o", "--output", required=True, help="lobe.png | .svg | .pdf")
+    _add_reporting(p, quiet_help=None)
+    p.set_defaults(run=cmd_plot_lobe)
+
+
+def _add_stress_command(sub: Any) -> None:
     p = sub.add_parser(
         "stress",
         help="numerical stress test: every model against a 50-digit reference",
@@ -1163,14 +1204,38 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--precision",
         default="accurate",
-        choices=["accurate", "fast"],
+        choices=list(_api.PRECISIONS),
         help="the tier of brdf_rs.eval to run, whose goals are checked (fast: relative "
         "error at most 1e-12 in float64, 2e-6 in float32, on well-conditioned cases)",
     )
-    p.add_argument("--seed", type=int, default=0, help=SEED_HELP)
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="the whole report as JSON")
+    _add_seed(p)
+    _add_reporting(p, json_help="the whole report as JSON")
     p.set_defaults(run=cmd_stress)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``brdf-rs`` parser: every command, in the order ``--help`` lists them."""
+    parser = _Parser(
+        prog="brdf-rs",
+        description="Evaluate, integrate and tabulate reflectance models (BRDFs).",
+        epilog="brdf-rs COMMAND --help describes a command. Exit codes: 0 success, 1 failure,"
+        " 2 usage error, 130 interrupted.",
+    )
+    parser.add_argument("--version", action="version", version=f"brdf-rs {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for add in (
+        _add_models_command,
+        _add_eval_command,
+        _add_table_command,
+        _add_render_command,
+        _add_tables_command,
+        _add_dfg_command,
+        _add_energy_command,
+        _add_bench_command,
+        _add_plot_lobe_command,
+        _add_stress_command,
+    ):
+        add(sub)
     return parser
 
 
