@@ -18,7 +18,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
-    from ._albedo import Albedo, Energy, Table
+    from ._albedo import Albedo, Energy
+    from ._table import Table
 
 __all__ = [
     "albedo_html",

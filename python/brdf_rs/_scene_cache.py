@@ -10,16 +10,14 @@ import os
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from . import _arrays, _options, _spec
 from ._brdf_rs import __version__
 from ._scene_schema import Scene, as_scene
-
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from ._albedo import Table
+from ._table import Table, TableFileError
 
 __all__ = ["TableResult", "default_cache_dir", "scene_tables"]
 
@@ -70,8 +68,6 @@ def _canonical_params(model: str, params: Mapping[str, Any]) -> dict[str, Any]:
 def _cached_table(path: Path, key: Mapping[str, Any]) -> Table | None:
     """The table cached at ``path`` if it is whole and is the one ``key`` asks for, else
     None (the caller builds it again); a file that fails is logged as a warning."""
-    from ._albedo import Table, TableFileError
-
     try:
         table = Table.load(path)
     except (OSError, TableFileError) as exc:

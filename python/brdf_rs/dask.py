@@ -61,7 +61,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import _albedo, _grid, _options
-from ._albedo import Table
+from ._table import Table
 
 if TYPE_CHECKING:
     import dask.array

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, Literal, cast
 import numpy as np
 import numpy.typing as npt
 
-from . import _albedo, _api, _atomic, _spec
+from . import _albedo, _api, _atomic, _spec, _table
 from ._optional import matplotlib as _matplotlib
 
 if TYPE_CHECKING:  # pragma: no cover - typing only
@@ -382,7 +382,7 @@ def _edges(coords: np.ndarray) -> tuple[np.ndarray, bool]:
     return (np.exp(edges) if geometric else edges), geometric
 
 
-def _panels(table: _albedo.Table, channel: int | None) -> list[tuple[int, str]]:
+def _panels(table: _table.Table, channel: int | None) -> list[tuple[int, str]]:
     quantity = str(table.meta.get("quantity", ""))
     if channel is not None:
         if channel not in (0, 1, 2):
@@ -397,7 +397,7 @@ def _panels(table: _albedo.Table, channel: int | None) -> list[tuple[int, str]]:
 
 
 def table_heatmap(
-    table: _albedo.Table,
+    table: _table.Table,
     *,
     channel: int | None = None,
     ax: Axes | None = None,
@@ -412,7 +412,7 @@ def table_heatmap(
     with grey parameters shows one panel, a coloured one R, G and B. ``channel`` picks
     one panel (and is required with ``ax=`` when there would be several).
     """
-    if not isinstance(table, _albedo.Table):
+    if not isinstance(table, _table.Table):
         raise TypeError(f"table: expected a brdf_rs.Table, got {type(table).__name__}")
     names = list(table.axes)
     if len(names) not in (1, 2):
