@@ -262,9 +262,14 @@ def _probe(
     fixed: Mapping[str, Any],
     options: Mapping[str, Any],
 ) -> None:
-    """Checks the model, every axis value and the fixed parameters now, cheaply (each
-    axis once, the others at their first value, 1 sample per cell), so a bad value
-    fails here and not in the last task of a long build."""
+    """Checks the options, the model, every axis value and the fixed parameters now,
+    cheaply (the options on no cells; each axis once, the others at their first value,
+    1 sample per cell), so a bad value fails here and not in the last task of a long
+    build."""
+    # The options together (max_samples against samples, Sobol points per replicate), as
+    # the core checks them: on no cells, so no work.
+    mu, grid, rest = _grid.grid_inputs(names, colour, [coords[n][:0] for n in names], fixed)
+    _albedo.albedo(model, mu, **options, **grid, **rest)
     quick = {**options, "samples": 1, "tol": None, "max_samples": None}
     for k in range(len(names)):
         line = [coords[n] if j == k else coords[n][:1] for j, n in enumerate(names)]
@@ -297,11 +302,6 @@ def _make_plan(model: str, axes: Mapping[str, Any], chunks: Any, options: dict[s
     }
     opts = {**defaults, **opts}
     checked = _options.check(**opts)  # the local build's checks and messages
-    bound = checked["max_samples"]
-    if checked["tol"] is not None and bound is not None and bound < checked["samples"]:
-        raise ValueError(
-            f"max_samples: must be between samples ({checked['samples']}) and 2^40; got {bound}"
-        )
     fixed = options
     names, coords, colour = _grid.table_axes(model, axes, fixed)
     _probe(model, names, colour, coords, fixed, opts)
