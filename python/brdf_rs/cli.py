@@ -20,7 +20,7 @@ import os
 import sys
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -236,31 +236,25 @@ def cmd_table(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - start
-    existed = out is not None and out.exists()
-    path = None if out is None else table.save(out)
+    saved = _Saved(out, table.save)
     summary = {
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
         "shape": list(table.value.shape),
         "params": params,
-        "output": None if path is None else str(path.resolve()),
-        "replaced": existed,
+        "output": saved.output,
+        "replaced": saved.replaced,
         "seconds": seconds,
         "samples": int(table.samples.sum()),
         "max_stderr": float(table.stderr.max()),
         "albedo_range": [float(table.value.min()), float(table.value.max())],
     }
-    if plot_path is not None:
-        from . import plot
-
-        plot.table_heatmap(table, path=plot_path)
-        summary["plot"] = str(plot_path.resolve())
+    _draw(plot_path, summary, lambda plot, path: plot.table_heatmap(table, path=path))
     if args.json:
         _print_json(summary)
     else:
         shape = " x ".join(f"{k}[{len(v)}]" for k, v in table.axes.items())
-        where = "not saved (no -o)" if path is None else _wrote(path, existed)
-        print(f"{model} albedo table {shape}: {where}")
+        print(f"{model} albedo table {shape}: {saved.where}")
         print(
             f"  albedo in [{summary['albedo_range'][0]:.4g}, {summary['albedo_range'][1]:.4g}],"
             f" largest standard error {summary['max_stderr']:.2g},"
@@ -434,6 +428,31 @@ def _wrote(path: Path, existed: bool) -> str:
     return f"wrote {path.resolve()}" + (" (replaced the existing file)" if existed else "")
 
 
+class _Saved:
+    """A command's result written to ``out`` (when there is one): ``output`` the file
+    written (absolute; None without ``out``), ``replaced`` whether it replaced a file,
+    ``where`` the words saying so."""
+
+    def __init__(self, out: Path | None, save: Callable[[Path], Path]) -> None:
+        self.replaced = out is not None and out.exists()
+        path = None if out is None else save(out)
+        self.output = None if path is None else str(path.resolve())
+        self.where = "not saved (no -o)" if path is None else _wrote(path, self.replaced)
+
+
+def _draw(
+    plot_path: Path | None, summary: dict[str, Any], draw: Callable[[Any, Path], Any]
+) -> None:
+    """Draws the result with ``draw(brdf_rs.plot, plot_path)`` when ``--plot`` asked for
+    it, and records the figure's path in ``summary``."""
+    if plot_path is None:
+        return
+    from . import plot
+
+    draw(plot, plot_path)
+    summary["plot"] = str(plot_path.resolve())
+
+
 def _table_output(
     text: str | None, default: str, formats: Sequence[str], plot: str | None
 ) -> Path | None:
@@ -525,32 +544,26 @@ def cmd_dfg(args: argparse.Namespace) -> int:
     finally:
         progress.close(completed)
     seconds = time.perf_counter() - start
-    existed = out is not None and out.exists()
-    path = None if out is None else table.save(out)
+    saved = _Saved(out, table.save)
     rough = list(table.axes)[1]
     summary: dict[str, Any] = {
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
         "shape": [mu.size, roughness.size],
         "channels": ["scale A", "bias B", "zero"],
-        "output": None if path is None else str(path.resolve()),
-        "replaced": existed,
+        "output": saved.output,
+        "replaced": saved.replaced,
         "seconds": seconds,
         "samples": int(table.samples.sum()),
         "max_stderr": float(table.stderr[..., :2].max()),
         "scale_range": [float(table.value[..., 0].min()), float(table.value[..., 0].max())],
         "bias_range": [float(table.value[..., 1].min()), float(table.value[..., 1].max())],
     }
-    if plot_path is not None:
-        from . import plot
-
-        plot.table_heatmap(table, path=plot_path)
-        summary["plot"] = str(plot_path.resolve())
+    _draw(plot_path, summary, lambda plot, path: plot.table_heatmap(table, path=path))
     if args.json:
         _print_json(summary)
         return 0
-    where = "not saved (no -o)" if path is None else _wrote(path, existed)
-    print(f"{model} split-sum table mu[{mu.size}] x {rough}[{roughness.size}]: {where}")
+    print(f"{model} split-sum table mu[{mu.size}] x {rough}[{roughness.size}]: {saved.where}")
     print(
         f"  scale A in [{summary['scale_range'][0]:.4g}, {summary['scale_range'][1]:.4g}],"
         f" bias B in [{summary['bias_range'][0]:.4g}, {summary['bias_range'][1]:.4g}],"
@@ -611,8 +624,7 @@ def cmd_energy(args: argparse.Namespace) -> int:
     finally:
         progress.close(completed)
     seconds = time.perf_counter() - start
-    existed = out is not None and out.exists()
-    path = None if out is None else save_energy(result, out)
+    saved = _Saved(out, lambda path: save_energy(result, path))
     summary: dict[str, Any] = {
         "model": args.model,
         "axes": {
@@ -620,8 +632,8 @@ def cmd_energy(args: argparse.Namespace) -> int:
             "alpha": [float(alpha[0]), float(alpha[-1]), alpha.size],
         },
         "shape": [mu.size, alpha.size],
-        "output": None if path is None else str(path.resolve()),
-        "replaced": existed,
+        "output": saved.output,
+        "replaced": saved.replaced,
         "seconds": seconds,
         "max_stderr": float(result.stderr.max()),
         "e_range": [float(result.e.min()), float(result.e.max())],
@@ -629,18 +641,13 @@ def cmd_energy(args: argparse.Namespace) -> int:
         "e_avg": result.e_avg,
         "e_avg_stderr": result.e_avg_stderr,
     }
-    if plot_path is not None:
-        from . import plot
-
-        plot.energy_compensation(result, path=plot_path)
-        summary["plot"] = str(plot_path.resolve())
+    _draw(plot_path, summary, lambda plot, path: plot.energy_compensation(result, path=path))
     if args.json:
         _print_json(summary)
         return 0
-    where = "not saved (no -o)" if path is None else _wrote(path, existed)
     print(
         f"{args.model} energy compensation E(mu[{mu.size}], alpha[{alpha.size}]) and E_avg:"
-        f" {where}, {seconds:.2f} s"
+        f" {saved.where}, {seconds:.2f} s"
     )
     print(
         f"  E in [{summary['e_range'][0]:.4g}, {summary['e_range'][1]:.4g}],"
