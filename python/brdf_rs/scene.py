@@ -65,20 +65,16 @@ from typing import Any, Literal, overload
 
 import numpy as np
 
-from . import _arrays, _spec
+from . import _arrays, _images, _scene_schema, _spec
 from . import _brdf_rs as _core
 from ._images import TONEMAPS as TONEMAPS
-from ._images import apply_tonemap, encode_png, save_image, tonemap
+from ._images import encode_png, save_image, tonemap
 from ._scene_cache import TableResult, scene_tables
 from ._scene_cache import default_cache_dir as default_cache_dir
 from ._scene_schema import (
     Scene,
     SceneError,
     SceneLike,
-    Where,
-    as_scene,
-    check_lights,
-    check_material,
     example_scenes,
     load_scene,
     parse_scene,
@@ -188,20 +184,20 @@ def render(
             ``evaluations`` of kernels, and ``parts``: per material part its
             ``material``, ``role``, ``model`` and ``evaluations``.
     """
-    scene = as_scene(scene)
+    scene = _scene_schema.as_scene(scene)
     core = scene.to_core()
     image, counts = _core.render_scene(core, _only(only, scene.materials))
     tonemap = scene.output["tonemap"] if tonemap is None else tonemap
     if exposure is None:
         exposure = 0.0 if tonemap == "none" else scene.output["exposure"]
-    image = apply_tonemap(image, tonemap, exposure)
+    image = _images.apply_tonemap(image, tonemap, exposure)
     if stats:
         return image, _named_stats(counts, list(scene.materials))
     return image
 
 
-def _material_core(where: Where, material: Mapping[str, Any]) -> dict[str, Any]:
-    m = check_material(where, material)
+def _material_core(where: _scene_schema.Where, material: Mapping[str, Any]) -> dict[str, Any]:
+    m = _scene_schema.check_material(where, material)
     if "brdf" in m:
         t = m["brdf"]
         return {
@@ -332,9 +328,9 @@ def shade(
         only: ``"diffuse"`` or ``"specular"``.
         stats: also return the counts of the work done.
     """
-    where = Where("shade")
+    where = _scene_schema.Where("shade")
     core_material = _material_core(where / "material", material)
-    core_lights = check_lights(where / "lights", lights)
+    core_lights = _scene_schema.check_lights(where / "lights", lights)
     given = {"n": n, "v": v, "positions": positions, "tangent": tangent}
     arrays = {k: _vectors(k, a) for k, a in given.items() if a is not None}
     try:
