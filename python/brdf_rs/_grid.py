@@ -24,7 +24,6 @@ from ._brdf_rs import __version__
 
 __all__ = [
     "TABLE_OPTIONS",
-    "anisotropic",
     "axis_values",
     "azimuth_cells",
     "grid_inputs",
@@ -33,7 +32,7 @@ __all__ = [
 ]
 
 
-def anisotropic(model: str) -> bool:
+def _anisotropic(model: str) -> bool:
     """Whether a family-A model's albedo depends on the azimuth of ``wi`` (it reads a
     tangent: Ward, Ashikhmin-Shirley)."""
     spec = _spec.specs().get(model)
@@ -56,7 +55,7 @@ def azimuth_cells(model: str, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     with equal folded values sharing the first one's cell; isotropic ones: one cell.
     Shared with ``brdf_rs.dask`` so both builds give the same bits."""
     _options.azimuth(phi)  # finite
-    if anisotropic(model):
+    if _anisotropic(model):
         reduced = _reduced_azimuth(phi)
         _, first, inverse = np.unique(reduced, return_index=True, return_inverse=True)
         return reduced, first[inverse.reshape(-1)]

@@ -18,6 +18,7 @@ TONEMAPS = ("clamp", "reinhard", "aces", "none")
 
 
 def apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:
+    """:func:`tonemap` in place on a C-contiguous float32 ``image`` (returned)."""
     if not isinstance(kind, str) or kind not in TONEMAPS:
         raise ValueError(f"tonemap: expected one of {', '.join(TONEMAPS)}, got {kind!r}")
     # Any finite float64 number of stops: the scale is applied in float64 and rounded

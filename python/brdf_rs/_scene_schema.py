@@ -1,8 +1,10 @@
 """The scene schema: a scene file (TOML) or dict checked into a :class:`Scene`.
 
-The format is described in ``brdf_rs.scene``. Every check is made here, with messages
-naming the file, the key and what was expected (:class:`SceneError`); the renderer's
-bindings then take the checked, plain structure of :meth:`Scene.to_core`.
+The format is described in ``brdf_rs.scene``. Every check a user meets is made here,
+with messages naming the file, the key and what was expected (:class:`SceneError`). The
+renderer takes the checked, plain structure of :meth:`Scene.to_core`; the core checks it
+again (in plainer words, for callers of the core itself), so nothing it cannot hold
+reaches the renderer.
 """
 
 from __future__ import annotations
@@ -312,6 +314,8 @@ def _camera(where: Where, value: Any) -> dict[str, Any]:
 
 
 def check_material(where: Where, value: Any) -> dict[str, Any]:
+    """A ``[materials.NAME]`` table checked: ``{"brdf": term}`` (family A) or
+    ``{"diffuse": term | None, "specular": term | None}`` (family B)."""
     if not isinstance(value, Mapping):
         raise where.expected("a table: model = ... (family A) or diffuse/specular = {...}", value)
     if "model" in value:
@@ -416,6 +420,7 @@ def _output(where: Where, value: Any) -> dict[str, Any]:
 
 
 def check_lights(where: Where, value: Any) -> list[dict[str, Any]]:
+    """An array of light tables (``[[lights]]``), each checked."""
     if not isinstance(value, (list, tuple)):
         raise where.expected("an array of tables ([[lights]])", value)
     return [_light(where / i, v) for i, v in enumerate(value)]
@@ -569,6 +574,7 @@ SceneLike = Scene | str | os.PathLike[str] | Mapping[str, Any]
 
 
 def as_scene(scene: SceneLike) -> Scene:
+    """A checked :class:`Scene` from a Scene, a dict, a TOML path or an example's name."""
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
