@@ -16,6 +16,7 @@ use super::rows::Rows;
 use super::{Plan, Precision};
 use crate::math::geometry::{tangent_parallel, wide_cosine};
 use crate::math::{FastPow, PowUnit, Real, TablePow, Vector3};
+use crate::models::slots::MAX_VARYING_SLOTS;
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
 
@@ -33,8 +34,6 @@ pub const SHORT_BLOCK: usize = 16;
 /// interleaved with the previous build: lambert float64 +15–35% on 1 thread and +5–10% on
 /// 2 at 2M–8M rows (48–192 MB), torrance_sparrow float64 +0–8%; no loss at 200k rows.
 pub const STREAM_BYTES: usize = 32 << 20;
-/// Most parameter slots a per-element (varying) parameter set may use.
-pub const MAX_VARYING_SLOTS: usize = 8;
 
 /// The instruction sets the hot loops are compiled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]

@@ -77,6 +77,7 @@ use crate::eval::engine::{self, Isa};
 use crate::models::albedo::{Control, Importance, Integral, StratumLobe, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
+pub use crate::sampling::SamplerChoice;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
 use crate::sampling::{Frame, ONE_BELOW, Warp};
 use loops::{DirectionBlock, Loops};
@@ -90,33 +91,6 @@ mod loops;
 pub const MAX_SAMPLES_PER_CELL: u64 = 1 << 40;
 /// The largest total sample count one request may ask for (2^44 ≈ 1.8e13: days of work).
 pub const MAX_SAMPLES_PER_REQUEST: f64 = 17_592_186_044_416.0;
-
-/// Which sampler draws each lobe.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SamplerChoice {
-    /// The best measured: the lobe's own importance sampler, except that diffuse
-    /// (cosine) lobes are drawn uniformly with Sobol points, which converges faster.
-    Auto,
-    /// The lobe's own importance sampler.
-    Importance,
-    /// Cosine-weighted about the normal for every lobe.
-    Cosine,
-    /// Uniform over the hemisphere for every lobe.
-    Uniform,
-}
-
-impl SamplerChoice {
-    /// Parses `auto`, `importance`, `cosine` or `uniform`.
-    pub fn from_name(name: &str) -> Option<SamplerChoice> {
-        match name {
-            "auto" => Some(SamplerChoice::Auto),
-            "importance" => Some(SamplerChoice::Importance),
-            "cosine" => Some(SamplerChoice::Cosine),
-            "uniform" => Some(SamplerChoice::Uniform),
-            _ => None,
-        }
-    }
-}
 
 /// Options of an albedo computation.
 #[derive(Clone, Copy, Debug)]

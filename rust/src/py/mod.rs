@@ -20,7 +20,6 @@ use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, Sampler
 use crate::math::Real;
 use crate::models::spec::{ExactFactor, SceneUse};
 use crate::models::{ModelKind, ParamKind, TangentUse};
-use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
 
 mod fast;
@@ -505,11 +504,11 @@ fn sampling_call<'py>(
     params: &Bound<'py, PyDict>,
     sampler: &str,
     sampling: bool,
-) -> PyResult<bsdf::batch::Output> {
+) -> PyResult<eval::sample::Output> {
     let kind = ModelKind::from_name(model)?;
     let sampler = sampler_choice(sampler)?;
     let params = param_arrays::<f64>(params)?;
-    let inputs = bsdf::batch::Inputs {
+    let inputs = eval::sample::Inputs {
         wi: wi.as_array(),
         second: second.as_array(),
         n: n.as_ref().map(|a| a.as_array()),
@@ -521,9 +520,9 @@ fn sampling_call<'py>(
     };
     let run = || {
         if sampling {
-            bsdf::batch::sample(kind, inputs, sampler)
+            eval::sample::sample(kind, inputs, sampler)
         } else {
-            bsdf::batch::pdf(kind, inputs, sampler)
+            eval::sample::pdf(kind, inputs, sampler)
         }
     };
     Ok(py.detach(run)?)
