@@ -20,7 +20,9 @@
 //! - [`math`]: float widths ([`math::Real`] ties `f64`/`f32` to glam's `DVec3`/`Vec3`),
 //!   robust normalization, accurate angle complements, vectorizable `pow`.
 //! - [`models`]: one model per file, the [`models::Kernel`] trait, the spec table.
-//! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, SIMD dispatch).
+//! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, per-ISA loops).
+//! - [`simd`]: the instruction set the loops run with, detected once; only it can make
+//!   an [`simd::Isa`] above the baseline.
 //! - [`scene`]: cameras, spheres and planes, lights, materials made of models, and the
 //!   scan-line renderer that skips what a scene does not need.
 //! - `py` (feature `python`): the only place that touches PyO3 / NumPy.
@@ -39,6 +41,7 @@ pub mod models;
 pub mod parallel;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
 
 #[cfg(feature = "python")]
 mod py;

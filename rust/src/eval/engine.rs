@@ -8,7 +8,6 @@
 //! scratch that LLVM vectorizes across elements (8 `f64` / 16 `f32` lanes on AVX-512).
 
 use std::marker::PhantomData;
-use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
@@ -19,6 +18,7 @@ use crate::math::{FastPow, PowUnit, Real, TablePow, Vector3};
 use crate::models::slots::MAX_VARYING_SLOTS;
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
+use crate::simd::{Isa, isa};
 
 /// Rows per block (the scratch stays inside L1).
 pub const BLOCK: usize = 128;
@@ -34,64 +34,6 @@ pub const SHORT_BLOCK: usize = 16;
 /// interleaved with the previous build: lambert float64 +15–35% on 1 thread and +5–10% on
 /// 2 at 2M–8M rows (48–192 MB), torrance_sparrow float64 +0–8%; no loss at 200k rows.
 pub const STREAM_BYTES: usize = 32 << 20;
-
-/// The instruction sets the hot loops are compiled for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Isa {
-    /// Whatever the target's baseline is (SSE2 on x86-64).
-    Baseline,
-    /// x86-64-v3: AVX2 + FMA.
-    Avx2,
-    /// x86-64-v4: AVX-512 (F, DQ, VL, BW) + FMA.
-    Avx512,
-}
-
-impl Isa {
-    /// Returns the name used by `BRDF_RS_ISA` and the benchmarks.
-    pub fn name(self) -> &'static str {
-        match self {
-            Isa::Baseline => "baseline",
-            Isa::Avx2 => "avx2",
-            Isa::Avx512 => "avx512",
-        }
-    }
-}
-
-/// Returns the best instruction set this CPU supports.
-pub fn detected_isa() -> Isa {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if is_x86_feature_detected!("avx512f")
-            && is_x86_feature_detected!("avx512dq")
-            && is_x86_feature_detected!("avx512vl")
-            && is_x86_feature_detected!("avx512bw")
-            && is_x86_feature_detected!("avx2")
-            && is_x86_feature_detected!("fma")
-        {
-            return Isa::Avx512;
-        }
-        if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
-            return Isa::Avx2;
-        }
-    }
-    Isa::Baseline
-}
-
-/// Returns the instruction set in use: the detected one, lowered by the environment
-/// variable `BRDF_RS_ISA` (`baseline`, `avx2`, `avx512`) if set; never raised above
-/// what the CPU supports.
-pub fn isa() -> Isa {
-    static ISA: OnceLock<Isa> = OnceLock::new();
-    *ISA.get_or_init(|| {
-        let best = detected_isa();
-        let wanted = match std::env::var("BRDF_RS_ISA").as_deref() {
-            Ok("baseline") => Isa::Baseline,
-            Ok("avx2") => Isa::Avx2,
-            _ => Isa::Avx512,
-        };
-        best.min(wanted)
-    })
-}
 
 /// Block scratch: directions (4 vectors × 3 components), a usable flag, parameters,
 /// and the RGB results before they are interleaved into the output.
@@ -625,8 +567,8 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
         }
         #[cfg(target_arch = "x86_64")]
         match self.isa {
-            Isa::Avx512 => return pick!(range_avx512),
-            Isa::Avx2 => return pick!(range_avx2),
+            Isa::Avx512(_) => return pick!(range_avx512),
+            Isa::Avx2(_) => return pick!(range_avx2),
             Isa::Baseline => {}
         }
         pick_mode!(range_baseline, TablePow)

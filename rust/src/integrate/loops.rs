@@ -41,7 +41,7 @@ impl DirectionBlock {
 ///
 /// # Safety
 /// Every method runs instructions of the implementor's instruction set: call them only
-/// once the CPU is known to support it (`engine::isa()` checked).
+/// once the CPU is known to support it (an [`Isa`](crate::simd::Isa) of it was chosen).
 pub(super) trait Loops {
     /// Writes `wo` and its density for every point `(u0[j], u1[j])` of `warp` at the
     /// fixed `wi`, into `out.wo[..u0.len()]` and `out.pdf[..]`. `fold`: azimuths on the

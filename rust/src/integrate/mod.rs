@@ -73,13 +73,13 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::error::BrdfError;
-use crate::eval::engine::{self, Isa};
 use crate::models::albedo::{Control, Importance, Integral, StratumLobe, Term};
 use crate::models::{Directions, Kernel, KernelVisitor, ModelKind, TangentUse};
 use crate::parallel;
 pub use crate::sampling::SamplerChoice;
 use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence, Stream};
 use crate::sampling::{Frame, ONE_BELOW, Warp};
+use crate::simd::{self, Isa};
 use loops::{DirectionBlock, Loops};
 
 mod beckmann;
@@ -1390,12 +1390,12 @@ fn integrate_cell_isa<K: Kernel>(
 ) -> CellResult {
     #[cfg(target_arch = "x86_64")]
     {
-        // SAFETY: `isa` comes from `engine::isa()`, which checked the CPU's features.
+        // SAFETY: `isa` comes from `simd::isa()`, which checked the CPU's features.
         match isa {
-            Isa::Avx512 => {
+            Isa::Avx512(_) => {
                 return unsafe { cell_avx512::<K>(mu, phi, slots, cell, options, progress) };
             }
-            Isa::Avx2 => {
+            Isa::Avx2(_) => {
                 return unsafe { cell_avx2::<K>(mu, phi, slots, cell, options, progress) };
             }
             Isa::Baseline => {}
@@ -1430,7 +1430,7 @@ impl<C: Cells> KernelVisitor for RunAlbedo<'_, C> {
             progress,
             out,
         } = self;
-        let isa = engine::isa();
+        let isa = simd::isa();
         let work = |(i, result): (usize, &mut CellResult)| {
             if progress.cancel.load(Ordering::Relaxed) {
                 return;

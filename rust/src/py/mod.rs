@@ -611,7 +611,7 @@ fn num_threads() -> usize {
 /// Returns the instruction set the kernels run with (`avx512`, `avx2`, `baseline`).
 #[pyfunction]
 fn isa() -> &'static str {
-    crate::eval::engine::isa().name()
+    crate::simd::isa().name()
 }
 
 /// The compiled core of brdf-rs. Use the `brdf_rs` package, not this module.

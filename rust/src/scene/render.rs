@@ -583,12 +583,12 @@ fn row_avx512(frame: &Frame<'_>, y: usize, row: &mut [f32], s: &mut Scratch) {
 }
 
 fn row_fn() -> RowFn {
-    use crate::eval::engine::{Isa, isa};
+    use crate::simd::{Isa, isa};
     match isa() {
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => row_avx512,
+        Isa::Avx512(_) => row_avx512,
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => row_avx2,
+        Isa::Avx2(_) => row_avx2,
         _ => row_baseline,
     }
 }
@@ -780,12 +780,12 @@ fn shade_avx512(job: &ShadeJob<'_>, first: usize, chunk: &mut [f32], s: &mut Scr
 }
 
 fn shade_fn() -> ShadeFn {
-    use crate::eval::engine::{Isa, isa};
+    use crate::simd::{Isa, isa};
     match isa() {
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => shade_avx512,
+        Isa::Avx512(_) => shade_avx512,
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => shade_avx2,
+        Isa::Avx2(_) => shade_avx2,
         _ => shade_baseline,
     }
 }
