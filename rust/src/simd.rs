@@ -133,7 +133,7 @@ mod tests {
     fn target_features_are_the_checked_lists() {
         let sources = [
             include_str!("eval/engine.rs"),
-            include_str!("integrate/mod.rs"),
+            include_str!("integrate/cell.rs"),
             include_str!("integrate/loops.rs"),
             include_str!("scene/render.rs"),
             include_str!("scene/shading.rs"),
