@@ -32,6 +32,8 @@
 #![allow(clippy::needless_range_loop)]
 // `!(x > 0.0)` is deliberate throughout: it is true for NaN, where `x <= 0.0` is not.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Every `unsafe` block says, in a `// SAFETY:` comment, why it is sound where it is.
+#![warn(clippy::undocumented_unsafe_blocks)]
 
 pub mod error;
 pub mod eval;

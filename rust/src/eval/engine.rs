@@ -133,7 +133,9 @@ fn prefetch_rows<F: Real>(rows: &Rows<'_, F>, row0: usize, len: usize) {
         };
         let step = 64 / std::mem::size_of::<F>();
         for k in (0..block.len()).step_by(step) {
-            // SAFETY: a prefetch is only a hint; the address is inside the slice.
+            // SAFETY: `_mm_prefetch` needs SSE, which every x86-64 CPU has (this code is
+            // compiled for x86-64 only); a prefetch is a hint that never faults, and the
+            // address is inside the slice anyway.
             unsafe { _mm_prefetch::<_MM_HINT_T0>(block[k..].as_ptr().cast()) };
         }
     }
@@ -398,7 +400,8 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     // Non-temporal stores are weakly ordered: make them visible before the task ends.
     #[cfg(target_arch = "x86_64")]
     if stream {
-        // SAFETY: SSE2 is part of x86-64.
+        // SAFETY: `_mm_sfence` needs SSE, which every x86-64 CPU has (this line is
+        // compiled for x86-64 only).
         unsafe { std::arch::x86_64::_mm_sfence() };
     }
     any_bad
@@ -420,8 +423,9 @@ fn stream_copy<F: Real>(src: &Staged<F>, dst: &mut [F; 3 * BLOCK]) {
         let s = src.as_ptr().cast::<__m128i>();
         let d = dst.as_mut_ptr().cast::<__m128i>();
         for k in 0..n {
-            // SAFETY: both blocks are n·16 bytes long; `dst` was checked to be 16-byte
-            // aligned and `Staged` is 64-byte aligned.
+            // SAFETY: the two intrinsics need SSE2, part of every x86-64 CPU (x86-64
+            // only code); both blocks are n·16 bytes long, so `k < n` stays inside them;
+            // `dst` was checked to be 16-byte aligned and `Staged` is 64-byte aligned.
             unsafe { _mm_stream_si128(d.add(k), _mm_load_si128(s.add(k))) };
         }
         return;
@@ -628,14 +632,20 @@ pub fn run_polled<F: Real>(
             .div_ceil(task_rows)
             .next_multiple_of(threads);
         let per = (part.len() / 3).div_ceil(tasks).next_multiple_of(BLOCK);
-        // SAFETY: `range` was compiled for `isa`, which `isa()` checked this CPU supports.
         any_bad |= if serial {
+            // SAFETY: `range` is the loop `SelectLoop` picked for `isa`: `range_avx512` or
+            // `range_avx2` only for an `Isa::Avx512` / `Isa::Avx2` token, which `simd`
+            // makes after finding their `target_feature`s on this CPU; else the baseline.
             unsafe { range(plan, first, part) }
         } else {
             parallel::install(|| {
                 part.par_chunks_mut(3 * per)
                     .enumerate()
-                    .map(|(i, chunk)| unsafe { range(plan, first + i * per, chunk) })
+                    .map(|(i, chunk)| {
+                        // SAFETY: the same `range` as in the serial branch above: compiled
+                        // for the instruction set whose `Isa` token `isa()` returned.
+                        unsafe { range(plan, first + i * per, chunk) }
+                    })
                     .reduce(|| false, |a, b| a || b)
             })
         };

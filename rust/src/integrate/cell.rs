@@ -69,7 +69,8 @@ unsafe fn accumulate<K: Kernel, I: Loops>(
             stream.fill(&mut block.u0[..len], &mut block.u1[..len]);
         }
         for k in 0..integrand.lobes.len() {
-            // SAFETY: the caller's contract.
+            // SAFETY: `weights` needs the CPU to run `I`'s instructions, as does
+            // `accumulate`, whose caller `integrate_cell` promises it.
             unsafe {
                 integrand.weights::<I>(
                     k,
@@ -158,7 +159,8 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
     let (mean, stderr, samples) = loop {
         let count = per_stream - done_per_stream;
         for (stream, s) in streams.iter_mut().zip(sums.iter_mut()) {
-            // SAFETY: the caller's contract.
+            // SAFETY: `accumulate` needs `I`'s instructions; `integrate_cell` is called
+            // only from the per-ISA cell functions, each for an `I` the CPU runs.
             unsafe { accumulate::<K, I>(&integrand, stream, count, &mut block, s, random) };
         }
         progress
@@ -235,7 +237,8 @@ fn cell_baseline<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    // SAFETY: baseline instructions only.
+    // SAFETY: `loops::Baseline` uses only the target's baseline instructions, which
+    // every CPU the crate was compiled for runs.
     unsafe { integrate_cell::<K, loops::Baseline>(mu, phi, slots, cell, options, progress) }
 }
 
@@ -249,7 +252,9 @@ fn cell_avx2<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    // SAFETY: this function's own features (its caller checked the CPU).
+    // SAFETY: `loops::Avx2` runs the features this function is compiled with
+    // (`simd::AVX2_FEATURES`); calling it at all needed them, and its one caller,
+    // `integrate_cell_isa`, does so only holding an `Isa::Avx2` token.
     unsafe { integrate_cell::<K, loops::Avx2>(mu, phi, slots, cell, options, progress) }
 }
 
@@ -263,11 +268,14 @@ fn cell_avx512<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    // SAFETY: as above.
+    // SAFETY: `loops::Avx512` runs the features this function is compiled with
+    // (`simd::AVX512_FEATURES`); `integrate_cell_isa` calls it only holding an
+    // `Isa::Avx512` token.
     unsafe { integrate_cell::<K, loops::Avx512>(mu, phi, slots, cell, options, progress) }
 }
 
-/// Integrates one cell with the loop compiled for `isa` (which the CPU must support).
+/// Integrates one cell with the loop compiled for `isa` (whose token proves the CPU
+/// supports it).
 pub(super) fn integrate_cell_isa<K: Kernel>(
     isa: Isa,
     mu: f64,
@@ -279,12 +287,14 @@ pub(super) fn integrate_cell_isa<K: Kernel>(
 ) -> CellResult {
     #[cfg(target_arch = "x86_64")]
     {
-        // SAFETY: `isa` comes from `simd::isa()`, which checked the CPU's features.
         match isa {
             Isa::Avx512(_) => {
+                // SAFETY: an `Isa::Avx512` token is made only in `simd`, after `detected`
+                // found every feature `cell_avx512` enables on this CPU.
                 return unsafe { cell_avx512::<K>(mu, phi, slots, cell, options, progress) };
             }
             Isa::Avx2(_) => {
+                // SAFETY: likewise, `Isa::Avx2` proves the features of `cell_avx2`.
                 return unsafe { cell_avx2::<K>(mu, phi, slots, cell, options, progress) };
             }
             Isa::Baseline => {}

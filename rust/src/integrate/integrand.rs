@@ -412,7 +412,8 @@ impl<K: Kernel> CellIntegrand<K> {
         w: &mut [f64],
         dirs: &mut DirectionBlock,
     ) {
-        // SAFETY: the caller's contract.
+        // SAFETY: `raw_weights` needs the CPU to run `I`'s instructions, which is what
+        // this function's callers promise (`integrate_cell_isa` picks `I` from an `Isa`).
         unsafe { self.raw_weights::<I>(k, u0, u1, u2, w, dirs) };
         let ends = self.lobes[k].ends;
         if ends.mask == 0 {
@@ -435,14 +436,15 @@ impl<K: Kernel> CellIntegrand<K> {
                         continue;
                     }
                     if leaves.len == POINTS {
-                        // SAFETY: the caller's contract.
+                        // SAFETY: `add_leaves` asks what `weights` is given: the CPU
+                        // runs `I`'s instructions.
                         unsafe { self.add_leaves::<I>(k, &mut leaves, w, dirs) };
                     }
                     leaves.push(j, [x, y, u2.get(j).copied().unwrap_or(0.0)], coef);
                 }
             }
         }
-        // SAFETY: the caller's contract.
+        // SAFETY: as for the batches above, `weights`' own requirement on `I` covers it.
         unsafe { self.add_leaves::<I>(k, &mut leaves, w, dirs) };
     }
 
@@ -467,7 +469,8 @@ impl<K: Kernel> CellIntegrand<K> {
             w: lw,
             ..
         } = leaves;
-        // SAFETY: the caller's contract.
+        // SAFETY: `raw_weights` needs the CPU to run `I`'s instructions; so does this
+        // function, whose callers (`weights`) promise it.
         unsafe { self.raw_weights::<I>(k, &u[0][..n], &u[1][..n], &u[2][..n], &mut lw[..n], dirs) };
         for i in 0..n {
             w[point[i]] += coef[i] * lw[i];
@@ -508,7 +511,8 @@ impl<K: Kernel> CellIntegrand<K> {
         };
         if self.average {
             let (sin, mu) = (self.sin_theta, self.wi.z);
-            // SAFETY: the caller's contract.
+            // SAFETY: `Loops` methods run `I`'s instructions; this function's callers
+            // promise the CPU has them (the `Isa` token `integrate_cell_isa` matched).
             unsafe { I::directions_averaged(lobe.warp, sin, mu, u0, u1, u2, dirs) };
             let points = dirs.wi[..n].iter().zip(&dirs.wo[..n]).zip(&dirs.pdf[..n]);
             for (w, ((&wi, &wo), &pdf)) in w.iter_mut().zip(points) {
@@ -523,17 +527,20 @@ impl<K: Kernel> CellIntegrand<K> {
             return;
         }
         if let Some(ggx) = &lobe.ggx {
-            // SAFETY: the caller's contract.
+            // SAFETY: `I::closed_form` runs `I`'s instructions, which this function's
+            // own contract says the CPU has.
             unsafe { I::closed_form(ggx, self.fold, u0, u1, w) };
             return;
         }
         if let Some(beckmann) = &lobe.beckmann {
-            // SAFETY: the caller's contract.
+            // SAFETY: as for GGX's lobe: `I::closed_form` needs `I`'s instructions, which
+            // this function's contract guarantees.
             unsafe { I::closed_form(beckmann, self.fold, u0, u1, w) };
             return;
         }
         let wi = self.wi;
-        // SAFETY: the caller's contract.
+        // SAFETY: `I::directions` runs `I`'s instructions; this function is only called
+        // where the CPU has them (its `# Safety` contract).
         unsafe { I::directions(lobe.warp, self.fold, wi, &self.mirror_frame, u0, u1, dirs) };
         for (w, (&wo, &pdf)) in w.iter_mut().zip(dirs.wo[..n].iter().zip(&dirs.pdf[..n])) {
             *w = weight(wi, wo, pdf);

@@ -263,7 +263,9 @@ macro_rules! forward {
             $(#[$attr])*
             #[inline(never)]
             unsafe fn run$(<$l: $bound>)?($($arg: $ty),*) $body
-            // SAFETY: the caller checked the CPU (the trait's contract).
+            // SAFETY: `run` enables the instruction set this `Loops` implementor stands
+            // for (its `target_feature` list, none for the baseline); the trait's
+            // contract, which this method's callers accept, is that the CPU runs it.
             unsafe { run($($arg),*) }
         }
     };

@@ -177,7 +177,9 @@ fn empty<'py, F: Element>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'p
         .map_err(|_| PyValueError::new_err("too many dimensions"))?;
     // SAFETY: the arguments are those `PyArray::new` passes (array type, a new reference
     // to the dtype, which NumPy steals, no strides, data or base: NumPy allocates), and a
-    // null result, NumPy's error set, becomes that error.
+    // null result, NumPy's error set, becomes that error; a non-null one is a new
+    // reference to an array of `F`'s dtype (the descriptor passed), so the unchecked cast
+    // to `PyArrayDyn<F>` holds.
     unsafe {
         let ptr = PY_ARRAY_API.PyArray_NewFromDescr(
             py,

@@ -448,7 +448,9 @@ struct Typed<K: Kernel> {
 
 impl<K: Kernel> BatchKernel for Typed<K> {
     fn shade(&self, batch: &Batch, acc: &mut Accumulator) {
-        // SAFETY: `run` was compiled for the instruction set `isa()` found on this CPU.
+        // SAFETY: `run` is the loop `Prepare::visit` picked for its `Isa`: `batch_avx512`
+        // or `batch_avx2` only for an `Isa::Avx512` / `Isa::Avx2` token, which `simd`
+        // makes after finding their features on this CPU; else the baseline loop.
         unsafe { (self.run)(&self.prepared, batch, acc) }
     }
 }
