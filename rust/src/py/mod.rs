@@ -196,59 +196,49 @@ fn empty<'py, F: Element>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'p
     }
 }
 
-/// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
-#[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
-#[allow(clippy::too_many_arguments)]
-fn eval_f64<'py>(
-    py: Python<'py>,
-    model: &str,
-    wi: Arr<'py, f64>,
-    wo: Arr<'py, f64>,
-    n: Option<Arr<'py, f64>>,
-    tangent: Option<Arr<'py, f64>>,
-    params: &Bound<'py, PyDict>,
-    normalized: bool,
-    check: bool,
-    check_params: bool,
-    out: Option<Bound<'py, PyArrayDyn<f64>>>,
-    precision: &str,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let options = EvalOptions {
-        normalized,
-        check,
-        check_params,
-        precision: Precision::from_name(precision)?,
+/// Defines the `#[pyfunction]` that evaluates a model on arrays of `$float` (`eval_f64`,
+/// `eval_f32`): the two differ only in their float type and docstring.
+macro_rules! eval_function {
+    ($(#[doc = $doc:literal])* $name:ident, $float:ty) => {
+        $(#[doc = $doc])*
+        #[pyfunction]
+        #[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
+        #[allow(clippy::too_many_arguments)]
+        fn $name<'py>(
+            py: Python<'py>,
+            model: &str,
+            wi: Arr<'py, $float>,
+            wo: Arr<'py, $float>,
+            n: Option<Arr<'py, $float>>,
+            tangent: Option<Arr<'py, $float>>,
+            params: &Bound<'py, PyDict>,
+            normalized: bool,
+            check: bool,
+            check_params: bool,
+            out: Option<Bound<'py, PyArrayDyn<$float>>>,
+            precision: &str,
+        ) -> PyResult<Bound<'py, PyArrayDyn<$float>>> {
+            let options = EvalOptions {
+                normalized,
+                check,
+                check_params,
+                precision: Precision::from_name(precision)?,
+            };
+            eval_impl(py, model, wi, wo, n, tangent, params, options, out)
+        }
     };
-    eval_impl(py, model, wi, wo, n, tangent, params, options, out)
 }
 
-/// Evaluates a model on float32 arrays with the float32 kernels (see `brdf_rs.eval`).
-#[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
-#[allow(clippy::too_many_arguments)]
-fn eval_f32<'py>(
-    py: Python<'py>,
-    model: &str,
-    wi: Arr<'py, f32>,
-    wo: Arr<'py, f32>,
-    n: Option<Arr<'py, f32>>,
-    tangent: Option<Arr<'py, f32>>,
-    params: &Bound<'py, PyDict>,
-    normalized: bool,
-    check: bool,
-    check_params: bool,
-    out: Option<Bound<'py, PyArrayDyn<f32>>>,
-    precision: &str,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    let options = EvalOptions {
-        normalized,
-        check,
-        check_params,
-        precision: Precision::from_name(precision)?,
-    };
-    eval_impl(py, model, wi, wo, n, tangent, params, options, out)
-}
+eval_function!(
+    /// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
+    eval_f64,
+    f64
+);
+eval_function!(
+    /// Evaluates a model on float32 arrays with the float32 kernels (see `brdf_rs.eval`).
+    eval_f32,
+    f32
+);
 
 /// Checks parameter names, shapes and values for a model (float64 arrays), without
 /// evaluating: `brdf_rs.Model` calls this once.
