@@ -20,7 +20,9 @@
 //! - [`math`]: float widths ([`math::Real`] ties `f64`/`f32` to glam's `DVec3`/`Vec3`),
 //!   robust normalization, accurate angle complements, vectorizable `pow`.
 //! - [`models`]: one model per file, the [`models::Kernel`] trait, the spec table.
-//! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, SIMD dispatch).
+//! - [`eval`]: the batch engine (broadcasting, strided inputs, blocks, per-ISA loops).
+//! - [`simd`]: the instruction set the loops run with, detected once; only it can make
+//!   an [`simd::Isa`] above the baseline.
 //! - [`scene`]: cameras, spheres and planes, lights, materials made of models, and the
 //!   scan-line renderer that skips what a scene does not need.
 //! - `py` (feature `python`): the only place that touches PyO3 / NumPy.
@@ -30,6 +32,8 @@
 #![allow(clippy::needless_range_loop)]
 // `!(x > 0.0)` is deliberate throughout: it is true for NaN, where `x <= 0.0` is not.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Every `unsafe` block says, in a `// SAFETY:` comment, why it is sound where it is.
+#![warn(clippy::undocumented_unsafe_blocks)]
 
 pub mod error;
 pub mod eval;
@@ -39,6 +43,7 @@ pub mod models;
 pub mod parallel;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
 
 #[cfg(feature = "python")]
 mod py;

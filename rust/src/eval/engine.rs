@@ -8,7 +8,6 @@
 //! scratch that LLVM vectorizes across elements (8 `f64` / 16 `f32` lanes on AVX-512).
 
 use std::marker::PhantomData;
-use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
@@ -16,8 +15,10 @@ use super::rows::Rows;
 use super::{Plan, Precision};
 use crate::math::geometry::{tangent_parallel, wide_cosine};
 use crate::math::{FastPow, PowUnit, Real, TablePow, Vector3};
+use crate::models::slots::MAX_VARYING_SLOTS;
 use crate::models::{Directions, Kernel, KernelVisitor, ParamSource, WideRow};
 use crate::parallel;
+use crate::simd::{Isa, isa};
 
 /// Rows per block (the scratch stays inside L1).
 pub const BLOCK: usize = 128;
@@ -33,66 +34,6 @@ pub const SHORT_BLOCK: usize = 16;
 /// interleaved with the previous build: lambert float64 +15–35% on 1 thread and +5–10% on
 /// 2 at 2M–8M rows (48–192 MB), torrance_sparrow float64 +0–8%; no loss at 200k rows.
 pub const STREAM_BYTES: usize = 32 << 20;
-/// Most parameter slots a per-element (varying) parameter set may use.
-pub const MAX_VARYING_SLOTS: usize = 8;
-
-/// The instruction sets the hot loops are compiled for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Isa {
-    /// Whatever the target's baseline is (SSE2 on x86-64).
-    Baseline,
-    /// x86-64-v3: AVX2 + FMA.
-    Avx2,
-    /// x86-64-v4: AVX-512 (F, DQ, VL, BW) + FMA.
-    Avx512,
-}
-
-impl Isa {
-    /// Returns the name used by `BRDF_RS_ISA` and the benchmarks.
-    pub fn name(self) -> &'static str {
-        match self {
-            Isa::Baseline => "baseline",
-            Isa::Avx2 => "avx2",
-            Isa::Avx512 => "avx512",
-        }
-    }
-}
-
-/// Returns the best instruction set this CPU supports.
-pub fn detected_isa() -> Isa {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if is_x86_feature_detected!("avx512f")
-            && is_x86_feature_detected!("avx512dq")
-            && is_x86_feature_detected!("avx512vl")
-            && is_x86_feature_detected!("avx512bw")
-            && is_x86_feature_detected!("avx2")
-            && is_x86_feature_detected!("fma")
-        {
-            return Isa::Avx512;
-        }
-        if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
-            return Isa::Avx2;
-        }
-    }
-    Isa::Baseline
-}
-
-/// Returns the instruction set in use: the detected one, lowered by the environment
-/// variable `BRDF_RS_ISA` (`baseline`, `avx2`, `avx512`) if set; never raised above
-/// what the CPU supports.
-pub fn isa() -> Isa {
-    static ISA: OnceLock<Isa> = OnceLock::new();
-    *ISA.get_or_init(|| {
-        let best = detected_isa();
-        let wanted = match std::env::var("BRDF_RS_ISA").as_deref() {
-            Ok("baseline") => Isa::Baseline,
-            Ok("avx2") => Isa::Avx2,
-            _ => Isa::Avx512,
-        };
-        best.min(wanted)
-    })
-}
 
 /// Block scratch: directions (4 vectors × 3 components), a usable flag, parameters,
 /// and the RGB results before they are interleaved into the output.
@@ -192,7 +133,9 @@ fn prefetch_rows<F: Real>(rows: &Rows<'_, F>, row0: usize, len: usize) {
         };
         let step = 64 / std::mem::size_of::<F>();
         for k in (0..block.len()).step_by(step) {
-            // SAFETY: a prefetch is only a hint; the address is inside the slice.
+            // SAFETY: `_mm_prefetch` needs SSE, which every x86-64 CPU has (this code is
+            // compiled for x86-64 only); a prefetch is a hint that never faults, and the
+            // address is inside the slice anyway.
             unsafe { _mm_prefetch::<_MM_HINT_T0>(block[k..].as_ptr().cast()) };
         }
     }
@@ -457,7 +400,8 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     // Non-temporal stores are weakly ordered: make them visible before the task ends.
     #[cfg(target_arch = "x86_64")]
     if stream {
-        // SAFETY: SSE2 is part of x86-64.
+        // SAFETY: `_mm_sfence` needs SSE, which every x86-64 CPU has (this line is
+        // compiled for x86-64 only).
         unsafe { std::arch::x86_64::_mm_sfence() };
     }
     any_bad
@@ -479,8 +423,9 @@ fn stream_copy<F: Real>(src: &Staged<F>, dst: &mut [F; 3 * BLOCK]) {
         let s = src.as_ptr().cast::<__m128i>();
         let d = dst.as_mut_ptr().cast::<__m128i>();
         for k in 0..n {
-            // SAFETY: both blocks are n·16 bytes long; `dst` was checked to be 16-byte
-            // aligned and `Staged` is 64-byte aligned.
+            // SAFETY: the two intrinsics need SSE2, part of every x86-64 CPU (x86-64
+            // only code); both blocks are n·16 bytes long, so `k < n` stays inside them;
+            // `dst` was checked to be 16-byte aligned and `Staged` is 64-byte aligned.
             unsafe { _mm_stream_si128(d.add(k), _mm_load_si128(s.add(k))) };
         }
         return;
@@ -626,8 +571,8 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
         }
         #[cfg(target_arch = "x86_64")]
         match self.isa {
-            Isa::Avx512 => return pick!(range_avx512),
-            Isa::Avx2 => return pick!(range_avx2),
+            Isa::Avx512(_) => return pick!(range_avx512),
+            Isa::Avx2(_) => return pick!(range_avx2),
             Isa::Baseline => {}
         }
         pick_mode!(range_baseline, TablePow)
@@ -687,14 +632,20 @@ pub fn run_polled<F: Real>(
             .div_ceil(task_rows)
             .next_multiple_of(threads);
         let per = (part.len() / 3).div_ceil(tasks).next_multiple_of(BLOCK);
-        // SAFETY: `range` was compiled for `isa`, which `isa()` checked this CPU supports.
         any_bad |= if serial {
+            // SAFETY: `range` is the loop `SelectLoop` picked for `isa`: `range_avx512` or
+            // `range_avx2` only for an `Isa::Avx512` / `Isa::Avx2` token, which `simd`
+            // makes after finding their `target_feature`s on this CPU; else the baseline.
             unsafe { range(plan, first, part) }
         } else {
             parallel::install(|| {
                 part.par_chunks_mut(3 * per)
                     .enumerate()
-                    .map(|(i, chunk)| unsafe { range(plan, first + i * per, chunk) })
+                    .map(|(i, chunk)| {
+                        // SAFETY: the same `range` as in the serial branch above: compiled
+                        // for the instruction set whose `Isa` token `isa()` returned.
+                        unsafe { range(plan, first + i * per, chunk) }
+                    })
                     .reduce(|| false, |a, b| a || b)
             })
         };

@@ -12,6 +12,7 @@
 pub mod engine;
 pub mod params;
 pub mod rows;
+pub mod sample;
 
 use ndarray::{ArrayViewD, ArrayViewMutD};
 

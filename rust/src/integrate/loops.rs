@@ -41,7 +41,7 @@ impl DirectionBlock {
 ///
 /// # Safety
 /// Every method runs instructions of the implementor's instruction set: call them only
-/// once the CPU is known to support it (`engine::isa()` checked).
+/// once the CPU is known to support it (an [`Isa`](crate::simd::Isa) of it was chosen).
 pub(super) trait Loops {
     /// Writes `wo` and its density for every point `(u0[j], u1[j])` of `warp` at the
     /// fixed `wi`, into `out.wo[..u0.len()]` and `out.pdf[..]`. `fold`: azimuths on the
@@ -263,7 +263,9 @@ macro_rules! forward {
             $(#[$attr])*
             #[inline(never)]
             unsafe fn run$(<$l: $bound>)?($($arg: $ty),*) $body
-            // SAFETY: the caller checked the CPU (the trait's contract).
+            // SAFETY: `run` enables the instruction set this `Loops` implementor stands
+            // for (its `target_feature` list, none for the baseline); the trait's
+            // contract, which this method's callers accept, is that the CPU runs it.
             unsafe { run($($arg),*) }
         }
     };

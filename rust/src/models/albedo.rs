@@ -9,8 +9,7 @@
 //! names. Terms whose colour is zero are never integrated.
 
 use super::lobes::{KD, KS, P};
-use super::slots::ColourSlot;
-use crate::eval::engine::MAX_VARYING_SLOTS;
+use super::slots::{ColourSlot, MAX_VARYING_SLOTS};
 
 /// Parameter slots of a basis evaluation (family-A models have at most this many).
 pub type Slots = [f64; MAX_VARYING_SLOTS];

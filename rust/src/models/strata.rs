@@ -809,7 +809,7 @@ mod tests {
     /// strata apply where they should.
     #[test]
     fn controls_and_strata() {
-        let basis = [0.0; crate::eval::engine::MAX_VARYING_SLOTS];
+        let basis = [0.0; crate::models::slots::MAX_VARYING_SLOTS];
         let grey = [1.0; 3];
         let stratum = |t: &Term| match t.integral {
             Integral::Stratum {

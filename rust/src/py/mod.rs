@@ -20,7 +20,6 @@ use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, Sampler
 use crate::math::Real;
 use crate::models::spec::{ExactFactor, SceneUse};
 use crate::models::{ModelKind, ParamKind, TangentUse};
-use crate::sampling::bsdf;
 use crate::sampling::streams::Sequence;
 
 mod fast;
@@ -178,7 +177,9 @@ fn empty<'py, F: Element>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'p
         .map_err(|_| PyValueError::new_err("too many dimensions"))?;
     // SAFETY: the arguments are those `PyArray::new` passes (array type, a new reference
     // to the dtype, which NumPy steals, no strides, data or base: NumPy allocates), and a
-    // null result, NumPy's error set, becomes that error.
+    // null result, NumPy's error set, becomes that error; a non-null one is a new
+    // reference to an array of `F`'s dtype (the descriptor passed), so the unchecked cast
+    // to `PyArrayDyn<F>` holds.
     unsafe {
         let ptr = PY_ARRAY_API.PyArray_NewFromDescr(
             py,
@@ -195,59 +196,49 @@ fn empty<'py, F: Element>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'p
     }
 }
 
-/// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
-#[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
-#[allow(clippy::too_many_arguments)]
-fn eval_f64<'py>(
-    py: Python<'py>,
-    model: &str,
-    wi: Arr<'py, f64>,
-    wo: Arr<'py, f64>,
-    n: Option<Arr<'py, f64>>,
-    tangent: Option<Arr<'py, f64>>,
-    params: &Bound<'py, PyDict>,
-    normalized: bool,
-    check: bool,
-    check_params: bool,
-    out: Option<Bound<'py, PyArrayDyn<f64>>>,
-    precision: &str,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let options = EvalOptions {
-        normalized,
-        check,
-        check_params,
-        precision: Precision::from_name(precision)?,
+/// Defines the `#[pyfunction]` that evaluates a model on arrays of `$float` (`eval_f64`,
+/// `eval_f32`): the two differ only in their float type and docstring.
+macro_rules! eval_function {
+    ($(#[doc = $doc:literal])* $name:ident, $float:ty) => {
+        $(#[doc = $doc])*
+        #[pyfunction]
+        #[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
+        #[allow(clippy::too_many_arguments)]
+        fn $name<'py>(
+            py: Python<'py>,
+            model: &str,
+            wi: Arr<'py, $float>,
+            wo: Arr<'py, $float>,
+            n: Option<Arr<'py, $float>>,
+            tangent: Option<Arr<'py, $float>>,
+            params: &Bound<'py, PyDict>,
+            normalized: bool,
+            check: bool,
+            check_params: bool,
+            out: Option<Bound<'py, PyArrayDyn<$float>>>,
+            precision: &str,
+        ) -> PyResult<Bound<'py, PyArrayDyn<$float>>> {
+            let options = EvalOptions {
+                normalized,
+                check,
+                check_params,
+                precision: Precision::from_name(precision)?,
+            };
+            eval_impl(py, model, wi, wo, n, tangent, params, options, out)
+        }
     };
-    eval_impl(py, model, wi, wo, n, tangent, params, options, out)
 }
 
-/// Evaluates a model on float32 arrays with the float32 kernels (see `brdf_rs.eval`).
-#[pyfunction]
-#[pyo3(signature = (model, wi, wo, n, tangent, params, normalized, check, check_params, out=None, precision="accurate"))]
-#[allow(clippy::too_many_arguments)]
-fn eval_f32<'py>(
-    py: Python<'py>,
-    model: &str,
-    wi: Arr<'py, f32>,
-    wo: Arr<'py, f32>,
-    n: Option<Arr<'py, f32>>,
-    tangent: Option<Arr<'py, f32>>,
-    params: &Bound<'py, PyDict>,
-    normalized: bool,
-    check: bool,
-    check_params: bool,
-    out: Option<Bound<'py, PyArrayDyn<f32>>>,
-    precision: &str,
-) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
-    let options = EvalOptions {
-        normalized,
-        check,
-        check_params,
-        precision: Precision::from_name(precision)?,
-    };
-    eval_impl(py, model, wi, wo, n, tangent, params, options, out)
-}
+eval_function!(
+    /// Evaluates a model on float64 arrays (see `brdf_rs.eval`).
+    eval_f64,
+    f64
+);
+eval_function!(
+    /// Evaluates a model on float32 arrays with the float32 kernels (see `brdf_rs.eval`).
+    eval_f32,
+    f32
+);
 
 /// Checks parameter names, shapes and values for a model (float64 arrays), without
 /// evaluating: `brdf_rs.Model` calls this once.
@@ -505,11 +496,11 @@ fn sampling_call<'py>(
     params: &Bound<'py, PyDict>,
     sampler: &str,
     sampling: bool,
-) -> PyResult<bsdf::batch::Output> {
+) -> PyResult<eval::sample::Output> {
     let kind = ModelKind::from_name(model)?;
     let sampler = sampler_choice(sampler)?;
     let params = param_arrays::<f64>(params)?;
-    let inputs = bsdf::batch::Inputs {
+    let inputs = eval::sample::Inputs {
         wi: wi.as_array(),
         second: second.as_array(),
         n: n.as_ref().map(|a| a.as_array()),
@@ -521,9 +512,9 @@ fn sampling_call<'py>(
     };
     let run = || {
         if sampling {
-            bsdf::batch::sample(kind, inputs, sampler)
+            eval::sample::sample(kind, inputs, sampler)
         } else {
-            bsdf::batch::pdf(kind, inputs, sampler)
+            eval::sample::pdf(kind, inputs, sampler)
         }
     };
     Ok(py.detach(run)?)
@@ -612,7 +603,7 @@ fn num_threads() -> usize {
 /// Returns the instruction set the kernels run with (`avx512`, `avx2`, `baseline`).
 #[pyfunction]
 fn isa() -> &'static str {
-    crate::eval::engine::isa().name()
+    crate::simd::isa().name()
 }
 
 /// The compiled core of brdf-rs. Use the `brdf_rs` package, not this module.

@@ -19,6 +19,33 @@ use crate::math::fastmath::{log_f64, pow_unit_f64};
 use crate::math::series::{expm1_f64, sin_cos_pi};
 pub use beckmann_visible::{BeckmannVisibleNormals, beckmann_visible_pdf};
 
+/// Which sampler draws each lobe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerChoice {
+    /// The best measured: the lobe's own importance sampler, except that diffuse
+    /// (cosine) lobes are drawn uniformly with Sobol points, which converges faster.
+    Auto,
+    /// The lobe's own importance sampler.
+    Importance,
+    /// Cosine-weighted about the normal for every lobe.
+    Cosine,
+    /// Uniform over the hemisphere for every lobe.
+    Uniform,
+}
+
+impl SamplerChoice {
+    /// Parses `auto`, `importance`, `cosine` or `uniform`.
+    pub fn from_name(name: &str) -> Option<SamplerChoice> {
+        match name {
+            "auto" => Some(SamplerChoice::Auto),
+            "importance" => Some(SamplerChoice::Importance),
+            "cosine" => Some(SamplerChoice::Cosine),
+            "uniform" => Some(SamplerChoice::Uniform),
+            _ => None,
+        }
+    }
+}
+
 /// An orthonormal frame: `z` is the axis, `x`, `y` complete it (right-handed).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {

@@ -583,12 +583,12 @@ fn row_avx512(frame: &Frame<'_>, y: usize, row: &mut [f32], s: &mut Scratch) {
 }
 
 fn row_fn() -> RowFn {
-    use crate::eval::engine::{Isa, isa};
+    use crate::simd::{Isa, isa};
     match isa() {
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => row_avx512,
+        Isa::Avx512(_) => row_avx512,
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => row_avx2,
+        Isa::Avx2(_) => row_avx2,
         _ => row_baseline,
     }
 }
@@ -607,7 +607,7 @@ fn zeroed(len: usize, what: &str) -> Result<Vec<f32>, BrdfError> {
         return Ok(Vec::new());
     }
     let layout = std::alloc::Layout::array::<f32>(len).map_err(|_| too_big())?;
-    // SAFETY: `layout` has a nonzero size.
+    // SAFETY: `layout` has a nonzero size: `len > 0` (checked above) `f32`s.
     let ptr = unsafe { std::alloc::alloc_zeroed(layout) }.cast::<f32>();
     if ptr.is_null() {
         return Err(too_big());
@@ -685,7 +685,9 @@ pub fn render_polled(
     let template = stats.clone();
     let run = |rows: &mut [f32], first: usize, s: &mut Scratch| {
         for (k, row) in rows.chunks_exact_mut(3 * width).enumerate() {
-            // SAFETY: `row_fn` was compiled for an instruction set this CPU supports.
+            // SAFETY: `row_fn()` returned `row_avx512` or `row_avx2` only for an
+            // `Isa::Avx512` / `Isa::Avx2` token, made by `simd` after it found their
+            // `target_feature`s on this CPU; else the baseline `row_baseline`.
             unsafe { row_fn(&frame, first + k, row, s) };
         }
     };
@@ -780,12 +782,12 @@ fn shade_avx512(job: &ShadeJob<'_>, first: usize, chunk: &mut [f32], s: &mut Scr
 }
 
 fn shade_fn() -> ShadeFn {
-    use crate::eval::engine::{Isa, isa};
+    use crate::simd::{Isa, isa};
     match isa() {
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => shade_avx512,
+        Isa::Avx512(_) => shade_avx512,
         #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => shade_avx2,
+        Isa::Avx2(_) => shade_avx2,
         _ => shade_baseline,
     }
 }
@@ -850,9 +852,11 @@ pub fn shade(
         lights: &lights,
     };
     let chunk_fn = shade_fn();
-    // SAFETY: `chunk_fn` was compiled for an instruction set this CPU supports.
-    let run = |first: usize, chunk: &mut [f32], s: &mut Scratch| unsafe {
-        chunk_fn(&job, first, chunk, s)
+    let run = |first: usize, chunk: &mut [f32], s: &mut Scratch| {
+        // SAFETY: `shade_fn()` returned `shade_avx512` or `shade_avx2` only for an
+        // `Isa::Avx512` / `Isa::Avx2` token, made by `simd` after it found their
+        // `target_feature`s on this CPU; else the baseline `shade_baseline`.
+        unsafe { chunk_fn(&job, first, chunk, s) }
     };
     let totals = if parallel::num_threads() == 1 || count <= TASK {
         let mut s = Scratch::new(&template, 1);

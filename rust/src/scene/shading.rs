@@ -23,11 +23,11 @@ use std::marker::PhantomData;
 use glam::Vec3;
 
 use crate::error::BrdfError;
-use crate::eval::engine::{Isa, isa};
 use crate::eval::params::ParamRows;
 use crate::models::spec::{DiffuseTerm, SceneUse};
 use crate::models::toon_diffuse::MAX_THRESHOLDS;
 use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
+use crate::simd::{Isa, isa};
 
 /// Pixels per segment: the unit of work the renderer shades at once (one row is cut into
 /// segments). A batch of pixel-light pairs never holds more.
@@ -448,7 +448,9 @@ struct Typed<K: Kernel> {
 
 impl<K: Kernel> BatchKernel for Typed<K> {
     fn shade(&self, batch: &Batch, acc: &mut Accumulator) {
-        // SAFETY: `run` was compiled for the instruction set `isa()` found on this CPU.
+        // SAFETY: `run` is the loop `Prepare::visit` picked for its `Isa`: `batch_avx512`
+        // or `batch_avx2` only for an `Isa::Avx512` / `Isa::Avx2` token, which `simd`
+        // makes after finding their features on this CPU; else the baseline loop.
         unsafe { (self.run)(&self.prepared, batch, acc) }
     }
 }
@@ -465,9 +467,9 @@ impl KernelVisitor for Prepare<'_> {
     fn visit<K: Kernel>(self) -> Box<dyn BatchKernel> {
         let run: BatchFn<K> = match self.isa {
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => batch_avx512::<K>,
+            Isa::Avx512(_) => batch_avx512::<K>,
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => batch_avx2::<K>,
+            Isa::Avx2(_) => batch_avx2::<K>,
             _ => batch_baseline::<K>,
         };
         Box::new(Typed::<K> {
