@@ -442,6 +442,60 @@ def _beckmann(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
     return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
 
 
+#: Estevez & Kulla's fit of the Charlie sheen's ``Λ``: ``(a, b, c, d, e)`` at roughness 1
+#: and at roughness 0 (docs/models.md), taken as exact decimals.
+_CHARLIE_AT_1 = ("21.5473", "3.82987", "0.19823", "-1.97760", "-4.32054")
+_CHARLIE_AT_0 = ("25.3245", "3.32435", "0.16801", "-1.27393", "-4.85967")
+
+
+def _charlie_lambda(mu: mpf, alpha: mpf) -> mpf:
+    """``exp(L(μ))`` below 1/2, ``exp(2L(1/2) − L(1 − μ))`` from 1/2 on."""
+    t = (1 - alpha) ** 2
+    a, b, c, d, e = (
+        (1 - t) * mpf(p1) + t * mpf(p0) for p1, p0 in zip(_CHARLIE_AT_1, _CHARLIE_AT_0, strict=True)
+    )
+
+    def fit(x: mpf) -> mpf:
+        return a / (1 + b * x**c) + d * x + e
+
+    if mu < mpf(1) / 2:
+        return mpmath.exp(fit(mu))
+    return mpmath.exp(2 * fit(mpf(1) / 2) - fit(1 - mu))
+
+
+def _charlie_ndf(g: _Geometry, alpha: mpf) -> mpf:
+    """``(2 + 1/α)·(sin²θh)^(1/(2α))/(2π)``."""
+    return (2 + 1 / alpha) * g.sin2_th ** (1 / (2 * alpha)) / (2 * mpmath.pi)
+
+
+def _neubelt(g: _Geometry) -> mpf:
+    """``1/(4(mu_i + mu_o − mu_i·mu_o))``."""
+    return 1 / (4 * (g.mu_i + g.mu_o - g.mu_i * g.mu_o))
+
+
+def _sheen(g: _Geometry, kd: Colour, ks: Colour, lobe: mpf) -> Colour:
+    specular = lobe if g.h_defined else mpf(0)
+    return _per_channel(lambda d, k: d / mpmath.pi + k * specular, kd, ks)
+
+
+def _charlie_sheen(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    g2 = 1 + _charlie_lambda(g.mu_i, alpha) + _charlie_lambda(g.mu_o, alpha)
+    return _sheen(g, kd, ks, _charlie_ndf(g, alpha) / (4 * g.mu_i * g.mu_o * g2))
+
+
+def _charlie_sheen_neubelt(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    return _sheen(g, kd, ks, _charlie_ndf(g, alpha) * _neubelt(g))
+
+
+def _ashikhmin_cloth(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    a2 = alpha * alpha
+    sin2 = g.sin2_th
+    x = g.cos_th * g.cos_th / (a2 * sin2) if sin2 != 0 else mpf(0)
+    gaussian = mpf(0) if sin2 == 0 or x > _DEAD else 4 * mpmath.exp(-x) / (sin2 * sin2)
+    ndf = (1 + gaussian) / (mpmath.pi * (1 + 4 * a2))
+    return _sheen(g, kd, ks, ndf * _neubelt(g))
+
+
 def _tangent_frame(g: _Geometry, tangent: IntVector | None) -> tuple[list[mpf], list[mpf]]:
     """``x``: the tangent (default +x) projected on the tangent plane and normalized;
     ``y = n × x``. A tangent along ``n`` has no projection: then Duff et al.'s unit vector
@@ -654,6 +708,11 @@ _MODELS: dict[str, _Model] = {
         {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
         tangent_optional=True,
     ),
+    "charlie_sheen": _Model("A", _charlie_sheen, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
+    "charlie_sheen_neubelt": _Model(
+        "A", _charlie_sheen_neubelt, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}
+    ),
+    "ashikhmin_cloth": _Model("A", _ashikhmin_cloth, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
     "lambert_shading": _Model("B", _lambert_shading, {"kd": 0.5}),
     "oren_nayar_shading": _Model("B", _oren_nayar_shading, {"kd": 0.5, "sigma": 0.5}),
     "toon_diffuse": _Model("B", _toon_diffuse, {}, ("thresholds", "colors")),

@@ -766,6 +766,130 @@ def ashikhmin_shirley(
 
 
 # ---------------------------------------------------------------------------------------
+# Sheen and cloth
+# ---------------------------------------------------------------------------------------
+
+#: Estevez & Kulla's fit of the Charlie sheen's ``Λ`` (their Table 1): the coefficients
+#: ``(a, b, c, d, e)`` at roughness 1 and at roughness 0.
+_CHARLIE_AT_1 = (21.5473, 3.82987, 0.19823, -1.97760, -4.32054)
+_CHARLIE_AT_0 = (25.3245, 3.32435, 0.16801, -1.27393, -4.85967)
+
+
+def _charlie_lambda(mu: float, alpha: float) -> float:
+    """The fitted ``Λ(μ)``: ``exp(L(μ))`` below 1/2, ``exp(2L(1/2) − L(1 − μ))`` above,
+    with ``L(x) = a/(1 + b·x^c) + d·x + e`` blended with ``t = (1 − α)²``."""
+    t = (1.0 - alpha) ** 2
+    a, b, c, d, e = (
+        (1.0 - t) * p1 + t * p0 for p1, p0 in zip(_CHARLIE_AT_1, _CHARLIE_AT_0, strict=True)
+    )
+
+    def fit(x: float) -> float:
+        return a / (1.0 + b * x**c) + d * x + e
+
+    if mu < 0.5:
+        return math.exp(fit(mu))
+    return math.exp(2.0 * fit(0.5) - fit(1.0 - mu))
+
+
+def _charlie_ndf(alpha: float, sin2_th: float) -> float:
+    """``D = (2 + 1/α)·sin(θh)^(1/α)/(2π)``, the sine's power as ``(sin²θh)^(1/(2α))``."""
+    return (2.0 + 1.0 / alpha) * sin2_th ** (0.5 / alpha) / (2.0 * math.pi)
+
+
+def _ashikhmin_ndf(alpha: float, cos_th: float, sin2_th: float) -> float:
+    """``D = (1 + 4·exp(−cot²θh/α²)/sin⁴θh)/(π(1 + 4α²))``; the Gaussian's share is 0
+    where ``cot²θh/α²`` is beyond 700 (and at ``h = n``)."""
+    a2 = alpha * alpha
+    if sin2_th == 0.0:
+        gaussian = 0.0
+    else:
+        x = cos_th * cos_th / (a2 * sin2_th)
+        gaussian = 0.0 if x > 700.0 else 4.0 * math.exp(-x) / (sin2_th * sin2_th)
+    return (1.0 + gaussian) / (math.pi * (1.0 + 4.0 * a2))
+
+
+def _sheen(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    kd: Colour,
+    ks: Colour,
+    lobe: Callable[[float, float, float, float], float],
+) -> RGB:
+    """``kd/π + ks·lobe(mu_i, mu_o, cos_th, sin²θh)`` above the surface, 0 below."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    h = _half_vector(wi, wo)
+    if h is None:
+        return BLACK
+    value = lobe(mu_i, mu_o, max(0.0, _cos(n, h)), _sin2(n, h))
+    return _three(
+        kd_c / math.pi + (0.0 if ks_c == 0.0 else ks_c * value)
+        for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
+def _neubelt(mu_i: float, mu_o: float) -> float:
+    """Neubelt and Pettineo's visibility ``V = 1/(4(mu_i + mu_o − mu_i·mu_o))``."""
+    return 1.0 / (4.0 * (mu_i + mu_o - mu_i * mu_o))
+
+
+def charlie_sheen(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
+    """Estevez & Kulla's sheen: ``kd/π + ks·D·G2/(4 mu_i mu_o)``, the Charlie ``D`` and
+    ``G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))`` with their fitted ``Λ``."""
+
+    def lobe(mu_i: float, mu_o: float, cos_th: float, sin2_th: float) -> float:
+        g = 1.0 + _charlie_lambda(mu_i, alpha) + _charlie_lambda(mu_o, alpha)
+        return _charlie_ndf(alpha, sin2_th) / (4.0 * mu_i * mu_o * g)
+
+    return _sheen(wi, wo, n, kd, ks, lobe)
+
+
+def charlie_sheen_neubelt(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
+    """The Charlie ``D`` with Neubelt and Pettineo's visibility: ``kd/π + ks·D·V``."""
+
+    def lobe(mu_i: float, mu_o: float, cos_th: float, sin2_th: float) -> float:
+        return _charlie_ndf(alpha, sin2_th) * _neubelt(mu_i, mu_o)
+
+    return _sheen(wi, wo, n, kd, ks, lobe)
+
+
+def ashikhmin_cloth(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
+    """Ashikhmin's cloth ``D`` with Neubelt and Pettineo's visibility: ``kd/π + ks·D·V``."""
+
+    def lobe(mu_i: float, mu_o: float, cos_th: float, sin2_th: float) -> float:
+        return _ashikhmin_ndf(alpha, cos_th, sin2_th) * _neubelt(mu_i, mu_o)
+
+    return _sheen(wi, wo, n, kd, ks, lobe)
+
+
+# ---------------------------------------------------------------------------------------
 # Family B: scan-line shading terms s(l, v), including the light's cosine
 # ---------------------------------------------------------------------------------------
 
@@ -931,6 +1055,9 @@ MODELS: dict[str, Callable[..., RGB]] = {
         beckmann,
         ward,
         ashikhmin_shirley,
+        charlie_sheen,
+        charlie_sheen_neubelt,
+        ashikhmin_cloth,
         lambert_shading,
         oren_nayar_shading,
         toon_diffuse,
@@ -958,6 +1085,9 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "beckmann": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
     "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
+    "charlie_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
+    "charlie_sheen_neubelt": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
+    "ashikhmin_cloth": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "lambert_shading": {"kd": 0.5},
     "oren_nayar_shading": {"kd": 0.5, "sigma": 0.5},
     "toon_diffuse": {},

@@ -32,8 +32,8 @@ pub(super) struct Lobe<P> {
     /// Beckmann's lobe from its visible normals, likewise.
     beckmann: Option<beckmann::VisibleLobe>,
     /// The weights are known to lie in `[0, 1]` (a closed-form lobe without the QMC
-    /// substitution: `F·G2/G1`): the per-point variance then counts one pseudo-point at
-    /// each bound ([`LobeSums::rgb`]).
+    /// substitution: `F·G2/G1`): the per-point variance then counts pseudo-points at
+    /// each bound ([`LobeSums::rgb`]; how many: `PSEUDO_POINTS` in `sums.rs`).
     pub(super) bounded: bool,
     /// A control variate subtracted from the weights (a stratum's, [`Control`]), with
     /// `beta` already multiplied by the stratum's probability, and where the stratum is

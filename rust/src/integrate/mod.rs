@@ -22,8 +22,8 @@
 //! alpha 0.05, mu 0.9, before this was split).
 //!
 //! Without the substitution the closed-form weights are `F·G2/G1`, in `[0, 1]`, mostly
-//! near 1 for a smooth lobe with a rare region near 0: their per-point variance counts a
-//! pseudo-point at each bound, so that a cell whose few points missed that region still
+//! near 1 for a smooth lobe with a rare region near 0: their per-point variance counts
+//! pseudo-points at each bound, so that a cell whose few points missed that region still
 //! reports an honest error bar (`scripts/stderr_calibration.py` measures it).
 //!
 //! Sharp Schlick lobes drawn with Blinn half vectors near normal incidence

@@ -18,6 +18,15 @@ type Bins = [[[f64; 3]; BINS]; SHAPES];
 const SKEWED_FROM: u64 = 64;
 /// Partial sums per reduction: a fixed pattern, so the bits do not depend on the ISA.
 const LANES: usize = 8;
+/// Pseudo-points at each bound, 0 and 1, in the per-point variance of a bounded lobe
+/// ([`LobeSums::rgb`]). Weights that are 1 but for a rare region of 0 (hit `λ` times on
+/// average in a cell of `n` points) make a cell that saw none of that region read `λ/n`
+/// high; with `a` pseudo-points its error bar is `√a/n`, so such cells are beyond 3
+/// standard errors wherever `λ > 3√a`, which happens with probability `e^−λ`. One
+/// pseudo-point (Agresti and Coull's count for a 2σ interval of a proportion) put 1.8–2.4%
+/// of cells beyond 3 standard errors where `λ` ≈ 3 (GGX at mu = 0.7, alpha = 0.1, 256
+/// random points; `scripts/stderr_calibration.py`); three bound that share by `e^−5.2`.
+const PSEUDO_POINTS: f64 = 3.0;
 
 /// Sums of lobe weights over points: `Σ (w_k − c_k)` and `Σ (w_k − c_k)(w_l − c_l)`,
 /// accumulated in `LANES` fixed partial sums (deterministic, and free to run in SIMD
@@ -206,18 +215,18 @@ impl LobeSums {
                 }
             }
         }
-        // Bounded lobes add one pseudo-point at each bound, 0 and 1, to the squared
+        // Bounded lobes add pseudo-points at each bound, 0 and 1, to the squared
         // deviations (as Agresti and Coull's interval does for a proportion): weights
         // that are nearly all 1 with a rare region of 0 (the rim of a smooth lobe's
         // visible normals, hit once in 1/alpha² points) would otherwise give a cell that
-        // saw no such point a variance near 0.
+        // saw no such point a variance near 0 ([`PSEUDO_POINTS`]).
         let pseudo: [f64; 3] = std::array::from_fn(|c| {
             let mut extra = 0.0;
             for (k, lk) in lobes.iter().enumerate() {
                 if lk.bounded {
                     let m = self.shift[k] + shifted[k];
                     let w = lk.colour[c] / scale[c];
-                    extra += w * w * (m * m + (1.0 - m) * (1.0 - m));
+                    extra += PSEUDO_POINTS * w * w * (m * m + (1.0 - m) * (1.0 - m));
                 }
             }
             extra
@@ -226,7 +235,7 @@ impl LobeSums {
             let m = scaled_mean[c];
             let squares = (second[c] - m * m).max(0.0) * n;
             let var = if pseudo[c] > 0.0 {
-                (squares + pseudo[c]) / (n + 1.0)
+                (squares + pseudo[c]) / (n - 1.0 + 2.0 * PSEUDO_POINTS)
             } else {
                 squares / (n - 1.0)
             };
