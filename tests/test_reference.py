@@ -59,15 +59,15 @@ def assert_close(model, got, want, cond, rtol, eps, atol, label):
     )
 
 
-def check_rows_against_reference(
-    model, rng, wi, wo, n, tangent, params, *, precision, tol64, tol32, excusable
-):
-    """Evaluates ``model`` in float64 and in float32 (inputs and parameters rounded to
+def check_rows_against_reference(model, rng, case, params, *, precision, tol64, tol32, excusable):
+    """Evaluates ``model`` at ``case`` (``wi, wo, n, tangent``, as :func:`random_case`
+    returns them) in float64 and in float32 (inputs and parameters rounded to
     float32) and holds each row to the reference: within ``rtol·|want| + atol`` (``tol64``,
     ``tol32``: ``(rtol, atol)``; float32 against the reference on the rounded inputs), or,
     where not, within what the inputs' precision allows. At most a share ``excusable`` of
     the rows may need that allowance (an ill-conditioned reference), and most must be
     nonzero, so that the comparison has teeth."""
+    wi, wo, n, tangent = case
     count = len(wi)
     got64 = brdf_rs.eval(model, wi, wo, n, tangent=tangent, precision=precision, **params)
     f32 = {k: np.asarray(v, np.float32) for k, v in params.items()}
@@ -111,15 +111,12 @@ def check_rows_against_reference(
 
 @pytest.mark.parametrize("model", REFERENCE_MODELS)
 def test_random_inputs_match_reference(model, rng):
-    wi, wo, n, tangent = random_case(rng, model, N_RANDOM)
+    case = random_case(rng, model, N_RANDOM)
     params = random_params(rng, model, size=N_RANDOM)
     check_rows_against_reference(
         model,
         rng,
-        wi,
-        wo,
-        n,
-        tangent,
+        case,
         params,
         precision="accurate",
         tol64=(1e-12, 0.0),
