@@ -261,8 +261,8 @@ def models() -> dict[str, _spec.ModelSpec]:
     material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
     ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
     ``powers`` (whether it raises something to a power: ``precision="fast"`` changes
-    only such models), ``exact`` (its ``normalization="exact"``: how the factor is computed, the parameters
-    it takes and the colour it scales; None where it has none) and
+    only such models), ``exact`` (its ``normalization="exact"``: how the factor is
+    computed, the parameters it takes and the colour it scales; None where it has none) and
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,
     colour list), ``default`` (None: required), ``range`` (as text, plus
     ``min``/``max``/``min_open``/``max_open``), ``doc``, ``varies`` (whether it may be
