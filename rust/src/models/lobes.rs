@@ -141,12 +141,12 @@ impl<F: Real> DiffuseSpecular<F> {
     }
 }
 
-/// Returns `mu_i = n·wi` and `cos_ar = max(0, r·wo)` with `r` the mirror of `wi` about `n`.
+/// Returns `cos_ar = max(0, r·wo)` with `r` the mirror of `wi` about `n`, given
+/// `mu_i = n·wi`.
 #[inline(always)]
-pub fn mirror_cosine<F: Real>(d: &Directions<F>) -> (F, Cosine<F>) {
-    let mu_i = d.n.dot(d.wi);
+pub fn mirror_cosine<F: Real>(d: &Directions<F>, mu_i: F) -> Cosine<F> {
     let r = mirror::<F>(d.wi, d.n, mu_i);
-    (mu_i, clamped_cosine::<F>(r, d.wo))
+    clamped_cosine::<F>(r, d.wo)
 }
 
 /// Returns `cos_th = max(0, n·h)` and whether `h` is defined (`wi + wo ≠ 0`).

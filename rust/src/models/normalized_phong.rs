@@ -34,8 +34,8 @@ impl PowerLobeModel for NormalizedPhong {
     }
 
     #[inline(always)]
-    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, _mu_i: F) -> F {
-        mirror_cosine(d).1.powf::<P>(pp.p)
+    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
+        mirror_cosine(d, mu_i).powf::<P>(pp.p)
     }
 
     fn lobe_scale(slots: &[f64], _mu: f64) -> f64 {

@@ -37,7 +37,7 @@ impl PowerLobeModel for Phong {
     #[inline(always)]
     fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
         // cos_ar^p / mu_i in one step: cos_ar^p may underflow where the quotient does not
-        mirror_cosine(d).1.powf_over::<P>(pp.p, mu_i)
+        mirror_cosine(d, mu_i).powf_over::<P>(pp.p, mu_i)
     }
 
     fn lobe_scale(_slots: &[f64], mu: f64) -> f64 {
