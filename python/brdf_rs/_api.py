@@ -261,8 +261,9 @@ def models() -> dict[str, _spec.ModelSpec]:
     parameters whose all being zero makes the model zero), ``scene_slot`` (where a scene
     material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
     ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
-    ``exact`` (its ``normalization="exact"``: how the factor is computed, the parameters
-    it takes and the colour it scales; None where it has none) and
+    ``powers`` (whether it raises something to a power: ``precision="fast"`` changes
+    only such models), ``exact`` (its ``normalization="exact"``: how the factor is
+    computed, the parameters it takes and the colour it scales; None where it has none) and
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,
     colour list), ``default`` (None: required), ``range`` (as text, plus
     ``min``/``max``/``min_open``/``max_open``), ``doc``, ``varies`` (whether it may be

@@ -84,6 +84,9 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
+    #: Whether its kernel raises something to a power (``precision="fast"`` changes
+    #: only such models, and only in float64).
+    powers: bool
     #: Its ``normalization="exact"``, or None where it has none.
     exact: ExactNormalization | None
     params: list[ParamSpec]

@@ -3,8 +3,10 @@
 //! Public API (f64 and f32 each):
 //! * `pow_unit_f64(x, one_minus_x, p)` / `pow_unit_f32`: x^p for x in [0, 1],
 //!   accurate even when x is within 1e-12 of 1 (uses the caller's 1 - x).
-//! * `pow_unit_table_f64` (and its `over` / `over_scaled` variants): the same f64
-//!   powers from tables, for loops whose table lookups vectorize (see below).
+//! * `pow_unit_table_f64`: the same f64 power from tables, for loops whose table
+//!   lookups vectorize (see below), and `pow_unit_fast_f64`, the fast tier's; the
+//!   `_tier_` functions choose among the three ([`crate::math::PowTier`]), `over`
+//!   variants included.
 //! * `exp_f64` / `exp_f32`: e^x for all x (overflow to +inf, gradual underflow).
 //! * `log_f64` / `log_f32`: ln x for x >= 0, subnormals included.
 //!
@@ -72,6 +74,8 @@
 // The constants below are bit-exact literals (scripts/fastmath_coefficients.py);
 // the decimal comments are for humans only.
 #![allow(clippy::excessive_precision, clippy::unreadable_literal)]
+
+use super::PowTier;
 
 // ---- f64 ----
 const SQRT3_F64: f64 = f64::from_bits(0x3ffbb67ae8584caa); // 1.7320508075688772 sqrt(3)
@@ -194,17 +198,12 @@ fn mla32<const FMA: bool>(a: f32, b: f32, c: f32) -> f32 {
 /// x = 2^k * (c + f), c = 1.5 if `c15` else 1, f exact, |f/(2c+f)| <= 0.102.
 #[inline(always)]
 fn reduce_f64(x: f64) -> (f64, f64, bool) {
-    let tiny = x < f64::MIN_POSITIVE;
-    let xs = if tiny { x * TWO54_F64 } else { x };
-    let bits = xs.to_bits();
-    // biased exponent -> f64 without an int->float conversion instruction
-    let e = f64::from_bits((bits >> 52) | TWO52_BITS_F64) - 4503599627371519.0; // 2^52+1023
-    let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | ONE_BITS_F64);
+    let (m, e) = split_f64(x);
     let big = m > SQRT3_F64;
     let c15 = !big & (m > SQRT1P5_F64);
     let m = if big { m * 0.5 } else { m };
     let c = if c15 { 1.5 } else { 1.0 };
-    let k = e + if big { 1.0 } else { 0.0 } - if tiny { 54.0 } else { 0.0 };
+    let k = e + if big { 1.0 } else { 0.0 };
     (k, m - c, c15)
 }
 
@@ -337,9 +336,7 @@ fn pow_unit_scaled_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64, e: f64
     let yl = mla::<FMA>(p - p1, t1, p * t2);
     let r = exp2_dd_f64::<FMA>(yh, yl, e);
     let one = exp2_dd_f64::<FMA>(0.0, 0.0, e); // 2^-e, exact (or +inf)
-    let r = if one_minus_x == 0.0 { one } else { r };
-    let r = if x == 0.0 { 0.0 } else { r };
-    if p == 0.0 { one } else { r }
+    special_cases_f64(x, one_minus_x, p, r, one)
 }
 
 #[inline(always)]
@@ -347,15 +344,59 @@ fn pow_unit_impl_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_unit_scaled_f64::<FMA>(x, one_minus_x, p, 0.0, 0.0)
 }
 
-/// Splits d > 0 (subnormal included) as m 2^e, m in [1, 2); e as an f64.
+/// Splits d > 0 (subnormal included) as m 2^e, m in [1, 2); e as an f64. (d = 0 gives
+/// m = 1, e = -1077; callers select such lanes away.)
 #[inline(always)]
 fn split_f64(d: f64) -> (f64, f64) {
     let tiny = d < f64::MIN_POSITIVE;
     let ds = if tiny { d * TWO54_F64 } else { d };
     let bits = ds.to_bits();
+    // biased exponent -> f64 without an int->float conversion instruction
     let e = f64::from_bits((bits >> 52) | TWO52_BITS_F64) - 4503599627371519.0; // 2^52+1023
     let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | ONE_BITS_F64);
     (m, e - if tiny { 54.0 } else { 0.0 })
+}
+
+/// The divisor of the `over` powers, d = m 2^e ([`split_f64`]). An e outside the
+/// exponent range (d = 0, inf, NaN: callers select those away) would corrupt the bit
+/// tricks: it is kept in range.
+#[inline(always)]
+fn split_divisor_f64(d: f64) -> (f64, f64) {
+    let (m, e) = split_f64(d);
+    (m, if e > -1100.0 && e < 1100.0 { e } else { 0.0 })
+}
+
+/// The exact special cases of x^p 2^-e on top of the computed `r`: `one` = 2^-e where
+/// p == 0 (also 0^0) or one_minus_x == 0, and 0 where x == 0 (p > 0).
+#[inline(always)]
+fn special_cases_f64(x: f64, one_minus_x: f64, p: f64, r: f64, one: f64) -> f64 {
+    let r = if one_minus_x == 0.0 { one } else { r };
+    let r = if x == 0.0 { 0.0 } else { r };
+    if p == 0.0 { one } else { r }
+}
+
+/// x^p 2^-e / m from the logarithm's product y = p ln x (`ln_y`, about: it decides the
+/// halves) and `exp(e)` = e^y 2^-e, as the table-driven and the fast powers form it:
+/// with `OVER`, a quotient above 1 is formed as (x^p 2^-(e+1)) / (m/2) so that the
+/// dividend cannot overflow while the quotient is below 2^1024; without, `m` is 1.
+#[inline(always)]
+fn over_from_halves_f64<const OVER: bool>(
+    x: f64,
+    one_minus_x: f64,
+    p: f64,
+    ln_y: f64,
+    e: f64,
+    m: f64,
+    exp: impl Fn(f64) -> f64,
+) -> f64 {
+    let big = OVER && ln_y - e * LN2_F64 > 0.0; // (p = 0 lanes: y ~ 0, big iff e < 0)
+    let e = if big { e + 1.0 } else { e };
+    let m = if big { m * 0.5 } else { m };
+    let r = exp(e);
+    // 2^-e, exact (+inf for e < -1024)
+    let one = scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e });
+    let r = special_cases_f64(x, one_minus_x, p, r, one);
+    if OVER { r / m } else { r }
 }
 
 /// x^p / d for x in [0, 1] (given with `one_minus_x`, as [`pow_unit_f64`]) and finite
@@ -365,11 +406,7 @@ fn split_f64(d: f64) -> (f64, f64) {
 /// +inf. Two roundings (about 1 ulp more than [`pow_unit_f64`]).
 #[inline(always)]
 pub fn pow_unit_over_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
-    let (m, e) = split_f64(d);
-    // An e outside the exponent range (d = 0, inf, NaN: callers select those away)
-    // would corrupt the bit tricks: keep it in range.
-    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_unit_scaled_f64::<false>(x, one_minus_x, p, e, 0.0) / m
+    pow_unit_over_scaled_f64(x, one_minus_x, p, 0.0, d)
 }
 
 /// `(x·2^-kx)^p / d`: [`pow_unit_over_f64`] of a base below the float range, carried
@@ -378,9 +415,7 @@ pub fn pow_unit_over_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
 /// exactly, so a cosine of 1e-320 (10 significant bits as a subnormal) keeps all 53.
 #[inline(always)]
 pub fn pow_unit_over_scaled_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
-    let (m, e) = split_f64(d);
-    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_unit_scaled_f64::<false>(x, one_minus_x, p, e, kx) / m
+    pow_unit_over_scaled_tier_f64(PowTier::Series, x, one_minus_x, p, kx, d)
 }
 
 /// x^p for x in [0, 1], given both x and `one_minus_x` = 1 - x.
@@ -567,16 +602,7 @@ fn pow_scaled_f64<const OVER: bool>(
     let l_lo = (lh - l_hi) + ll;
     let ehi = p_hi * l_hi;
     let elo = p_lo * l_hi + pp * l_lo;
-    let big = OVER && ehi - e * LN2_F64 > 0.0; // (p = 0 lanes: ehi ~ 0, big iff e < 0)
-    let e = if big { e + 1.0 } else { e };
-    let m = if big { m * 0.5 } else { m };
-    let r = exp_dd_f64(ehi, elo, e);
-    // 2^-e, exact (+inf for e < -1024)
-    let one = scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e });
-    let r = if one_minus_x == 0.0 { one } else { r };
-    let r = if x == 0.0 { 0.0 } else { r };
-    let r = if p == 0.0 { one } else { r };
-    if OVER { r / m } else { r }
+    over_from_halves_f64::<OVER>(x, one_minus_x, p, ehi, e, m, |e| exp_dd_f64(ehi, elo, e))
 }
 
 /// [`pow_unit_f64`] from tables: the same contract, table-driven (ARM
@@ -589,38 +615,17 @@ pub fn pow_unit_table_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_scaled_f64::<false>(x, one_minus_x, p, 0.0, 0.0, 1.0)
 }
 
-/// [`pow_unit_over_f64`] from tables (see [`pow_unit_table_f64`]). A quotient above 1
-/// is formed from halves, so it does not overflow below 2^1024.
-#[inline(always)]
-pub fn pow_unit_over_table_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
-    let (m, e) = split_f64(d);
-    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_scaled_f64::<true>(x, one_minus_x, p, e, 0.0, m)
-}
-
-/// [`pow_unit_over_scaled_f64`] from tables (see [`pow_unit_table_f64`]).
-#[inline(always)]
-pub fn pow_unit_over_scaled_table_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
-    let (m, e) = split_f64(d);
-    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_scaled_f64::<true>(x, one_minus_x, p, e, kx, m)
-}
-
 // ---------------------------------------------------------------------- f32
 
 /// f32 analogue of [`reduce_f64`].
 #[inline(always)]
 fn reduce_f32(x: f32) -> (f32, f32, bool) {
-    let tiny = x < f32::MIN_POSITIVE;
-    let xs = if tiny { x * TWO24_F32 } else { x };
-    let bits = xs.to_bits();
-    let e = f32::from_bits((bits >> 23) | TWO23_BITS_F32) - 8388735.0; // 2^23+127
-    let m = f32::from_bits((bits & 0x007F_FFFF) | ONE_BITS_F32);
+    let (m, e) = split_f32(x);
     let big = m > SQRT3_F32;
     let c15 = !big & (m > SQRT1P5_F32);
     let m = if big { m * 0.5 } else { m };
     let c = if c15 { 1.5 } else { 1.0 };
-    let k = e + if big { 1.0 } else { 0.0 } - if tiny { 24.0 } else { 0.0 };
+    let k = e + if big { 1.0 } else { 0.0 };
     (k, m - c, c15)
 }
 
@@ -818,17 +823,13 @@ const SQRT2_F64: f64 = std::f64::consts::SQRT_2;
 /// value (the caller selects the result).
 #[inline(always)]
 fn ln_fast_f64(x: f64, one_minus_x: f64, kx: f64) -> f64 {
-    let tiny = x < f64::MIN_POSITIVE;
-    let xs = if tiny { x * TWO54_F64 } else { x };
-    let bits = xs.to_bits();
-    let e = f64::from_bits((bits >> 52) | TWO52_BITS_F64) - 4503599627371519.0; // 2^52+1023
-    let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | ONE_BITS_F64);
+    let (m, e) = split_f64(x);
     let big = m > SQRT2_F64;
     let m = if big { m * 0.5 } else { m };
     // From √3/2 on the complement is the base, as for the accurate powers (the caller's x
     // and 1 − x may disagree in their last bits); below, f = x − 1 is exact.
     let near = x > SQRT3_HALF_F64;
-    let k = e + if big { 1.0 } else { 0.0 } - if tiny { 54.0 } else { 0.0 } - kx;
+    let k = e + if big { 1.0 } else { 0.0 } - kx;
     let k = if near { 0.0 } else { k };
     let f = if near { -one_minus_x } else { m - 1.0 }; // m − 1: exact (Sterbenz)
     // A division, not Newton's reciprocal (three steps from a linear estimate, 2.5e-15):
@@ -882,16 +883,7 @@ fn exp_fast_f64(y: f64, e: f64) -> f64 {
 #[inline(always)]
 fn pow_fast_scaled_f64(x: f64, one_minus_x: f64, p: f64, e: f64, kx: f64, m: f64) -> f64 {
     let y = p * ln_fast_f64(x, one_minus_x, kx);
-    let big = y - e * LN2_F64 > 0.0;
-    let e = if big { e + 1.0 } else { e };
-    let m = if big { m * 0.5 } else { m };
-    let r = exp_fast_f64(y, e);
-    // 2^-e, exact (+inf for e < -1024)
-    let one = scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e });
-    let r = if one_minus_x == 0.0 { one } else { r };
-    let r = if x == 0.0 { 0.0 } else { r };
-    let r = if p == 0.0 { one } else { r };
-    r / m
+    over_from_halves_f64::<true>(x, one_minus_x, p, y, e, m, |e| exp_fast_f64(y, e))
 }
 
 /// The fast tier's x^p (`brdf_rs.eval(..., precision="fast")`): the contract of
@@ -910,22 +902,59 @@ pub fn pow_unit_fast_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_fast_scaled_f64(x, one_minus_x, p, 0.0, 0.0, 1.0)
 }
 
-/// [`pow_unit_over_f64`] in the fast tier: `x^p / d`, without underflow of `x^p` first;
-/// see [`pow_unit_fast_f64`]. A quotient in the normal range has |y| below about 1460,
-/// hence relative error at most about 5e-13.
+// ------------------------------------------------------------- the tiers
+
+/// x^p in `tier`: [`pow_unit_f64`], [`pow_unit_table_f64`] or [`pow_unit_fast_f64`].
 #[inline(always)]
-pub fn pow_unit_over_fast_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
-    let (m, e) = split_f64(d);
-    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_fast_scaled_f64(x, one_minus_x, p, e, 0.0, m)
+pub fn pow_unit_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> f64 {
+    match tier {
+        PowTier::Series => pow_unit_f64(x, one_minus_x, p),
+        PowTier::Table => pow_unit_table_f64(x, one_minus_x, p),
+        PowTier::Fast => pow_unit_fast_f64(x, one_minus_x, p),
+    }
 }
 
-/// [`pow_unit_over_scaled_f64`] in the fast tier (the base `x·2^-kx`).
+/// `(x·2^-kx)^p / d` in `tier` ([`pow_unit_over_scaled_f64`]'s contract; `kx = 0`:
+/// [`pow_unit_over_f64`]'s). The table-driven and the fast quotients are formed from
+/// halves, so they do not overflow below 2^1024; the fast one's |y| stays below about
+/// 1460 for a quotient in the normal range, hence a relative error of at most about
+/// 5e-13 (see [`pow_unit_fast_f64`]).
 #[inline(always)]
-pub fn pow_unit_over_scaled_fast_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
-    let (m, e) = split_f64(d);
-    let e = if e > -1100.0 && e < 1100.0 { e } else { 0.0 };
-    pow_fast_scaled_f64(x, one_minus_x, p, e, kx, m)
+pub fn pow_unit_over_scaled_tier_f64(
+    tier: PowTier,
+    x: f64,
+    one_minus_x: f64,
+    p: f64,
+    kx: f64,
+    d: f64,
+) -> f64 {
+    let (m, e) = split_divisor_f64(d);
+    match tier {
+        PowTier::Series => pow_unit_scaled_f64::<false>(x, one_minus_x, p, e, kx) / m,
+        PowTier::Table => pow_scaled_f64::<true>(x, one_minus_x, p, e, kx, m),
+        PowTier::Fast => pow_fast_scaled_f64(x, one_minus_x, p, e, kx, m),
+    }
+}
+
+/// [`pow_unit_f32`] whatever the tier: `f32` has one power (see [`crate::math::FastPow`]
+/// for why the fast tier keeps it).
+#[inline(always)]
+pub fn pow_unit_tier_f32(_tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> f32 {
+    pow_unit_f32(x, one_minus_x, p)
+}
+
+/// [`pow_unit_over_f32`] whatever the tier; `f32` carries no extended cosine exponent, so
+/// `kx` is ignored ([`crate::math::Real::EXTENDED_COSINES`]).
+#[inline(always)]
+pub fn pow_unit_over_scaled_tier_f32(
+    _tier: PowTier,
+    x: f32,
+    one_minus_x: f32,
+    p: f32,
+    _kx: f32,
+    d: f32,
+) -> f32 {
+    pow_unit_over_f32(x, one_minus_x, p, d)
 }
 
 #[cfg(test)]
@@ -934,6 +963,22 @@ pub(crate) mod tests {
     //! vectors at 72 digits, every f32) were made when the functions were written and
     //! are not part of this repository; these keep the properties from regressing.
     use super::*;
+
+    fn pow_unit_over_table_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
+        pow_unit_over_scaled_tier_f64(PowTier::Table, x, one_minus_x, p, 0.0, d)
+    }
+
+    fn pow_unit_over_scaled_table_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
+        pow_unit_over_scaled_tier_f64(PowTier::Table, x, one_minus_x, p, kx, d)
+    }
+
+    fn pow_unit_over_fast_f64(x: f64, one_minus_x: f64, p: f64, d: f64) -> f64 {
+        pow_unit_over_scaled_tier_f64(PowTier::Fast, x, one_minus_x, p, 0.0, d)
+    }
+
+    fn pow_unit_over_scaled_fast_f64(x: f64, one_minus_x: f64, p: f64, kx: f64, d: f64) -> f64 {
+        pow_unit_over_scaled_tier_f64(PowTier::Fast, x, one_minus_x, p, kx, d)
+    }
 
     /// Distance of `got` from `want` in ulps of `want` (shared with `math::erf`'s tests).
     pub(crate) fn ulps(got: f64, want: f64) -> f64 {

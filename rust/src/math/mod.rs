@@ -139,7 +139,10 @@ pub trait Real:
     fn is_nan(self) -> bool;
     /// Returns `x^p` for `x` in [0, 1] given `x` and `1 - x` separately (both accurate),
     /// with `0^0 = 1`; see [`fastmath`].
-    fn pow_unit(x: Self, one_minus_x: Self, p: Self) -> Self;
+    #[inline(always)]
+    fn pow_unit(x: Self, one_minus_x: Self, p: Self) -> Self {
+        Self::pow_unit_in(PowTier::Series, x, one_minus_x, p)
+    }
     /// Returns `e^x`.
     fn exp(self) -> Self;
     /// Returns the natural logarithm.
@@ -186,24 +189,29 @@ pub trait Real:
     /// Returns `x^p / d` for `x` in [0, 1] (with its complement, as [`Real::pow_unit`])
     /// and `d > 0`, with no underflow of `x^p` before the division: `cos^p / mu_i` at
     /// `mu_i = 1e-300` keeps every digit. `p = 0` (also `0^0`) gives `1/d`.
-    fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
+    #[inline(always)]
+    fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
+        Self::pow_unit_over_scaled(x, one_minus_x, p, Self::ZERO, d)
+    }
     /// [`Real::pow_unit_over`] of the base `x·2^-kx` (`kx` an integer in `[0, 600]`, `x`
     /// at most `2^-400` when `kx > 0`): a cosine below the normal range carried with an
     /// extended exponent. `f64` only ([`Real::EXTENDED_COSINES`]); `f32` ignores `kx`.
-    fn pow_unit_over_scaled(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
-    /// [`Real::pow_unit`] from tables (`f64`; `f32`: [`Real::pow_unit`]); see [`PowUnit`].
-    fn pow_unit_table(x: Self, one_minus_x: Self, p: Self) -> Self;
-    /// [`Real::pow_unit_over`] from tables (`f64`); see [`PowUnit`].
-    fn pow_unit_over_table(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
-    /// [`Real::pow_unit_over_scaled`] from tables (`f64`); see [`PowUnit`].
-    fn pow_unit_over_scaled_table(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
-    /// [`Real::pow_unit`] of the fast tier ([`FastPow`]; [`fastmath::pow_unit_fast_f64`];
-    /// `f32`: [`Real::pow_unit`]).
-    fn pow_unit_fast(x: Self, one_minus_x: Self, p: Self) -> Self;
-    /// [`Real::pow_unit_over`] of the fast tier ([`FastPow`]).
-    fn pow_unit_over_fast(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self;
-    /// [`Real::pow_unit_over_scaled`] of the fast tier ([`FastPow`]; `f32` ignores `kx`).
-    fn pow_unit_over_scaled_fast(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self;
+    #[inline(always)]
+    fn pow_unit_over_scaled(x: Self, one_minus_x: Self, p: Self, kx: Self, d: Self) -> Self {
+        Self::pow_unit_over_scaled_in(PowTier::Series, x, one_minus_x, p, kx, d)
+    }
+    /// [`Real::pow_unit`] computed by `tier` (`f32`: every tier is the series power).
+    fn pow_unit_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> Self;
+    /// [`Real::pow_unit_over_scaled`] computed by `tier` (`f32`: the series power, `kx`
+    /// ignored); `kx = 0` is [`Real::pow_unit_over`] bit for bit.
+    fn pow_unit_over_scaled_in(
+        tier: PowTier,
+        x: Self,
+        one_minus_x: Self,
+        p: Self,
+        kx: Self,
+        d: Self,
+    ) -> Self;
     /// Returns whether `v` is finite and nonzero, without normalizing it.
     fn usable(v: Self::V3) -> bool;
     /// Returns `|v|² − 1` for a vector of about unit length (components of magnitude at
@@ -230,6 +238,21 @@ pub trait Real:
     fn flush_subnormal(x: Self) -> Self;
 }
 
+/// The three ways to compute `x^p` ([`Real::pow_unit`] and its `over` variants), one per
+/// [`PowUnit`]. In `f32` all three are the series power.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PowTier {
+    /// Table-free, within well under an ulp ([`fastmath::pow_unit_f64`]): vectorizes in
+    /// any loop.
+    Series,
+    /// Table-driven, within well under an ulp ([`fastmath::pow_unit_table_f64`]): faster
+    /// where its table lookups vectorize as gathers.
+    Table,
+    /// The fast tier's (`precision="fast"`): `exp(p·ln x)` in plain floating point
+    /// ([`fastmath::pow_unit_fast_f64`]), within a stated relative error.
+    Fast,
+}
+
 /// How a kernel computes `x^p` ([`Real::pow_unit`] and its `over` variants): chosen by the
 /// kernel's caller, since the fastest one depends on the loop around the kernel.
 ///
@@ -239,47 +262,31 @@ pub trait Real:
 /// vectorize as gathers, which the eval engine's block loop does and the integrator's
 /// per-point lobe loop does not (there it stops the loop from vectorizing). Both are
 /// accurate to well under an ulp; their results differ in the last bit here and there.
+/// [`FastPow`] is the fast tier's.
 pub trait PowUnit: 'static {
-    /// Whether `f64` powers come from the tables.
-    const TABLES: bool;
+    /// How the powers are computed.
+    const TIER: PowTier;
     /// Whether this is the fast tier's power ([`FastPow`]), which also selects the fast
-    /// tier's handling around the kernels in the eval engine.
-    const FAST: bool = false;
+    /// tier's handling around the kernels in the eval engine. Follows from
+    /// [`PowUnit::TIER`]; not set by the implementations.
+    const FAST: bool = matches!(Self::TIER, PowTier::Fast);
 
     /// Returns `x^p`, as [`Real::pow_unit`].
     #[inline(always)]
     fn pow_unit<F: Real>(x: F, one_minus_x: F, p: F) -> F {
-        if Self::FAST {
-            F::pow_unit_fast(x, one_minus_x, p)
-        } else if Self::TABLES {
-            F::pow_unit_table(x, one_minus_x, p)
-        } else {
-            F::pow_unit(x, one_minus_x, p)
-        }
+        F::pow_unit_in(Self::TIER, x, one_minus_x, p)
     }
 
     /// Returns `x^p / d`, as [`Real::pow_unit_over`].
     #[inline(always)]
     fn pow_unit_over<F: Real>(x: F, one_minus_x: F, p: F, d: F) -> F {
-        if Self::FAST {
-            F::pow_unit_over_fast(x, one_minus_x, p, d)
-        } else if Self::TABLES {
-            F::pow_unit_over_table(x, one_minus_x, p, d)
-        } else {
-            F::pow_unit_over(x, one_minus_x, p, d)
-        }
+        F::pow_unit_over_scaled_in(Self::TIER, x, one_minus_x, p, F::ZERO, d)
     }
 
     /// Returns `(x·2^-kx)^p / d`, as [`Real::pow_unit_over_scaled`].
     #[inline(always)]
     fn pow_unit_over_scaled<F: Real>(x: F, one_minus_x: F, p: F, kx: F, d: F) -> F {
-        if Self::FAST {
-            F::pow_unit_over_scaled_fast(x, one_minus_x, p, kx, d)
-        } else if Self::TABLES {
-            F::pow_unit_over_scaled_table(x, one_minus_x, p, kx, d)
-        } else {
-            F::pow_unit_over_scaled(x, one_minus_x, p, kx, d)
-        }
+        F::pow_unit_over_scaled_in(Self::TIER, x, one_minus_x, p, kx, d)
     }
 }
 
@@ -287,14 +294,14 @@ pub trait PowUnit: 'static {
 pub struct SeriesPow;
 
 impl PowUnit for SeriesPow {
-    const TABLES: bool = false;
+    const TIER: PowTier = PowTier::Series;
 }
 
 /// The table-driven `f64` power, for loops whose gathers vectorize (see [`PowUnit`]).
 pub struct TablePow;
 
 impl PowUnit for TablePow {
-    const TABLES: bool = true;
+    const TIER: PowTier = PowTier::Table;
 }
 
 /// The fast tier's power (`precision="fast"`): in `f64`, `exp(p·ln x)` in plain floating
@@ -307,8 +314,7 @@ impl PowUnit for TablePow {
 pub struct FastPow;
 
 impl PowUnit for FastPow {
-    const TABLES: bool = false;
-    const FAST: bool = true;
+    const TIER: PowTier = PowTier::Fast;
 }
 
 /// Returns the larger of `a` and `b` (the second if they compare unordered).
@@ -395,114 +401,19 @@ macro_rules! impl_real {
                 $f::is_nan(self)
             }
             #[inline(always)]
-            fn pow_unit(x: Self, one_minus_x: Self, p: Self) -> Self {
-                fastmath::$pow(x, one_minus_x, p)
+            fn pow_unit_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> Self {
+                fastmath::$pow(tier, x, one_minus_x, p)
             }
             #[inline(always)]
-            fn pow_unit_over(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
-                fastmath::$pow_over(x, one_minus_x, p, d)
-            }
-            #[inline(always)]
-            fn pow_unit_over_scaled(
+            fn pow_unit_over_scaled_in(
+                tier: PowTier,
                 x: Self,
                 one_minus_x: Self,
                 p: Self,
                 kx: Self,
                 d: Self,
             ) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_over_scaled_f64(
-                        x as f64,
-                        one_minus_x as f64,
-                        p as f64,
-                        kx as f64,
-                        d as f64,
-                    ) as $f
-                } else {
-                    fastmath::$pow_over(x, one_minus_x, p, d)
-                }
-            }
-            #[inline(always)]
-            fn pow_unit_table(x: Self, one_minus_x: Self, p: Self) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_table_f64(x as f64, one_minus_x as f64, p as f64) as $f
-                } else {
-                    fastmath::$pow(x, one_minus_x, p)
-                }
-            }
-            #[inline(always)]
-            fn pow_unit_over_table(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_over_table_f64(
-                        x as f64,
-                        one_minus_x as f64,
-                        p as f64,
-                        d as f64,
-                    ) as $f
-                } else {
-                    fastmath::$pow_over(x, one_minus_x, p, d)
-                }
-            }
-            #[inline(always)]
-            fn pow_unit_over_scaled_table(
-                x: Self,
-                one_minus_x: Self,
-                p: Self,
-                kx: Self,
-                d: Self,
-            ) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_over_scaled_table_f64(
-                        x as f64,
-                        one_minus_x as f64,
-                        p as f64,
-                        kx as f64,
-                        d as f64,
-                    ) as $f
-                } else {
-                    fastmath::$pow_over(x, one_minus_x, p, d)
-                }
-            }
-            #[inline(always)]
-            fn pow_unit_fast(x: Self, one_minus_x: Self, p: Self) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_fast_f64(x as f64, one_minus_x as f64, p as f64) as $f
-                } else {
-                    fastmath::$pow(x, one_minus_x, p)
-                }
-            }
-            #[inline(always)]
-            fn pow_unit_over_fast(x: Self, one_minus_x: Self, p: Self, d: Self) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_over_fast_f64(
-                        x as f64,
-                        one_minus_x as f64,
-                        p as f64,
-                        d as f64,
-                    ) as $f
-                } else {
-                    fastmath::$pow_over(x, one_minus_x, p, d)
-                }
-            }
-            #[inline(always)]
-            fn pow_unit_over_scaled_fast(
-                x: Self,
-                one_minus_x: Self,
-                p: Self,
-                kx: Self,
-                d: Self,
-            ) -> Self {
-                if $exact_lengths {
-                    fastmath::pow_unit_over_scaled_fast_f64(
-                        x as f64,
-                        one_minus_x as f64,
-                        p as f64,
-                        kx as f64,
-                        d as f64,
-                    ) as $f
-                } else {
-                    fastmath::$pow_over(x, one_minus_x, p, d)
-                }
+                fastmath::$pow_over(tier, x, one_minus_x, p, kx, d)
             }
             #[inline(always)]
             fn exp(self) -> Self {
@@ -614,8 +525,8 @@ macro_rules! impl_real {
 impl_real!(
     f64,
     DVec3,
-    pow_unit_f64,
-    pow_unit_over_f64,
+    pow_unit_tier_f64,
+    pow_unit_over_scaled_tier_f64,
     exp_f64,
     log_f64,
     erf::erfc_parts_f64,
@@ -636,8 +547,8 @@ impl_real!(
 impl_real!(
     f32,
     Vec3,
-    pow_unit_f32,
-    pow_unit_over_f32,
+    pow_unit_tier_f32,
+    pow_unit_over_scaled_tier_f32,
     exp_f32,
     log_f32,
     erf::erfc_parts_f32,

@@ -205,6 +205,27 @@ pub fn diffuse_and_power_lobe(
     terms
 }
 
+/// A diffuse term and a specular lobe whose Fresnel term is Schlick's, affine in the
+/// colour `f0`: the lobe at grey F0 = 1 with the colour `f0`, and at F0 = 0 (its excess
+/// `(1 − cos)^5` alone) with `1 − f0`; `lobe(v)` is the lobe's integral at grey F0 `v`.
+pub fn diffuse_and_schlick_lobe(
+    diffuse: Term,
+    f0: [f64; 3],
+    lobe: impl Fn(f64) -> Integral,
+) -> Vec<Term> {
+    vec![
+        diffuse,
+        Term {
+            colour: f0,
+            integral: lobe(1.0),
+        },
+        Term {
+            colour: f0.map(|c| 1.0 - c),
+            integral: lobe(0.0),
+        },
+    ]
+}
+
 /// The usual pair: a diffuse colour `kd` with a known albedo, and a specular colour `ks`
 /// whose lobe is integrated with `importance`.
 pub fn diffuse_and_lobe(

@@ -12,7 +12,7 @@
 //! power is 1 whatever it is. The diffuse term's albedo is exactly
 //! `Rd·(1 − Rs)·(1 − (1 − mu_i/2)^5)` (the 28/23 normalizes it).
 
-use super::albedo::{Importance, Integral, Term, basis};
+use super::albedo::{Importance, Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
     DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
@@ -162,23 +162,15 @@ impl Kernel for AshikhminShirley {
             nu: NU.read(slots),
             nv: NV.read(slots),
         };
-        let lobe = |rs_value: f64| Integral::Lobe {
-            basis: basis(slots, &[(RD, 0.0), (RS, rs_value)]),
-            importance,
+        let diffuse = Term {
+            colour: [0, 1, 2].map(|c| rd[c] * (1.0 - rs[c])),
+            integral: Integral::Exact(coupling(mu)),
         };
-        Some(vec![
-            Term {
-                colour: [0, 1, 2].map(|c| rd[c] * (1.0 - rs[c])),
-                integral: Integral::Exact(coupling(mu)),
-            },
-            Term {
-                colour: rs,
-                integral: lobe(1.0),
-            },
-            Term {
-                colour: rs.map(|c| 1.0 - c),
-                integral: lobe(0.0),
-            },
-        ])
+        Some(diffuse_and_schlick_lobe(diffuse, rs, |rs_value| {
+            Integral::Lobe {
+                basis: basis(slots, &[(RD, 0.0), (RS, rs_value)]),
+                importance,
+            }
+        }))
     }
 }

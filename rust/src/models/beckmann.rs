@@ -10,7 +10,7 @@
 //! α·sinθ·exp(−c²)/(2 sqrt(π))`, bounded at grazing angles. `erf` is the `libm` crate's
 //! (scalar: this model's loop does not vectorize).
 
-use super::albedo::{Integral, Term, basis};
+use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
@@ -155,25 +155,17 @@ impl Kernel for Beckmann {
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = KS.read(slots);
         let alpha = ALPHA.read(slots);
-        let lobe = |f0: f64| Integral::BeckmannVisible {
-            alpha,
-            f0,
-            basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
+        let diffuse = Term {
+            colour: KD.read(slots),
+            integral: Integral::Exact(1.0),
         };
-        Some(vec![
-            Term {
-                colour: KD.read(slots),
-                integral: Integral::Exact(1.0),
-            },
-            Term {
-                colour: f0,
-                integral: lobe(1.0),
-            },
-            Term {
-                colour: f0.map(|c| 1.0 - c),
-                integral: lobe(0.0),
-            },
-        ])
+        Some(diffuse_and_schlick_lobe(diffuse, f0, |f0| {
+            Integral::BeckmannVisible {
+                alpha,
+                f0,
+                basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
+            }
+        }))
     }
 }
 

@@ -4,7 +4,7 @@
 //! `ks` is the normal-incidence reflectance F0 and `cos_b = wi·h`. `(1 − cos_b)` comes
 //! from a vector difference, so Schlick's weight has no cancellation near normal incidence.
 
-use super::albedo::{Importance, Integral, Term, basis};
+use super::albedo::{Importance, Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::lobes::DiffuseSpecular;
 use super::spec::{
     self, DfgAxis, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
@@ -106,25 +106,13 @@ impl Kernel for BlinnPhongFresnel {
     fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
         let f0 = KS.read(slots);
         let importance = Importance::BlinnHalf { p: P.read(slots) };
-        Some(vec![
-            Term {
-                colour: KD.read(slots),
-                integral: Integral::Exact(1.0),
-            },
-            Term {
-                colour: f0,
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(KD, 0.0), (KS, 1.0)]),
-                    importance,
-                },
-            },
-            Term {
-                colour: f0.map(|c| 1.0 - c),
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(KD, 0.0), (KS, 0.0)]),
-                    importance,
-                },
-            },
-        ])
+        let diffuse = Term {
+            colour: KD.read(slots),
+            integral: Integral::Exact(1.0),
+        };
+        Some(diffuse_and_schlick_lobe(diffuse, f0, |f0| Integral::Lobe {
+            basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
+            importance,
+        }))
     }
 }

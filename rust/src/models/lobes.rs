@@ -1,8 +1,11 @@
 //! Pieces the Phong and Blinn-Phong families share: the lobe cosines of docs/models.md, the
-//! parameter layout "diffuse colour + specular colour + exponent" and its prepared triple.
+//! parameter layout "diffuse colour + specular colour + exponent" and its prepared triple,
+//! and the [`Kernel`] of the six models that are just that ([`PowerLobeModel`]).
 
-use super::{Directions, ParamSource};
-use crate::math::geometry::{Cosine, clamped_cosine, half_vector, mirror, weighted};
+use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
+use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::{Directions, Kernel, ParamSource};
+use crate::math::geometry::{Cosine, above_both, clamped_cosine, half_vector, mirror, weighted};
 use crate::math::{PowUnit, Real, Vector3};
 use crate::models::slots::{ColourSlot, ScalarSlot};
 
@@ -11,6 +14,101 @@ crate::param_slots! {
     KD: ColourSlot,
     KS: ColourSlot,
     P: ScalarSlot,
+}
+
+/// The spec fields the six models of the Phong and Blinn-Phong families share: family A,
+/// the parameters `kd` (default 0), `ks` (default 1) and `p`, both colours weights, no
+/// tangent, no split-sum table, no energy table, no exact normalization. A model's spec
+/// names its own fields and takes these with `..POWER_LOBE_SPEC`; the name, texts,
+/// reciprocity and scene use here are placeholders that every model sets.
+pub const POWER_LOBE_SPEC: ModelSpec = ModelSpec {
+    name: "",
+    family: Family::A,
+    summary: "",
+    formula: "",
+    source: "",
+    params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
+    tangent: TangentUse::None,
+    reciprocal: false,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: None,
+    energy_table: false,
+    exact: None,
+};
+
+/// A model of the Phong and Blinn-Phong families, `f = kd·c + ks·A·lobe` in the layout
+/// above, above both directions and 0 elsewhere: the model states its spec, its constant
+/// factors and its lobe, and the [`Kernel`] follows (the albedo and sampling terms from
+/// [`diffuse_and_power_lobe`] and [`diffuse_and_whole_power_lobe`]).
+pub trait PowerLobeModel: 'static {
+    /// The model's spec; its scene use is `Brdf(Lambert(c))` with the diffuse term's
+    /// albedo `c` for a unit `kd` (π where `kd` enters without `1/π`).
+    const SPEC: &'static ModelSpec;
+    /// Which cosine the lobe raises to `p`: about the mirror direction or of the half
+    /// vector (also how the integrator splits the lobe).
+    const LOBE: StratumLobe;
+    /// Reads the parameters with the model's constant factors ([`DiffuseSpecular::read`]).
+    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F>;
+    /// Returns the lobe for a unit `ks` at `d`, given `mu_i = n·wi`; 0 where it is
+    /// undefined (the half vector of opposite directions).
+    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F;
+    /// Returns the lobe's factor `A` (of `A·cos^p`) in the albedo at incidence `mu`.
+    fn lobe_scale(slots: &[f64], mu: f64) -> f64;
+}
+
+/// The albedo of a power-lobe model's diffuse term for a unit `kd`: its scene spec's
+/// Lambert factor.
+fn diffuse_albedo(spec: &ModelSpec) -> f64 {
+    match spec.scene {
+        SceneUse::Brdf(DiffuseTerm::Lambert(factor)) => factor,
+        _ => unreachable!(
+            "{}: a power-lobe model's diffuse term is Lambert's",
+            spec.name
+        ),
+    }
+}
+
+impl<K: PowerLobeModel> Kernel for K {
+    type Prepared<F: Real> = DiffuseSpecular<F>;
+    const POWERS: bool = true;
+
+    fn spec() -> &'static ModelSpec {
+        K::SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
+        K::read_params(p)
+    }
+
+    #[inline(always)]
+    fn eval_with<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> [F; 3] {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        above_both(mu_i, mu_o, pp.combine(K::lobe::<F, P>(pp, d, mu_i)))
+    }
+
+    /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
+    /// the lobe in strata with its bulk exact ([`super::strata::blinn_terms`],
+    /// [`super::strata::phong_terms`]).
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_power_lobe(
+            slots,
+            diffuse_albedo(K::SPEC),
+            K::lobe_scale(slots, mu),
+            mu,
+            K::LOBE,
+        ))
+    }
+
+    fn sampling_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+        Some(diffuse_and_whole_power_lobe(
+            slots,
+            diffuse_albedo(K::SPEC),
+            K::LOBE,
+        ))
+    }
 }
 
 /// Prepared constants of a diffuse + cosine-power lobe: `kd` and `ks` already carry the
@@ -43,12 +141,12 @@ impl<F: Real> DiffuseSpecular<F> {
     }
 }
 
-/// Returns `mu_i = n·wi` and `cos_ar = max(0, r·wo)` with `r` the mirror of `wi` about `n`.
+/// Returns `cos_ar = max(0, r·wo)` with `r` the mirror of `wi` about `n`, given
+/// `mu_i = n·wi`.
 #[inline(always)]
-pub fn mirror_cosine<F: Real>(d: &Directions<F>) -> (F, Cosine<F>) {
-    let mu_i = d.n.dot(d.wi);
+pub fn mirror_cosine<F: Real>(d: &Directions<F>, mu_i: F) -> Cosine<F> {
     let r = mirror::<F>(d.wi, d.n, mu_i);
-    (mu_i, clamped_cosine::<F>(r, d.wo))
+    clamped_cosine::<F>(r, d.wo)
 }
 
 /// Returns `cos_th = max(0, n·h)` and whether `h` is defined (`wi + wo ≠ 0`).

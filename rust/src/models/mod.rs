@@ -174,6 +174,12 @@ macro_rules! declare_models {
                 match self { $(ModelKind::$variant => $module::SLOTS),* }
             }
 
+            /// Returns whether the model's kernel raises anything to a power
+            /// ([`Kernel::POWERS`]).
+            pub fn powers(self) -> bool {
+                match self { $(ModelKind::$variant => <$module::$ty as Kernel>::POWERS),* }
+            }
+
             /// Calls the visitor with the model's kernel type.
             pub fn visit<V: KernelVisitor>(self, visitor: V) -> V::Output {
                 match self { $(ModelKind::$variant => visitor.visit::<$module::$ty>()),* }

@@ -40,11 +40,25 @@ pub static SPEC: ModelSpec = ModelSpec {
     exact: None,
 };
 
-/// Derived constants: `kd·A/π` and `kd·B/π`.
+/// Derived constants: `kd·A` and `kd·B` times a constant factor (here `1/π`;
+/// [`super::oren_nayar_shading`]: 1).
 #[derive(Clone, Copy)]
 pub struct Prepared<F> {
-    kd_a: [F; 3],
-    kd_b: [F; 3],
+    pub kd_a: [F; 3],
+    pub kd_b: [F; 3],
+}
+
+impl<F: Real> Prepared<F> {
+    /// Reads `kd` and `sigma` ([`KD`], [`SIGMA`]) and scales `kd·A` and `kd·B` by `scale`.
+    #[inline(always)]
+    pub fn read<S: ParamSource<F> + ?Sized>(p: &S, scale: F) -> Self {
+        let kd = KD.read(p);
+        let (a, b) = oren_nayar_ab(SIGMA.read(p));
+        Prepared {
+            kd_a: kd.map(|c| c * a * scale),
+            kd_b: kd.map(|c| c * b * scale),
+        }
+    }
 }
 
 impl Kernel for OrenNayar {
@@ -56,12 +70,7 @@ impl Kernel for OrenNayar {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let kd = KD.read(p);
-        let (a, b) = oren_nayar_ab(SIGMA.read(p));
-        Prepared {
-            kd_a: kd.map(|c| c * a * F::FRAC_1_PI),
-            kd_b: kd.map(|c| c * b * F::FRAC_1_PI),
-        }
+        Prepared::read(p, F::FRAC_1_PI)
     }
 
     #[inline(always)]

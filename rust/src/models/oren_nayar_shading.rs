@@ -4,19 +4,14 @@
 //! `G = max(0, cos(φi−φo))` as in `oren_nayar`; `= π·mu_i·oren_nayar` for mu_i, mu_o > 0.
 //! The viewer may be below the surface; the light below gives 0.
 
-use super::slots::{ColourSlot, ScalarSlot};
+// The layout and the derived constants of `oren_nayar` (`kd·A`, `kd·B`), unscaled here.
+pub use super::oren_nayar::{KD, Prepared, SIGMA, SLOTS};
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
-use crate::math::geometry::oren_nayar_ab;
 use crate::math::{PowUnit, Real, Vector3, clamp, max};
 
 /// The Oren-Nayar shading kernel.
 pub struct OrenNayarShading;
-
-crate::param_slots! {
-    KD: ColourSlot,
-    SIGMA: ScalarSlot,
-}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "oren_nayar_shading",
@@ -34,13 +29,6 @@ pub static SPEC: ModelSpec = ModelSpec {
     exact: None,
 };
 
-/// Derived constants: `kd·A` and `kd·B`.
-#[derive(Clone, Copy)]
-pub struct Prepared<F> {
-    kd_a: [F; 3],
-    kd_b: [F; 3],
-}
-
 impl Kernel for OrenNayarShading {
     type Prepared<F: Real> = Prepared<F>;
 
@@ -50,12 +38,7 @@ impl Kernel for OrenNayarShading {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let kd = KD.read(p);
-        let (a, b) = oren_nayar_ab(SIGMA.read(p));
-        Prepared {
-            kd_a: kd.map(|c| c * a),
-            kd_b: kd.map(|c| c * b),
-        }
+        Prepared::read(p, F::ONE)
     }
 
     #[inline(always)]

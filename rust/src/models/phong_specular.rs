@@ -7,7 +7,7 @@ use super::lobes::mirror_cosine;
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::{PowUnit, Real};
+use crate::math::{PowUnit, Real, Vector3};
 
 /// The Phong specular kernel.
 pub struct PhongSpecular;
@@ -49,7 +49,8 @@ impl Kernel for PhongSpecular {
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
         let (ks, p) = *pp;
-        let (mu_i, cos_ar) = mirror_cosine(d);
+        let mu_i = d.n.dot(d.wi);
+        let cos_ar = mirror_cosine(d, mu_i);
         let lobe = cos_ar.powf::<P>(p);
         let lit = mu_i > F::ZERO;
         ks.map(|c| if lit { c * lobe } else { F::ZERO })

@@ -5,7 +5,7 @@
 //! normalized: Gram-Schmidt; +x without one), `y = n × x`. Isotropic when αx = αy (the
 //! tangent then does not matter).
 
-use super::albedo::{Importance, Integral, Term, basis};
+use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
     self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, SceneUse, TangentUse,
@@ -137,19 +137,7 @@ impl Kernel for Ward {
             alpha_x: ALPHA_X.read(slots),
             alpha_y: ALPHA_Y.read(slots),
         };
-        Some(vec![
-            Term {
-                colour: KD.read(slots),
-                integral: Integral::Exact(1.0),
-            },
-            Term {
-                colour: KS.read(slots),
-                integral: Integral::Lobe {
-                    basis: basis(slots, &[(KD, 0.0), (KS, 1.0)]),
-                    importance,
-                },
-            },
-        ])
+        Some(diffuse_and_lobe(slots, KD, KS, 1.0, importance))
     }
 }
 
