@@ -358,7 +358,10 @@ def test_weight_is_f_cos_over_pdf(case):
     assert (weight[~valid] == 0.0).all()
     f = brdf_rs.eval(case.model, wi, wo[valid], n, **case.kwargs)
     want = f * mu_o[valid, None] / pdf[valid, None]
-    np.testing.assert_allclose(weight[valid], want, rtol=1e-12, atol=0)
+    # The test's mu_o (from the returned wo and the normalized n) and the sampler's differ
+    # by a relative ε/mu_o: visible at grazing draws (a uniform sampler makes many).
+    rtol = 1e-12 + 4.0 * np.finfo(float).eps / mu_o[valid, None]
+    assert (np.abs(weight[valid] - want) <= rtol * np.abs(want)).all()
     again = brdf_rs.pdf(case.model, wi, wo, n, sampler=case.sampler, **case.kwargs)
     np.testing.assert_allclose(again, pdf, rtol=1e-12, atol=0)
 

@@ -19,6 +19,9 @@ pub type Slots = [f64; MAX_VARYING_SLOTS];
 pub enum Importance {
     /// Cosine-weighted about the normal (diffuse lobes).
     Cosine,
+    /// Uniform over the hemisphere (lobes that peak at grazing angles, such as sheen,
+    /// whose weight `f·mu_o·2π` stays bounded where cosine sampling's `f·π` does not).
+    Uniform,
     /// The Phong lobe `cos^p α_r` about the mirror direction.
     PhongLobe { p: f64 },
     /// Half vectors from the Blinn NDF `∝ cos^p θh` (pdf_h `= D·cos θh`).

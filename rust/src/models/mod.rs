@@ -15,30 +15,6 @@ pub mod spec;
 pub mod strata;
 pub mod tables;
 
-pub mod ashikhmin_shirley;
-pub mod beckmann;
-pub mod beckmann_ms;
-pub mod blinn_phong;
-pub mod blinn_phong_fresnel;
-pub mod blinn_specular;
-pub mod ggx;
-pub mod ggx_ms;
-pub mod kajiya_kay;
-pub mod lambert;
-pub mod lambert_shading;
-pub mod modified_blinn_phong;
-pub mod modified_phong;
-pub mod normalized_blinn_phong;
-pub mod normalized_phong;
-pub mod oren_nayar;
-pub mod oren_nayar_shading;
-pub mod phong;
-pub mod phong_specular;
-pub mod toon_diffuse;
-pub mod toon_specular;
-pub mod torrance_sparrow;
-pub mod ward;
-
 pub use spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 
 use crate::error::{BrdfError, closest};
@@ -153,8 +129,12 @@ pub trait KernelVisitor {
     fn visit<K: Kernel>(self) -> Self::Output;
 }
 
+/// Registers the models: one line per model, `Variant => module::Kernel`, declares its
+/// module (the file `models/<module>.rs`) and its place in [`ModelKind`].
 macro_rules! declare_models {
     ($($variant:ident => $module:ident :: $ty:ident),* $(,)?) => {
+        $(pub mod $module;)*
+
         /// Every model brdf-rs knows, in the order `brdf_rs.models()` lists them.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         pub enum ModelKind { $($variant),* }

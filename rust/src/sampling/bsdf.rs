@@ -17,6 +17,7 @@ use crate::models::albedo::{Importance, Integral, Term};
 pub fn warp_of(importance: Importance) -> Warp {
     match importance {
         Importance::Cosine => Warp::CosineHemisphere,
+        Importance::Uniform => Warp::UniformHemisphere,
         Importance::PhongLobe { p } => Warp::PhongLobe { p },
         Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
         Importance::GgxVisible { alpha } => Warp::GgxVisible { alpha },
