@@ -72,13 +72,15 @@ BLINN = (
 DIFFUSE = ("lambert", "oren_nayar")
 MICROFACET = ("ggx", "beckmann", "ward", "ashikhmin_shirley")
 MULTIPLE_SCATTERING = ("ggx_ms", "beckmann_ms")
+SHEEN = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth")
 MUS = (0.05, 0.5, 0.95)
 EXPONENTS = (1.0, 10.0, 100.0, 1e3, 1e4)
 TILTED = (0.35, -0.25, 0.9)
 
 
 def test_the_model_lists_cover_family_a():
-    assert sorted(PHONG + BLINN + DIFFUSE + MICROFACET + MULTIPLE_SCATTERING) == sorted(FAMILY_A)
+    lists = PHONG + BLINN + DIFFUSE + MICROFACET + MULTIPLE_SCATTERING + SHEEN
+    assert sorted(lists) == sorted(FAMILY_A)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -122,7 +124,7 @@ class Case:
         t = chi2.Frame.around(n).x
         wi = self.mu * n + math.sqrt(1.0 - self.mu * self.mu) * t
         mirror = 2.0 * self.mu * n - wi
-        lobe = self.sampler == "auto" and self.model not in DIFFUSE + MULTIPLE_SCATTERING
+        lobe = self.sampler == "auto" and self.model not in DIFFUSE + MULTIPLE_SCATTERING + SHEEN
         return wi, n, (mirror if lobe else n)
 
     def draw(self, u):
@@ -144,6 +146,9 @@ def _params(model: str, p: float, mixture: bool) -> dict:
     For the microfacet models ``p`` is the roughness: α for ggx and beckmann, (αx, αy) =
     (p, 4p) for ward and (nu, nv) = (1/p, 100/p) for ashikhmin_shirley (anisotropic).
     """
+    if model in SHEEN:  # alpha in [1e-3, 1]; an exponent-like p > 1 maps to 1/sqrt(p)
+        alpha = p if p <= 1.0 else 1.0 / math.sqrt(p)
+        return {"alpha": alpha, "kd": [0.3, 0.2, 0.1] if mixture else 0.0, "ks": [1.0, 0.8, 0.6]}
     if model in MULTIPLE_SCATTERING:  # alpha within the table's range [1e-3, 1]
         return {"alpha": min(max(p, 1e-3), 1.0), "ks": [1.0, 0.8, 0.6]}
     if model in ("ggx", "beckmann"):
@@ -201,6 +206,15 @@ def _chi2_cases() -> list[Case]:
         "ashikhmin_shirley": [(0.05, 0.1, False), (0.5, 0.01, True), (0.95, 1.0, False)],
     }
     for model, points in microfacet_points.items():
+        for mu, roughness, mixture in points:
+            cases.append(Case.of(model, mu, **_params(model, roughness, mixture)))
+    # Sheen and cloth (drawn uniformly): grazing to normal incidence, sharp to wide.
+    sheen_points = {
+        "charlie_sheen": [(0.05, 0.3, False), (0.5, 1.0, True), (0.95, 0.01, False)],
+        "charlie_sheen_neubelt": [(0.5, 0.05, False)],
+        "ashikhmin_cloth": [(0.95, 0.5, True)],
+    }
+    for model, points in sheen_points.items():
         for mu, roughness, mixture in points:
             cases.append(Case.of(model, mu, **_params(model, roughness, mixture)))
     # The multiple-scattering lobes (diffuse-like: drawn cosine-weighted).

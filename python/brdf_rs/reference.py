@@ -29,6 +29,7 @@ Entry point: :func:`eval` (``eval("phong", wi, wo, p=10.0)``); :data:`MODELS` ma
 name to its function and :data:`DEFAULTS` holds each model's default parameters.
 """
 
+import decimal
 import math
 import sys
 from collections.abc import Callable, Iterable, Sequence
@@ -770,25 +771,32 @@ def ashikhmin_shirley(
 # ---------------------------------------------------------------------------------------
 
 #: Estevez & Kulla's fit of the Charlie sheen's ``Λ`` (their Table 1): the coefficients
-#: ``(a, b, c, d, e)`` at roughness 1 and at roughness 0.
-_CHARLIE_AT_1 = (21.5473, 3.82987, 0.19823, -1.97760, -4.32054)
-_CHARLIE_AT_0 = (25.3245, 3.32435, 0.16801, -1.27393, -4.85967)
+#: ``(a, b, c, d, e)`` at roughness 1 and at roughness 0, as the paper's decimals.
+_CHARLIE_AT_1 = ("21.5473", "3.82987", "0.19823", "-1.97760", "-4.32054")
+_CHARLIE_AT_0 = ("25.3245", "3.32435", "0.16801", "-1.27393", "-4.85967")
 
 
 def _charlie_lambda(mu: float, alpha: float) -> float:
     """The fitted ``Λ(μ)``: ``exp(L(μ))`` below 1/2, ``exp(2L(1/2) − L(1 − μ))`` above,
-    with ``L(x) = a/(1 + b·x^c) + d·x + e`` blended with ``t = (1 − α)²``."""
-    t = (1.0 - alpha) ** 2
-    a, b, c, d, e = (
-        (1.0 - t) * p1 + t * p0 for p1, p0 in zip(_CHARLIE_AT_1, _CHARLIE_AT_0, strict=True)
-    )
+    with ``L(x) = a/(1 + b·x^c) + d·x + e`` blended with ``t = (1 − α)²``.
 
-    def fit(x: float) -> float:
-        return a / (1.0 + b * x**c) + d * x + e
+    ``L`` reaches 20 and ``exp`` turns its absolute error into ``Λ``'s relative error, so
+    ``L`` is computed in 34-digit decimal arithmetic and only ``exp`` in floats."""
+    with decimal.localcontext() as ctx:
+        ctx.prec = 34
+        t = (1 - decimal.Decimal(alpha)) ** 2
+        a, b, c, d, e = (
+            decimal.Decimal(p1) + t * (decimal.Decimal(p0) - decimal.Decimal(p1))
+            for p1, p0 in zip(_CHARLIE_AT_1, _CHARLIE_AT_0, strict=True)
+        )
 
-    if mu < 0.5:
-        return math.exp(fit(mu))
-    return math.exp(2.0 * fit(0.5) - fit(1.0 - mu))
+        def fit(x: decimal.Decimal) -> decimal.Decimal:
+            return a / (1 + b * x**c) + d * x + e
+
+        x = decimal.Decimal(mu)
+        big = fit(x) if mu < 0.5 else 2 * fit(decimal.Decimal("0.5")) - fit(1 - x)
+        hi = float(big)
+        return math.exp(hi) * (1.0 + float(big - decimal.Decimal(hi)))
 
 
 def _charlie_ndf(alpha: float, sin2_th: float) -> float:
@@ -849,8 +857,10 @@ def charlie_sheen(
     ``G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))`` with their fitted ``Λ``."""
 
     def lobe(mu_i: float, mu_o: float, cos_th: float, sin2_th: float) -> float:
+        # Divided by the larger cosine, then the smaller: no product of two tiny cosines
+        # underflows to 0 before the quotient would overflow anyway.
         g = 1.0 + _charlie_lambda(mu_i, alpha) + _charlie_lambda(mu_o, alpha)
-        return _charlie_ndf(alpha, sin2_th) / (4.0 * mu_i * mu_o * g)
+        return _charlie_ndf(alpha, sin2_th) / (4.0 * g * max(mu_i, mu_o)) / min(mu_i, mu_o)
 
     return _sheen(wi, wo, n, kd, ks, lobe)
 

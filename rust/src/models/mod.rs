@@ -10,6 +10,7 @@
 
 pub mod albedo;
 pub mod lobes;
+pub mod sheen;
 pub mod slots;
 pub mod spec;
 pub mod strata;
@@ -185,6 +186,9 @@ declare_models! {
     BeckmannMs => beckmann_ms::BeckmannMs,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
+    CharlieSheen => charlie_sheen::CharlieSheen,
+    CharlieSheenNeubelt => charlie_sheen_neubelt::CharlieSheenNeubelt,
+    AshikhminCloth => ashikhmin_cloth::AshikhminCloth,
     LambertShading => lambert_shading::LambertShading,
     OrenNayarShading => oren_nayar_shading::OrenNayarShading,
     ToonDiffuse => toon_diffuse::ToonDiffuse,

@@ -1,0 +1,99 @@
+//! `charlie_sheen`: Estevez and Kulla's "Charlie" sheen (2017), a microfacet lobe whose
+//! distribution is an inverted power of the sine, with the Smith shadowing of their fit
+//! of `Λ`.
+//!
+//! `f = kd/π + ks·D·G2/(4·mu_i·mu_o)`, `D = (2 + 1/α)·sin(θh)^(1/α)/(2π)`,
+//! `G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))` with the fitted `Λ` of [`sheen::LambdaFit`]; no
+//! Fresnel term and no terminator softening (which would break reciprocity).
+
+use super::albedo::Term;
+use super::sheen::{self, Charlie, LambdaFit};
+use super::slots::{ColourSlot, ScalarSlot};
+use super::spec::{DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::{Directions, Kernel, ParamSource, WideRow};
+use crate::math::{PowUnit, Real, SeriesPow};
+
+/// The Charlie sheen kernel.
+pub struct CharlieSheen;
+
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    ALPHA: ScalarSlot,
+}
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "charlie_sheen",
+    family: Family::A,
+    summary: "Charlie sheen: inverted-sine microfacet distribution with the fitted Smith shadowing",
+    formula: "f = kd/π + ks·D·G2/(4·mu_i·mu_o), D = (2 + 1/α)·sin(θh)^(1/α)/(2π), \
+              G2 = 1/(1 + Λ(mu_i) + Λ(mu_o)), Λ = Estevez & Kulla's fit",
+    source: "Estevez & Kulla 2017 (Production Friendly Microfacet Sheen BRDF)",
+    params: &sheen::params(
+        KD,
+        KS,
+        ALPHA,
+        "roughness r in [1e-3, 1]: the lobe's width (glTF and Filament pass r = ρ² for a perceptual roughness ρ)",
+    ),
+    tangent: TangentUse::None,
+    reciprocal: true,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: None,
+    energy_table: true,
+    exact: None,
+};
+
+/// Derived constants.
+#[derive(Clone, Copy)]
+pub struct Prepared<F> {
+    kd_over_pi: [F; 3],
+    ks: [F; 3],
+    charlie: Charlie<F>,
+    fit: LambdaFit<F>,
+}
+
+impl Kernel for CharlieSheen {
+    type Prepared<F: Real> = Prepared<F>;
+
+    const POWERS: bool = true;
+    const WIDE_COSINES: bool = true;
+
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
+        let alpha = ALPHA.read(p);
+        Prepared {
+            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
+            ks: KS.read(p),
+            charlie: Charlie::new(alpha),
+            fit: LambdaFit::new(alpha),
+        }
+    }
+
+    #[inline(always)]
+    fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        let a = sheen::angles(d);
+        let lambda_i = pp.fit.lambda::<P>(a.mu_i);
+        let lambda_o = pp.fit.lambda::<P>(a.mu_o);
+        let lobe = sheen::smith(pp.charlie.d::<P>(&a), &a, lambda_i, lambda_o);
+        sheen::rgb(&pp.kd_over_pi, &pp.ks, lobe, &a)
+    }
+
+    /// Cosines below the `f64` range: the lobe divides by both, and `D` may be below the
+    /// range too ([`sheen::smith_wide`]).
+    fn eval_wide<F: Real>(pp: &Prepared<F>, d: &Directions<F>, w: &WideRow) -> [F; 3] {
+        let a = sheen::angles(d);
+        let lambda = |c| pp.fit.lambda::<SeriesPow>(F::from_f64(sheen::wide_value(c))).to_f64();
+        let g = 1.0 + lambda(w.mu_i) + lambda(w.mu_o);
+        let lobe = sheen::smith_wide(pp.charlie.d_wide(a.sin2_th.to_f64()), g, w);
+        sheen::rgb_wide(&pp.kd_over_pi, &pp.ks, lobe, &a, w)
+    }
+
+    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
+        Some(sheen::albedo_terms(slots, KD, KS))
+    }
+}
