@@ -7,48 +7,30 @@
 //! there, and would underflow before `1/sin⁴θh` could overflow) and where `h = n`.
 
 use super::albedo::Term;
-use super::sheen::{self, Angles};
-use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::sheen::{self, Colours, SHEEN_SPEC, Angles};
+use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::{PowUnit, Real};
 
 /// The Ashikhmin cloth kernel.
 pub struct AshikhminCloth;
 
-crate::param_slots! {
-    KD: ColourSlot,
-    KS: ColourSlot,
-    ALPHA: ScalarSlot,
-}
+// The sheen models' layout (`kd`, `ks`, `alpha`).
+pub use super::sheen::{ALPHA, KD, KS, SLOTS};
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ashikhmin_cloth",
-    family: Family::A,
     summary: "Ashikhmin's cloth (velvet) distribution with Neubelt and Pettineo's visibility term",
     formula: "f = kd/π + ks·D·V, D = (1 + 4·exp(−cot²θh/α²)/sin⁴θh)/(π(1 + 4α²)), \
               V = 1/(4(mu_i + mu_o − mu_i·mu_o))",
     source: "Ashikhmin & Premože 2007 (the distribution); Neubelt & Pettineo 2013 (the visibility)",
-    params: &sheen::params(
-        KD,
-        KS,
-        ALPHA,
-        "roughness α in [1e-3, 1]: the inverted Gaussian's width (Filament passes α = ρ² for a perceptual roughness ρ)",
-    ),
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: Some(&["kd", "ks"]),
-    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: true,
-    exact: None,
+    ..SHEEN_SPEC
 };
 
 /// Derived constants.
 #[derive(Clone, Copy)]
 pub struct Prepared<F> {
-    kd_over_pi: [F; 3],
-    ks: [F; 3],
+    colours: Colours<F>,
     /// `1/α²`.
     inv_alpha2: F,
     /// `1/(π(1 + 4α²))`.
@@ -84,8 +66,7 @@ impl Kernel for AshikhminCloth {
         let alpha = ALPHA.read(p);
         let alpha2 = alpha * alpha;
         Prepared {
-            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
-            ks: KS.read(p),
+            colours: Colours::read(p),
             inv_alpha2: F::ONE / alpha2,
             scale: F::FRAC_1_PI / (F::ONE + F::from_f64(4.0) * alpha2),
         }
@@ -95,17 +76,17 @@ impl Kernel for AshikhminCloth {
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let a = sheen::angles(d);
         let lobe = sheen::neubelt(distribution(pp, &a), a.mu_i, a.mu_o);
-        sheen::rgb(&pp.kd_over_pi, &pp.ks, lobe, &a)
+        pp.colours.rgb(lobe, &a)
     }
 
     /// Cosines below the `f64` range: `V` divides by their sum ([`sheen::neubelt_wide`]).
     fn eval_wide<F: Real>(pp: &Prepared<F>, d: &Directions<F>, w: &WideRow) -> [F; 3] {
         let a = sheen::angles(d);
         let lobe = sheen::neubelt_wide((distribution(pp, &a).to_f64(), 0), w);
-        sheen::rgb_wide(&pp.kd_over_pi, &pp.ks, lobe, &a, w)
+        pp.colours.rgb_wide(lobe, &a, w)
     }
 
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(sheen::albedo_terms(slots, KD, KS))
+        Some(sheen::albedo_terms(slots))
     }
 }

@@ -7,48 +7,30 @@
 //! Fresnel term and no terminator softening (which would break reciprocity).
 
 use super::albedo::Term;
-use super::sheen::{self, Charlie, LambdaFit};
-use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::sheen::{self, Colours, SHEEN_SPEC, Charlie, LambdaFit};
+use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::{PowUnit, Real, SeriesPow};
 
 /// The Charlie sheen kernel.
 pub struct CharlieSheen;
 
-crate::param_slots! {
-    KD: ColourSlot,
-    KS: ColourSlot,
-    ALPHA: ScalarSlot,
-}
+// The sheen models' layout (`kd`, `ks`, `alpha`).
+pub use super::sheen::{ALPHA, KD, KS, SLOTS};
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "charlie_sheen",
-    family: Family::A,
     summary: "Charlie sheen: inverted-sine microfacet distribution with the fitted Smith shadowing",
     formula: "f = kd/π + ks·D·G2/(4·mu_i·mu_o), D = (2 + 1/α)·sin(θh)^(1/α)/(2π), \
               G2 = 1/(1 + Λ(mu_i) + Λ(mu_o)), Λ = Estevez & Kulla's fit",
     source: "Estevez & Kulla 2017 (Production Friendly Microfacet Sheen BRDF)",
-    params: &sheen::params(
-        KD,
-        KS,
-        ALPHA,
-        "roughness r in [1e-3, 1]: the lobe's width (glTF and Filament pass r = ρ² for a perceptual roughness ρ)",
-    ),
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: Some(&["kd", "ks"]),
-    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: true,
-    exact: None,
+    ..SHEEN_SPEC
 };
 
 /// Derived constants.
 #[derive(Clone, Copy)]
 pub struct Prepared<F> {
-    kd_over_pi: [F; 3],
-    ks: [F; 3],
+    colours: Colours<F>,
     charlie: Charlie<F>,
     fit: LambdaFit<F>,
 }
@@ -67,8 +49,7 @@ impl Kernel for CharlieSheen {
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let alpha = ALPHA.read(p);
         Prepared {
-            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
-            ks: KS.read(p),
+            colours: Colours::read(p),
             charlie: Charlie::new(alpha),
             fit: LambdaFit::new(alpha),
         }
@@ -80,7 +61,7 @@ impl Kernel for CharlieSheen {
         let lambda_i = pp.fit.lambda::<P>(a.mu_i);
         let lambda_o = pp.fit.lambda::<P>(a.mu_o);
         let lobe = sheen::smith(pp.charlie.d::<P>(&a), &a, lambda_i, lambda_o);
-        sheen::rgb(&pp.kd_over_pi, &pp.ks, lobe, &a)
+        pp.colours.rgb(lobe, &a)
     }
 
     /// Cosines below the `f64` range: the lobe divides by both, and `D` may be below the
@@ -90,10 +71,10 @@ impl Kernel for CharlieSheen {
         let lambda = |c| pp.fit.lambda::<SeriesPow>(F::from_f64(sheen::wide_value(c))).to_f64();
         let g = 1.0 + lambda(w.mu_i) + lambda(w.mu_o);
         let lobe = sheen::smith_wide(pp.charlie.d_wide(a.sin2_th.to_f64()), g, w);
-        sheen::rgb_wide(&pp.kd_over_pi, &pp.ks, lobe, &a, w)
+        pp.colours.rgb_wide(lobe, &a, w)
     }
 
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(sheen::albedo_terms(slots, KD, KS))
+        Some(sheen::albedo_terms(slots))
     }
 }

@@ -6,48 +6,30 @@
 //! `V = 1/(4(mu_i + mu_o − mu_i·mu_o))` ([`sheen::neubelt`], bounded).
 
 use super::albedo::Term;
-use super::sheen::{self, Charlie};
-use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::sheen::{self, Colours, SHEEN_SPEC, Charlie};
+use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::{PowUnit, Real};
 
 /// The Charlie sheen kernel with Neubelt and Pettineo's visibility.
 pub struct CharlieSheenNeubelt;
 
-crate::param_slots! {
-    KD: ColourSlot,
-    KS: ColourSlot,
-    ALPHA: ScalarSlot,
-}
+// The sheen models' layout (`kd`, `ks`, `alpha`).
+pub use super::sheen::{ALPHA, KD, KS, SLOTS};
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "charlie_sheen_neubelt",
-    family: Family::A,
     summary: "Charlie sheen distribution with Neubelt and Pettineo's visibility term",
     formula: "f = kd/π + ks·D·V, D = (2 + 1/α)·sin(θh)^(1/α)/(2π), \
               V = 1/(4(mu_i + mu_o − mu_i·mu_o))",
     source: "Estevez & Kulla 2017 (the distribution); Neubelt & Pettineo 2013 (the visibility)",
-    params: &sheen::params(
-        KD,
-        KS,
-        ALPHA,
-        "roughness r in [1e-3, 1]: the lobe's width (Filament passes r = ρ² for a perceptual roughness ρ)",
-    ),
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: Some(&["kd", "ks"]),
-    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: true,
-    exact: None,
+    ..SHEEN_SPEC
 };
 
 /// Derived constants.
 #[derive(Clone, Copy)]
 pub struct Prepared<F> {
-    kd_over_pi: [F; 3],
-    ks: [F; 3],
+    colours: Colours<F>,
     charlie: Charlie<F>,
 }
 
@@ -64,8 +46,7 @@ impl Kernel for CharlieSheenNeubelt {
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {
-            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
-            ks: KS.read(p),
+            colours: Colours::read(p),
             charlie: Charlie::new(ALPHA.read(p)),
         }
     }
@@ -74,7 +55,7 @@ impl Kernel for CharlieSheenNeubelt {
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let a = sheen::angles(d);
         let lobe = sheen::neubelt(pp.charlie.d::<P>(&a), a.mu_i, a.mu_o);
-        sheen::rgb(&pp.kd_over_pi, &pp.ks, lobe, &a)
+        pp.colours.rgb(lobe, &a)
     }
 
     /// Cosines below the `f64` range: `V` divides by their sum, and `D` may be below the
@@ -82,10 +63,10 @@ impl Kernel for CharlieSheenNeubelt {
     fn eval_wide<F: Real>(pp: &Prepared<F>, d: &Directions<F>, w: &WideRow) -> [F; 3] {
         let a = sheen::angles(d);
         let lobe = sheen::neubelt_wide(pp.charlie.d_wide(a.sin2_th.to_f64()), w);
-        sheen::rgb_wide(&pp.kd_over_pi, &pp.ks, lobe, &a, w)
+        pp.colours.rgb_wide(lobe, &a, w)
     }
 
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(sheen::albedo_terms(slots, KD, KS))
+        Some(sheen::albedo_terms(slots))
     }
 }

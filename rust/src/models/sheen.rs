@@ -10,8 +10,10 @@
 
 use super::albedo::{Importance, Integral, Term, basis};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, ParamKind, ParamSpec, ValidRange};
-use super::{Directions, WideRow};
+use super::spec::{
+    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+};
+use super::{Directions, ParamSource, WideRow};
 use crate::math::geometry::{WideCosine, above_both, half_vector, weighted};
 use crate::math::{PowUnit, Real, SeriesPow, Vector3, max, min};
 
@@ -24,38 +26,107 @@ pub const SHEEN_ROUGHNESS: ValidRange = ValidRange {
     max_open: false,
 };
 
-/// `ks`: the sheen colour.
-pub const fn colour(slot: ColourSlot) -> ParamSpec {
-    ParamSpec {
-        name: "ks",
-        kind: ParamKind::Colour,
-        default: Some(1.0),
-        range: ValidRange::NON_NEGATIVE,
-        doc: "sheen colour: the lobe's scale (RGB, >= 0; no Fresnel term)",
-        slot: slot.first(),
+// The sheen models' parameters: `kd`, `ks` and the roughness `alpha`.
+crate::param_slots! {
+    KD: ColourSlot,
+    KS: ColourSlot,
+    ALPHA: ScalarSlot,
+}
+
+/// The spec fields the sheen and cloth models share: family A, the parameters `kd`
+/// (default 0), `ks` (the sheen colour, default 1) and `alpha` in [1e-3, 1], both colours
+/// weights, reciprocal, no tangent, no split-sum table, energy tables (`E(mu, alpha)` at
+/// `kd = 0`, `ks = 1`), no exact normalization. A model's spec names its own fields and
+/// takes these with `..SHEEN_SPEC`; the name and texts here are placeholders.
+pub const SHEEN_SPEC: ModelSpec = ModelSpec {
+    name: "",
+    family: Family::A,
+    summary: "",
+    formula: "",
+    source: "",
+    params: &[
+        spec::kd(0.0, KD),
+        ParamSpec {
+            name: "ks",
+            kind: ParamKind::Colour,
+            default: Some(1.0),
+            range: ValidRange::NON_NEGATIVE,
+            doc: "sheen colour: the lobe's scale (RGB, >= 0; no Fresnel term)",
+            slot: KS.first(),
+        },
+        ParamSpec {
+            name: "alpha",
+            kind: ParamKind::Scalar,
+            default: Some(0.5),
+            range: SHEEN_ROUGHNESS,
+            doc: "roughness in [1e-3, 1]: the lobe's width (glTF and Filament pass ρ² for a \
+                  perceptual roughness ρ)",
+            slot: ALPHA.first(),
+        },
+    ],
+    tangent: TangentUse::None,
+    reciprocal: true,
+    weights: Some(&["kd", "ks"]),
+    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
+    dfg: None,
+    energy_table: true,
+    exact: None,
+};
+
+/// The colours every sheen model prepares: `kd/π` and `ks`.
+#[derive(Clone, Copy)]
+pub struct Colours<F> {
+    kd_over_pi: [F; 3],
+    ks: [F; 3],
+}
+
+impl<F: Real> Colours<F> {
+    #[inline(always)]
+    pub fn read<P: ParamSource<F> + ?Sized>(p: &P) -> Self {
+        Colours {
+            kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
+            ks: KS.read(p),
+        }
+    }
+
+    /// `kd/π + ks·lobe` above the surface (0 below, and the lobe 0 where `h` is
+    /// undefined).
+    #[inline(always)]
+    pub fn rgb(&self, lobe: F, a: &Angles<F>) -> [F; 3] {
+        let lobe = if a.defined { lobe } else { F::ZERO };
+        let rgb = [0, 1, 2].map(|c| weighted(self.ks[c], lobe) + self.kd_over_pi[c]);
+        above_both(a.mu_i, a.mu_o, rgb)
+    }
+
+    /// [`Colours::rgb`] on a row of [`Kernel::eval_wide`](super::Kernel::eval_wide): the
+    /// side of the surface from the wide cosines' signs (normalization may round a cosine
+    /// of the other sign, or 0, to a tiny positive one).
+    pub fn rgb_wide(&self, lobe: f64, a: &Angles<F>, w: &WideRow) -> [F; 3] {
+        let a = Angles {
+            mu_i: F::from_f64(w.mu_i.m),
+            mu_o: F::from_f64(w.mu_o.m),
+            ..*a
+        };
+        self.rgb(F::from_f64(lobe), &a)
     }
 }
 
-/// `alpha`: the sheen roughness.
-pub const fn roughness(slot: ScalarSlot, doc: &'static str) -> ParamSpec {
-    ParamSpec {
-        name: "alpha",
-        kind: ParamKind::Scalar,
-        default: Some(0.5),
-        range: SHEEN_ROUGHNESS,
-        doc,
-        slot: slot.first(),
-    }
-}
-
-/// The parameters every sheen model takes, in this order: `kd`, `ks`, `alpha`.
-pub const fn params(
-    kd: ColourSlot,
-    ks: ColourSlot,
-    alpha: ScalarSlot,
-    doc: &'static str,
-) -> [ParamSpec; 3] {
-    [spec::kd(0.0, kd), colour(ks), roughness(alpha, doc)]
+/// The albedo terms of every sheen model: `kd` exactly, the lobe at `ks = 1` drawn
+/// uniformly over the hemisphere.
+pub fn albedo_terms(slots: &[f64]) -> Vec<Term> {
+    vec![
+        Term {
+            colour: KD.read(slots),
+            integral: Integral::Exact(1.0),
+        },
+        Term {
+            colour: KS.read(slots),
+            integral: Integral::Lobe {
+                basis: basis(slots, &[(KD, 0.0), (KS, 1.0)]),
+                importance: Importance::Uniform,
+            },
+        },
+    ]
 }
 
 /// The cosines a sheen lobe needs: of `wi`, `wo` and the half vector, the latter as
@@ -341,48 +412,4 @@ pub fn neubelt_wide(d: (f64, i64), w: &WideRow) -> f64 {
     let rest = w.mu_o * WideCosine::of(1.0 - wide_value(w.mu_i), 0);
     let sum = w.mu_i + rest;
     scaled(d.0 / (4.0 * sum.m), d.1 - i64::from(sum.k))
-}
-
-/// [`rgb`] on a row of [`Kernel::eval_wide`](super::Kernel::eval_wide): the side of the
-/// surface from the wide cosines' signs (normalization may round a cosine of the other
-/// sign, or 0, to a tiny positive one).
-pub fn rgb_wide<F: Real>(
-    kd_over_pi: &[F; 3],
-    ks: &[F; 3],
-    lobe: f64,
-    a: &Angles<F>,
-    w: &WideRow,
-) -> [F; 3] {
-    let a = Angles {
-        mu_i: F::from_f64(w.mu_i.m),
-        mu_o: F::from_f64(w.mu_o.m),
-        ..*a
-    };
-    rgb(kd_over_pi, ks, F::from_f64(lobe), &a)
-}
-
-/// `kd/π + ks·lobe` above the surface (0 below, and the lobe 0 where `h` is undefined).
-#[inline(always)]
-pub fn rgb<F: Real>(kd_over_pi: &[F; 3], ks: &[F; 3], lobe: F, a: &Angles<F>) -> [F; 3] {
-    let lobe = if a.defined { lobe } else { F::ZERO };
-    let rgb = [0, 1, 2].map(|c| weighted(ks[c], lobe) + kd_over_pi[c]);
-    above_both(a.mu_i, a.mu_o, rgb)
-}
-
-/// The albedo terms of every sheen model: `kd` exactly, the lobe at `ks = 1` drawn
-/// uniformly over the hemisphere.
-pub fn albedo_terms(slots: &[f64], kd: ColourSlot, ks: ColourSlot) -> Vec<Term> {
-    vec![
-        Term {
-            colour: kd.read(slots),
-            integral: Integral::Exact(1.0),
-        },
-        Term {
-            colour: ks.read(slots),
-            integral: Integral::Lobe {
-                basis: basis(slots, &[(kd, 0.0), (ks, 1.0)]),
-                importance: Importance::Uniform,
-            },
-        },
-    ]
 }
