@@ -345,7 +345,7 @@ def dfg_table(
     return Table(value, stderr, drawn, {"mu": mu, rough: r}, meta)
 
 
-def _sheen_weights(sheen: Any, model: str, rough: str, r: np.ndarray) -> dict[str, float]:
+def _sheen_weights(sheen: Any, model: str, rough: str, r: np.ndarray) -> dict[str, Any]:
     """Checks ``dfg_table``'s ``sheen`` (a family-A model taking ``ks`` and the table's
     roughness parameter ``rough``, valid at every value ``r`` of the axis) and returns its
     weights for the cloth channel: ``ks = 1``, the others 0."""
@@ -364,7 +364,7 @@ def _sheen_weights(sheen: Any, model: str, rough: str, r: np.ndarray) -> dict[st
             f"sheen: {sheen} cannot fill the cloth channel of a {model} table: it needs a"
             f" family-A model with a colour ks and the table's roughness {rough}"
         )
-    weights = {w: 0.0 for w in spec["weights"] or () if w != "ks"}
+    weights: dict[str, Any] = {w: 0.0 for w in spec["weights"] or () if w != "ks"}
     weights["ks"] = 1.0
     for i, x in enumerate(r):
         if not _spec.admits(sheen, rough, float(x)):

@@ -1141,7 +1141,9 @@ def _add_dfg_command(sub: Any) -> None:
     )
     _add_integrator(p, samples=1 << 14, samples_help="samples per cell")
     _add_table_files(
-        p, "dfg.npz | dfg.exr | dfg.png", "also draw A and B (needs matplotlib): out.png"
+        p,
+        "dfg.npz | dfg.exr | dfg.png",
+        "also draw A and B, and the cloth term with --sheen (needs matplotlib): out.png",
     )
     _add_reporting(p)
     p.set_defaults(run=cmd_dfg)
