@@ -245,6 +245,7 @@ def dfg_table(
     *,
     samples: int = 1 << 14,
     seed: int = 0,
+    sheen: str | None = None,
     **options: Any,
 ) -> Table:
     """The split-sum table: ``scale`` A and ``bias`` B with ``R_spec = F0·A + B``.
@@ -255,8 +256,20 @@ def dfg_table(
     ``A``; the reported stderr of ``A`` is the conservative ``sqrt(se1² + se0²)``.
     ``roughness`` is the model's roughness parameter (``p`` for blinn_phong_fresnel).
 
+    ``sheen`` names a sheen model (``"charlie_sheen_neubelt"`` for Filament's cloth
+    channel) whose directional albedo with no diffuse term and unit colour (``ks = 1``,
+    every other weight 0) fills the third channel, the cloth term ``DG`` of the
+    prefiltered-environment assumption: ``∫ D·V·(n·l) dωl`` at ``n·v = mu``. It is
+    evaluated at the same value of the same parameter as the split-sum channels: a ggx or
+    beckmann table's ``alpha`` axis value is the sheen model's ``alpha`` (Filament indexes
+    its table by the perceptual roughness ρ and evaluates both terms at α = ρ²; pass
+    ``roughness = ρ**2`` to get its rows). Its cells use the same seed and cell ids as
+    ``brdf_rs.albedo_table(sheen, {"mu": mu, "alpha": roughness}, kd=0, ks=1)``, so the
+    two agree bit for bit. Without ``sheen`` (the default) the third channel is 0.
+
     Returns a :class:`Table` with axes ``mu``, roughness; ``value[..., 0]`` = A,
-    ``value[..., 1]`` = B, ``value[..., 2]`` = 0.
+    ``value[..., 1]`` = B, ``value[..., 2]`` = the sheen channel (else 0); ``meta["sheen"]``
+    names the sheen model when there is one.
     """
     _arrays.model_name(model)
     dfg = _spec.with_dfg()
@@ -266,6 +279,7 @@ def dfg_table(
     rough = dfg[model]["param"]
     mu = _grid.axis_values(model, "mu", "mu", mu)
     r = _grid.axis_values(model, "roughness", rough, roughness)
+    weights = None if sheen is None else _sheen_weights(sheen, model, rough, r)
     ids = np.arange(mu.size * r.size, dtype=np.uint64).reshape(mu.size, r.size)
     mus = mu[:, None]
     roughness_axis: dict[str, Any] = {rough: r[None, :]}
@@ -297,16 +311,68 @@ def dfg_table(
     value[..., 1] = zero.value[..., 0]
     stderr[..., 0] = np.hypot(one.stderr[..., 0], zero.stderr[..., 0])
     stderr[..., 1] = zero.stderr[..., 0]
+    drawn = one.samples + zero.samples
+    quantity = "split-sum DFG: channel 0 = scale A, channel 1 = bias B, R_spec = F0*A + B"
+    if sheen is not None and weights is not None:
+        cloth = albedo(
+            sheen,
+            mus,
+            cell_ids=ids,
+            samples=samples,
+            seed=seed,
+            **weights,
+            **roughness_axis,
+            **options,
+        )
+        value[..., 2] = cloth.value[..., 0]
+        stderr[..., 2] = cloth.stderr[..., 0]
+        drawn = drawn + cloth.samples
+        fixed = ", ".join(f"{k} = {v:g}" for k, v in weights.items())
+        quantity += (
+            f"; channel 2 = cloth DG: directional albedo of {sheen} with {fixed},"
+            f" {rough} = the {rough} axis value"
+        )
     meta = {
         "model": model,
         "axis_names": ["mu", rough],
-        "quantity": "split-sum DFG: channel 0 = scale A, channel 1 = bias B, R_spec = F0*A + B",
+        "quantity": quantity,
         "samples": samples,
         "seed": seed,
         "brdf_rs": __version__,
+        **({} if sheen is None else {"sheen": sheen}),
         **{k: v for k, v in options.items() if isinstance(v, (int, float, str))},
     }
-    return Table(value, stderr, one.samples + zero.samples, {"mu": mu, rough: r}, meta)
+    return Table(value, stderr, drawn, {"mu": mu, rough: r}, meta)
+
+
+def _sheen_weights(sheen: Any, model: str, rough: str, r: np.ndarray) -> dict[str, Any]:
+    """Checks ``dfg_table``'s ``sheen`` (a family-A model taking ``ks`` and the table's
+    roughness parameter ``rough``, valid at every value ``r`` of the axis) and returns its
+    weights for the cloth channel: ``ks = 1``, the others 0."""
+    specs = _spec.specs()
+    if not isinstance(sheen, str):
+        raise TypeError(
+            f"sheen: expected a model name (a string such as 'charlie_sheen_neubelt') or None,"
+            f" got {type(sheen).__name__} {_arrays.show(sheen)}"
+        )
+    if sheen not in specs:
+        raise ValueError(f"sheen: unknown model {sheen!r} (brdf_rs.models() lists them)")
+    spec = specs[sheen]
+    params = [p["name"] for p in spec["params"]]
+    if spec["family"] != "A" or "ks" not in params or rough not in params:
+        raise ValueError(
+            f"sheen: {sheen} cannot fill the cloth channel of a {model} table: it needs a"
+            f" family-A model with a colour ks and the table's roughness {rough}"
+        )
+    weights: dict[str, Any] = {w: 0.0 for w in spec["weights"] or () if w != "ks"}
+    weights["ks"] = 1.0
+    for i, x in enumerate(r):
+        if not _spec.admits(sheen, rough, float(x)):
+            raise ValueError(
+                f"roughness[{i}]: {rough} = {x} is out of range for sheen={sheen!r}"
+                f" ({next(p['range'] for p in spec['params'] if p['name'] == rough)})"
+            )
+    return weights
 
 
 @dataclasses.dataclass(frozen=True)

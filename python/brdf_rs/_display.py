@@ -131,9 +131,11 @@ def _heat_maps(
 
 
 def channel_names(meta: Mapping[str, Any]) -> list[str]:
-    """What the three channels of a table hold: R, G, B, or a split-sum table's A, B."""
+    """What the three channels of a table hold: R, G, B, or a split-sum table's A, B (and
+    its cloth term when it has a sheen model)."""
     if str(meta.get("quantity", "")).startswith("split-sum"):
-        return ["A (scale)", "B (bias)", "unused (0)"]
+        sheen = meta.get("sheen")
+        return ["A (scale)", "B (bias)", "unused (0)" if sheen is None else f"cloth ({sheen})"]
     return ["R", "G", "B"]
 
 

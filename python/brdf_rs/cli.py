@@ -410,6 +410,9 @@ def cmd_tables(args: argparse.Namespace) -> int:
 # --------------------------------------------------------- dfg, energy, bench, plot-lobe
 
 TABLE_FORMATS = (".npz", ".exr", ".png")
+#: ``dfg --sheen``'s model when none is named: the lobe of Filament's cloth DFG channel
+#: (the spec has no field saying which model a cloth channel uses).
+FILAMENT_CLOTH = "charlie_sheen_neubelt"
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 
 
@@ -532,8 +535,11 @@ def cmd_dfg(args: argparse.Namespace) -> int:
     out = _table_output(args.output, f"dfg_{model}.npz", TABLE_FORMATS, args.plot)
     plot_path = _plot_path(args.plot)
     cells = mu.size * roughness.size
-    progress = _PassProgress([cells, cells], args.quiet or args.json)
+    passes = 2 if args.sheen is None else 3
+    progress = _PassProgress([cells] * passes, args.quiet or args.json)
     options: dict[str, Any] = {"tol": args.tol} if args.tol is not None else {}
+    if args.sheen is not None:
+        options["sheen"] = args.sheen
     start = time.perf_counter()
     completed = False
     try:
@@ -550,7 +556,7 @@ def cmd_dfg(args: argparse.Namespace) -> int:
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
         "shape": [mu.size, roughness.size],
-        "channels": ["scale A", "bias B", "zero"],
+        "channels": ["scale A", "bias B", "zero" if args.sheen is None else "cloth"],
         "output": saved.output,
         "replaced": saved.replaced,
         "seconds": seconds,
@@ -559,6 +565,13 @@ def cmd_dfg(args: argparse.Namespace) -> int:
         "scale_range": [float(table.value[..., 0].min()), float(table.value[..., 0].max())],
         "bias_range": [float(table.value[..., 1].min()), float(table.value[..., 1].max())],
     }
+    if args.sheen is not None:
+        summary["sheen"] = args.sheen
+        summary["max_stderr"] = float(table.stderr.max())
+        summary["cloth_range"] = [
+            float(table.value[..., 2].min()),
+            float(table.value[..., 2].max()),
+        ]
     _draw(plot_path, summary, lambda plot, path: plot.table_heatmap(table, path=path))
     if args.json:
         _print_json(summary)
@@ -567,7 +580,13 @@ def cmd_dfg(args: argparse.Namespace) -> int:
     print(
         f"  scale A in [{summary['scale_range'][0]:.4g}, {summary['scale_range'][1]:.4g}],"
         f" bias B in [{summary['bias_range'][0]:.4g}, {summary['bias_range'][1]:.4g}],"
-        f" largest standard error {summary['max_stderr']:.2g}, {seconds:.2f} s"
+        + (
+            ""
+            if args.sheen is None
+            else f" cloth ({args.sheen}) in [{summary['cloth_range'][0]:.4g},"
+            f" {summary['cloth_range'][1]:.4g}],"
+        )
+        + f" largest standard error {summary['max_stderr']:.2g}, {seconds:.2f} s"
     )
     if plot_path is not None:
         print(f"  plot: {summary['plot']}")
@@ -1096,7 +1115,8 @@ def _add_dfg_command(sub: Any) -> None:
         help="build a split-sum (DFG) table: scale A and bias B with R_spec = F0*A + B",
         description="Tabulate the split-sum terms of a Schlick-Fresnel model over mu and "
         f"roughness ({roughness}). Channel 0 of the "
-        "table is the scale A, channel 1 the bias B.",
+        "table is the scale A, channel 1 the bias B, channel 2 the cloth term with --sheen"
+        " (else 0).",
     )
     p.add_argument(
         "model", nargs="?", default="ggx", help=f"{', '.join(_spec.with_dfg())} (default ggx)"
@@ -1108,9 +1128,22 @@ def _add_dfg_command(sub: Any) -> None:
         default=None,
         help="roughness axis spec (default mid:0:1:32 for alpha, log:1:10000:32 for p)",
     )
+    p.add_argument(
+        "--sheen",
+        nargs="?",
+        const=FILAMENT_CLOTH,
+        default=None,
+        metavar="MODEL",
+        help="fill channel 2 with a cloth term: the directional albedo of the sheen MODEL with"
+        f" kd = 0, ks = 1 at alpha = the table's alpha (bare --sheen: {FILAMENT_CLOTH},"
+        " Filament's cloth DG channel; pass --roughness as squared perceptual roughness to"
+        " match its rows); alpha tables only",
+    )
     _add_integrator(p, samples=1 << 14, samples_help="samples per cell")
     _add_table_files(
-        p, "dfg.npz | dfg.exr | dfg.png", "also draw A and B (needs matplotlib): out.png"
+        p,
+        "dfg.npz | dfg.exr | dfg.png",
+        "also draw A and B, and the cloth term with --sheen (needs matplotlib): out.png",
     )
     _add_reporting(p)
     p.set_defaults(run=cmd_dfg)

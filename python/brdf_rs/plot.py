@@ -384,13 +384,16 @@ def _edges(coords: np.ndarray) -> tuple[np.ndarray, bool]:
 
 def _panels(table: _table.Table, channel: int | None) -> list[tuple[int, str]]:
     quantity = str(table.meta.get("quantity", ""))
+    sheen = table.meta.get("sheen")
+    cloth = None if sheen is None else f"cloth ({sheen})"
     if channel is not None:
         if channel not in (0, 1, 2):
             raise ValueError(f"channel: expected 0, 1 or 2, got {channel!r}")
-        names = ("scale A", "bias B", "(zero)") if quantity.startswith("split-sum") else "RGB"
+        third = "(zero)" if cloth is None else cloth
+        names = ("scale A", "bias B", third) if quantity.startswith("split-sum") else "RGB"
         return [(channel, names[channel])]
     if quantity.startswith("split-sum"):
-        return [(0, "scale A"), (1, "bias B")]
+        return [(0, "scale A"), (1, "bias B")] + ([] if cloth is None else [(2, cloth)])
     if _distinct_channels(table.value):
         return [(0, "R"), (1, "G"), (2, "B")]
     return [(0, "albedo")]
@@ -408,7 +411,8 @@ def table_heatmap(
     """A 2-D table as a heat map (first axis across, second up; a log axis where the
     coordinates are geometric), a 1-D table as a curve with its ±2σ band.
 
-    A split-sum (DFG) table shows its scale A and bias B side by side; an albedo table
+    A split-sum (DFG) table shows its scale A and bias B side by side (and its cloth term
+    when it has one); an albedo table
     with grey parameters shows one panel, a coloured one R, G and B. ``channel`` picks
     one panel (and is required with ``ax=`` when there would be several).
     """
