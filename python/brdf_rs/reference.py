@@ -801,7 +801,7 @@ def _charlie_lambda(mu: float, alpha: float) -> float:
 
 def _charlie_ndf(alpha: float, sin2_th: float) -> float:
     """``D = (2 + 1/α)·sin(θh)^(1/α)/(2π)``, the sine's power as ``(sin²θh)^(1/(2α))``."""
-    return (2.0 + 1.0 / alpha) * sin2_th ** (0.5 / alpha) / (2.0 * math.pi)
+    return (2.0 + 1.0 / alpha) * float(sin2_th ** (0.5 / alpha)) / (2.0 * math.pi)
 
 
 def _ashikhmin_ndf(alpha: float, cos_th: float, sin2_th: float) -> float:
