@@ -79,6 +79,63 @@ def test_cloth_channel_matches_an_independent_quadrature(mu, alpha):
     assert abs(got - exact) <= 5 * se, (got, exact, se)
 
 
+def _sheen_albedo(model: str, mu_i: float, alpha: float, n: int) -> float:
+    """The directional albedo (kd = 0, ks = 1) of ``charlie_sheen`` (Estevez & Kulla's D
+    and their fitted Smith Λ) or ``ashikhmin_cloth`` (Ashikhmin's D, Neubelt & Pettineo's
+    V), from the published formulas by the same product rule, not brdf_rs."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    mu_o, w_mu = 0.5 * (x + 1), 0.5 * w
+    phi, w_phi = 0.5 * np.pi * (x + 1), 0.5 * np.pi * w
+    m, p = np.meshgrid(mu_o, phi, indexing="ij")
+    s_i, s_o = np.sqrt(1 - mu_i**2), np.sqrt(1 - m**2)
+    h = np.stack([s_i + s_o * np.cos(p), s_o * np.sin(p), mu_i + m])
+    cos_h2 = h[2] ** 2 / np.sum(h**2, axis=0)
+    sin_h2 = np.clip(1 - cos_h2, 1e-300, None)
+    if model == "charlie_sheen":
+        t = (1 - alpha) ** 2
+        at_1 = np.array([21.5473, 3.82987, 0.19823, -1.97760, -4.32054])
+        at_0 = np.array([25.3245, 3.32435, 0.16801, -1.27393, -4.85967])
+        a, b, c, d, e = (1 - t) * at_1 + t * at_0
+
+        def fit(x):
+            return a / (1 + b * x**c) + d * x + e
+
+        def lam(mu):
+            return np.where(
+                mu < 0.5,
+                np.exp(fit(np.minimum(mu, 0.5))),
+                np.exp(2 * fit(0.5) - fit(1 - np.maximum(mu, 0.5))),
+            )
+
+        dist = (2 + 1 / alpha) * sin_h2 ** (0.5 / alpha) / (2 * np.pi)
+        lobe = dist / (4 * mu_i * m * (1 + lam(mu_i) + lam(m)))
+    else:
+        x2 = cos_h2 / (alpha**2 * sin_h2)
+        dist = (1 + 4 * np.exp(-np.minimum(x2, 700)) / sin_h2**2) / (np.pi * (1 + 4 * alpha**2))
+        lobe = dist / (4 * (mu_i + m - mu_i * m))
+    return float(2 * np.einsum("i,j,ij->", w_mu, w_phi, lobe * m))
+
+
+@pytest.mark.parametrize(
+    ("model", "mu", "alpha"),
+    [("charlie_sheen", 0.3, 0.5), ("charlie_sheen", 0.8, 1.0), ("ashikhmin_cloth", 0.5, 0.5)],
+)
+def test_other_sheen_albedos_match_an_independent_quadrature(model, mu, alpha):
+    exact = _sheen_albedo(model, mu, alpha, 200)
+    assert abs(exact - _sheen_albedo(model, mu, alpha, 100)) < 1e-6
+    r = brdf_rs.albedo(model, mu, alpha=alpha, kd=0, ks=1, tol=2e-4)
+    got, se = float(r.value[0]), float(r.stderr[0])
+    assert 0 < se <= 2e-4
+    assert abs(got - exact) <= 5 * se, (got, exact, se)
+
+
+def test_sheen_energy_tables_refuse_the_microfacet_completion():
+    e = brdf_rs.energy_compensation_table("charlie_sheen", [0.5, 1.0], [0.5], samples=256)
+    assert e.e.shape == (2, 1) and np.all(e.e > 0)
+    with pytest.raises(ValueError, match=r"^multiple_scattering: .* charlie_sheen has none"):
+        e.multiple_scattering(0, 1, 0)
+
+
 def test_filament_rows_are_squared_perceptual_roughness():
     # Filament's rows sit at perceptual roughness rho and evaluate alpha = rho**2: a table
     # on the alpha axis rho**2 holds, at each rho, the cloth albedo at alpha = rho**2.

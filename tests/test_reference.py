@@ -150,6 +150,9 @@ def _adversarial_geometry():
         ("tilted normal", (1.0, 2.0, 3.0), (-2.0, 1.0, 3.0), (0.1, 0.2, 1.0)),
         ("near mirror", w, (-0.48, 0.36 + 1e-9, 0.8), z),
         ("near opposite", w, (-0.48 + 1e-12, 0.36, -0.8), z),
+        # Both normal but tiny, on opposite sides: a sharp sheen's power is below the
+        # float range while its quotient by the cosines is not.
+        ("both grazing opposite 1e-200", (1.0, 0.0, 1e-200), (-1.0, 1e-200, 1e-200), z),
     ]
     return cases
 
@@ -162,6 +165,9 @@ def _adversarial_params(model):
         variants += [(f"p={p}", {**base, "p": p}) for p in (0.0, 1e4, 1e6)]
     if "eta" in names:
         variants.append(("eta=1", {**base, "eta": 1.0}))
+    if "alpha" in names:
+        smallest = next(p["min"] for p in SPECS[model]["params"] if p["name"] == "alpha")
+        variants.append(("alpha=min", {**base, "alpha": smallest}))
     if "sigma" in names:
         variants += [(f"sigma={s}", {**base, "sigma": s}) for s in (0.0, math.pi / 2)]
     if model == "toon_specular":

@@ -257,7 +257,8 @@ def dfg_table(
     ``roughness`` is the model's roughness parameter (``p`` for blinn_phong_fresnel).
 
     ``sheen`` names a sheen model (``"charlie_sheen_neubelt"`` for Filament's cloth
-    channel) whose directional albedo with no diffuse term and unit colour (``ks = 1``,
+    channel; any family-A model with ``ks`` and the table's roughness parameter is
+    accepted) whose directional albedo with no diffuse term and unit colour (``ks = 1``,
     every other weight 0) fills the third channel, the cloth term ``DG`` of the
     prefiltered-environment assumption: ``∫ D·V·(n·l) dωl`` at ``n·v = mu``. It is
     evaluated at the same value of the same parameter as the split-sum channels: a ggx or
@@ -434,14 +435,17 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
 
 @dataclasses.dataclass(frozen=True)
 class EnergyCompensation:
-    """Kulla & Conty's (2017) single-scattering energy tables of a microfacet model.
+    """Energy tables ``E(mu, alpha)`` and ``E_avg(alpha)`` at kd = 0, ks = 1: Kulla & Conty's
+    (2017) single-scattering tables of a microfacet model (F = 1), or a sheen model's
+    albedo-scaling table (a base layered under sheen keeps ``1 − E_sheen``).
 
-    ``e[i, j]`` is the directional albedo ``E(mu_i, alpha_j)`` with F = 1, ``e_avg[j]`` the
+    ``e[i, j]`` is the directional albedo ``E(mu_i, alpha_j)``, ``e_avg[j]`` the
     cosine-weighted average ``E_avg(alpha) = 2 ∫ E(mu) mu dmu`` (a 32-point Gauss-Legendre
     rule in mu), ``stderr`` and ``e_avg_stderr`` their standard errors. The missing energy
     is restored by the lobe ``f_ms = (1 − E(mu_i))(1 − E(mu_o)) / (π (1 − E_avg))``, scaled
     for a Schlick F0 by ``F_avg² E_avg / (1 − F_avg (1 − E_avg))``, ``F_avg = F0 + (1 − F0)/21``
-    (see :meth:`multiple_scattering`).
+    (see :meth:`multiple_scattering`; microfacet models with a Schlick F0 only: a sheen
+    lobe has no Fresnel term, and its ``E`` may exceed 1).
     """
 
     model: str
@@ -455,7 +459,17 @@ class EnergyCompensation:
     def multiple_scattering(
         self, mu_i: Any, mu_o: Any, alpha_index: Any, f0: Any = 1.0
     ) -> np.ndarray:
-        """``f_ms`` for incidences on the table's mu grid (indices into ``mu``), RGB F0."""
+        """``f_ms`` for incidences on the table's mu grid (indices into ``mu``), RGB F0.
+
+        Raises:
+            ValueError: for a model without Schlick's F0 (the sheen models).
+        """
+        if _spec.specs()[self.model]["dfg"] is None:
+            raise ValueError(
+                f"multiple_scattering: Kulla and Conty's lobe completes a microfacet lobe with "
+                f"a Schlick F0; {self.model} has none (its E table scales a base layered "
+                f"under it by 1 - E)"
+            )
         e_i = self.e[mu_i, alpha_index]
         e_o = self.e[mu_o, alpha_index]
         e_avg = self.e_avg[alpha_index]
@@ -475,7 +489,8 @@ def energy_compensation_table(
     seed: int = 0,
     **options: Any,
 ) -> EnergyCompensation:
-    """Builds E(mu, alpha) and E_avg(alpha) for ``ggx`` or ``beckmann`` with F = 1."""
+    """Builds E(mu, alpha) and E_avg(alpha) at kd = 0, ks = 1 for the models whose spec has
+    ``energy_table`` (the microfacet models with F = 1, and the sheen models)."""
     _arrays.model_name(model)
     compensated = _spec.with_energy_table()
     if model not in compensated:

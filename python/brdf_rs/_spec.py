@@ -112,7 +112,7 @@ def with_dfg() -> dict[str, DfgAxis]:
 
 
 def with_energy_table() -> tuple[str, ...]:
-    """The models with energy-compensation tables."""
+    """The models with energy tables (E and E_avg at kd = 0, ks = 1)."""
     return tuple(name for name, s in specs().items() if s["energy_table"])
 
 

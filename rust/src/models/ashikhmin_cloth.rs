@@ -1,5 +1,5 @@
 //! `ashikhmin_cloth`: Ashikhmin's velvet distribution (Ashikhmin and Premože 2007) with
-//! Neubelt and Pettineo's visibility term, as Filament and Unity HDRP shade cloth.
+//! Neubelt and Pettineo's visibility term, a cloth model of real-time engines.
 //!
 //! `f = kd/π + ks·D·V`, `D = (1 + 4·exp(−cot²θh/α²)/sin⁴θh)/(π(1 + 4α²))`,
 //! `V = 1/(4(mu_i + mu_o − mu_i·mu_o))` ([`sheen::neubelt`]). The inverted Gaussian's

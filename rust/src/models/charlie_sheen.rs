@@ -60,7 +60,7 @@ impl Kernel for CharlieSheen {
         let a = sheen::angles(d);
         let lambda_i = pp.fit.lambda::<P>(a.mu_i);
         let lambda_o = pp.fit.lambda::<P>(a.mu_o);
-        let lobe = sheen::smith(pp.charlie.d::<P>(&a), &a, lambda_i, lambda_o);
+        let lobe = sheen::charlie_smith::<F, P>(&pp.charlie, &a, lambda_i, lambda_o);
         pp.colours.rgb(lobe, &a)
     }
 

@@ -54,7 +54,7 @@ impl Kernel for CharlieSheenNeubelt {
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let a = sheen::angles(d);
-        let lobe = sheen::neubelt(pp.charlie.d::<P>(&a), a.mu_i, a.mu_o);
+        let lobe = sheen::charlie_neubelt::<F, P>(&pp.charlie, &a);
         pp.colours.rgb(lobe, &a)
     }
 

@@ -176,10 +176,12 @@ impl<F: Real> Charlie<F> {
         }
     }
 
-    /// `D` at the half vector's angle.
+    /// `D/q` at the half vector's angle for a `q > 0`, the power divided before it can
+    /// underflow (`0.2^500` at α = 1e-3 is below the `f64` range, `D` over two cosines of
+    /// 1e-200 is not).
     #[inline(always)]
-    pub fn d<P: PowUnit>(&self, a: &Angles<F>) -> F {
-        self.scale * P::pow_unit(a.sin2_th, a.cos2_th, self.half_inverse)
+    pub fn d_over<P: PowUnit>(&self, a: &Angles<F>, q: F) -> F {
+        P::pow_unit_over(a.sin2_th, a.cos2_th, self.half_inverse, q / self.scale)
     }
 
     /// `D` as `m·2^e` ([`Kernel::eval_wide`](super::Kernel::eval_wide)'s rows): the
@@ -322,7 +324,12 @@ impl<F: Real> LambdaFit<F> {
     pub fn new(alpha: F) -> Self {
         let u = Dd::two_sum(F::ONE, F::ZERO - alpha);
         let t = u.mul(u);
-        let dd = |(hi, lo): (f64, f64)| Dd::new(F::from_f64(hi), F::from_f64(lo));
+        // The decimal as the width's nearest value and the rest (f32 keeps the part of
+        // the f64 value it rounds away).
+        let dd = |(hi, lo): (f64, f64)| {
+            let h = F::from_f64(hi);
+            Dd::new(h, F::from_f64((hi - h.to_f64()) + lo))
+        };
         // p1 + t·(p0 − p1).
         let [a, b, c, d, e] = std::array::from_fn(|k| {
             let p1 = dd(AT_1[k]);
@@ -376,17 +383,37 @@ impl<F: Real> LambdaFit<F> {
 /// `1/(4·max(mu_i, mu_o))`), as one quotient: `D = 0` gives 0 where `V` overflows.
 #[inline(always)]
 pub fn neubelt<F: Real>(d: F, mu_i: F, mu_o: F) -> F {
-    d / (F::from_f64(4.0) * (mu_i + mu_o * (F::ONE - mu_i)))
+    d / neubelt_denominator(mu_i, mu_o)
 }
 
-/// `D·G2/(4·mu_i·mu_o)` with `G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))`, divided in turn by the
-/// larger cosine (with `4(1 + Λ_i + Λ_o)`) and the smaller one, so that no product of
-/// two small cosines underflows before the quotient would overflow anyway.
+/// `4(mu_i + mu_o·(1 − mu_i))`, [`neubelt`]'s divisor.
 #[inline(always)]
-pub fn smith<F: Real>(d: F, a: &Angles<F>, lambda_i: F, lambda_o: F) -> F {
+pub fn neubelt_denominator<F: Real>(mu_i: F, mu_o: F) -> F {
+    F::from_f64(4.0) * (mu_i + mu_o * (F::ONE - mu_i))
+}
+
+/// The Charlie `D` times Neubelt and Pettineo's `V`, the power divided by `V`'s divisor
+/// before it can underflow ([`Charlie::d_over`]).
+#[inline(always)]
+pub fn charlie_neubelt<F: Real, P: PowUnit>(charlie: &Charlie<F>, a: &Angles<F>) -> F {
+    charlie.d_over::<P>(a, neubelt_denominator(a.mu_i, a.mu_o))
+}
+
+/// `D·G2/(4·mu_i·mu_o)` with `G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))`: the power divided by
+/// `4(1 + Λ_i + Λ_o)` and the larger cosine before it can underflow
+/// ([`Charlie::d_over`]), then by the smaller cosine, so that no product of two small
+/// cosines underflows before the quotient would overflow anyway.
+#[inline(always)]
+pub fn charlie_smith<F: Real, P: PowUnit>(
+    charlie: &Charlie<F>,
+    a: &Angles<F>,
+    lambda_i: F,
+    lambda_o: F,
+) -> F {
     let m = max(a.mu_i, a.mu_o);
     let least = min(a.mu_i, a.mu_o);
-    d / (F::from_f64(4.0) * (F::ONE + lambda_i + lambda_o) * m) / least
+    let q = F::from_f64(4.0) * (F::ONE + lambda_i + lambda_o) * m;
+    charlie.d_over::<P>(a, q) / least
 }
 
 /// The value of a wide cosine as an `f64` (0 below the subnormal range).

@@ -305,7 +305,9 @@ pub struct ModelSpec {
     pub scene: SceneUse,
     /// The roughness axis of its split-sum (DFG) table, for models with Schlick's F0.
     pub dfg: Option<DfgAxis>,
-    /// Whether it has Kulla and Conty's energy-compensation tables (`F = 1`).
+    /// Whether it has energy tables `E(mu, alpha)`, `E_avg(alpha)` at `kd = 0`, `ks = 1`:
+    /// Kulla and Conty's (`F = 1`) for the microfacet models, albedo-scaling tables for
+    /// the sheen models.
     pub energy_table: bool,
     /// Its `normalization="exact"`, for models that have one.
     pub exact: Option<ExactNormalization>,
