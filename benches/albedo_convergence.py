@@ -68,6 +68,7 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 import brdf_rs  # noqa: E402
 import numpy_models  # noqa: E402
 import quadrature  # noqa: E402
+from brdf_rs._bench import cpu_model  # noqa: E402
 
 RESULTS = HERE / "results"
 TARGETS = (1e-3, 1e-4, 1e-5)
@@ -445,7 +446,7 @@ def main() -> None:
         results[model] = methods
 
     meta = {
-        "cpu": _cpu(),
+        "cpu": cpu_model(),
         "threads": brdf_rs.num_threads(),
         "isa": brdf_rs.isa(),
         "brdf_rs": brdf_rs.__version__,
@@ -520,16 +521,6 @@ def plot(path, meta, results):
         convergence(results, targets=TARGETS, title=title, path=path, dpi=110)
     except ImportError:
         print("matplotlib not installed: no plot")
-
-
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
 
 
 if __name__ == "__main__":

@@ -43,18 +43,9 @@ sys.path.insert(0, str(HERE))
 import brdf_rs  # noqa: E402
 import numba_models  # noqa: E402
 import numpy_models  # noqa: E402
+from brdf_rs._bench import cpu_model  # noqa: E402
 
 RESULTS = HERE / "results"
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
 
 
 def extra_args(model: str) -> dict:

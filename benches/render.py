@@ -23,29 +23,19 @@ from __future__ import annotations
 import argparse
 import copy
 import json
-import platform
 import statistics
 import time
 from pathlib import Path
 
 import brdf_rs
 import numpy as np
+from brdf_rs._bench import cpu_model
 from brdf_rs.scene import parse_scene
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 RESULTS = HERE / "results"
 GALLERY = ROOT / "examples" / "scenes" / "gallery.toml"
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
 
 
 def raw_gallery() -> dict:

@@ -38,7 +38,8 @@ CHECK_STDERRS = 5.0
 DEFAULT_MODELS = ("lambert", "normalized_phong", "torrance_sparrow", "ggx", "oren_nayar")
 
 
-def _cpu() -> str:
+def cpu_model() -> str:
+    """The CPU's model name (Linux), else what the platform module says."""
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as f:
             for line in f:
@@ -145,7 +146,7 @@ def run(
 
     machine = {
         "brdf_rs": __version__,
-        "cpu": _cpu(),
+        "cpu": cpu_model(),
         "cpus": os.cpu_count(),
         "threads": _api.num_threads(),
         "isa": _api.isa(),
