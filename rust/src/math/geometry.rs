@@ -317,6 +317,11 @@ impl WideCosine {
         WideCosine::of(self.m / lm, self.k - le)
     }
 
+    /// The cosine as an `f64` (0 below the subnormal range).
+    pub fn value(self) -> f64 {
+        libm::scalbn(self.m, self.k)
+    }
+
     /// `m·2^k` for a nonzero finite `x` (subnormal included), 0 for 0.
     pub fn of(x: f64, k: i32) -> WideCosine {
         let (m, e) = libm::frexp(x);

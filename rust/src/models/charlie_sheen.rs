@@ -10,6 +10,7 @@ use super::albedo::Term;
 use super::sheen::{self, Colours, SHEEN_SPEC, Charlie, LambdaFit};
 use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
+use crate::math::geometry::WideCosine;
 use crate::math::{PowUnit, Real, SeriesPow};
 
 /// The Charlie sheen kernel.
@@ -68,7 +69,7 @@ impl Kernel for CharlieSheen {
     /// range too ([`sheen::smith_wide`]).
     fn eval_wide<F: Real>(pp: &Prepared<F>, d: &Directions<F>, w: &WideRow) -> [F; 3] {
         let a = sheen::angles(d);
-        let lambda = |c| pp.fit.lambda::<SeriesPow>(F::from_f64(sheen::wide_value(c))).to_f64();
+        let lambda = |c: WideCosine| pp.fit.lambda::<SeriesPow>(F::from_f64(c.value())).to_f64();
         let g = 1.0 + lambda(w.mu_i) + lambda(w.mu_o);
         let lobe = sheen::smith_wide(pp.charlie.d_wide(a.sin2_th.to_f64()), g, w);
         pp.colours.rgb_wide(lobe, &a, w)

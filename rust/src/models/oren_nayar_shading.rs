@@ -67,7 +67,7 @@ impl Kernel for OrenNayarShading {
             let cos_b = mu_i.max_positive(mu_o);
             let ratio = mu_i.over(cos_b);
             let proj = d.n.cross(d.wi).dot(d.n.cross(d.wo)).to_f64().max(0.0);
-            (libm::scalbn(mu_i.m, mu_i.k).min(1.0), proj * ratio)
+            (mu_i.value().min(1.0), proj * ratio)
         } else {
             (0.0, 0.0)
         };

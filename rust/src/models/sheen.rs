@@ -416,17 +416,12 @@ pub fn charlie_smith<F: Real, P: PowUnit>(
     charlie.d_over::<P>(a, q) / least
 }
 
-/// The value of a wide cosine as an `f64` (0 below the subnormal range).
-pub fn wide_value(c: WideCosine) -> f64 {
-    libm::scalbn(c.m, c.k)
-}
-
 /// `m·2^e` as an `f64`, overflowing to infinity and underflowing to 0.
 fn scaled(m: f64, e: i64) -> f64 {
     libm::scalbn(m, e.clamp(-8000, 8000) as i32)
 }
 
-/// [`smith`] for cosines with extended exponents: `D/(4·g·mu_i·mu_o)` with `D = m·2^e`
+/// [`charlie_smith`] for cosines with extended exponents: `D/(4·g·mu_i·mu_o)` with `D = m·2^e`
 /// ([`Charlie::d_wide`]) and `g = 1 + Λ_i + Λ_o`.
 pub fn smith_wide(d: (f64, i64), g: f64, w: &WideRow) -> f64 {
     let m = d.0 / (4.0 * g * w.mu_i.m * w.mu_o.m);
@@ -436,7 +431,7 @@ pub fn smith_wide(d: (f64, i64), g: f64, w: &WideRow) -> f64 {
 /// `D·V` with [`neubelt`]'s `V` for cosines with extended exponents:
 /// `D/(4(mu_i + mu_o·(1 − mu_i)))`, `D = m·2^e`.
 pub fn neubelt_wide(d: (f64, i64), w: &WideRow) -> f64 {
-    let rest = w.mu_o * WideCosine::of(1.0 - wide_value(w.mu_i), 0);
+    let rest = w.mu_o * WideCosine::of(1.0 - w.mu_i.value(), 0);
     let sum = w.mu_i + rest;
     scaled(d.0 / (4.0 * sum.m), d.1 - i64::from(sum.k))
 }
