@@ -188,11 +188,12 @@ macro_rules! for_lanes {
 /// Normalizes one scratch vector in place (unless `normalized`), and clears `ok` for
 /// rows that are NaN, infinite or zero-length.
 ///
-/// In the fast tier (`P::FAST`), a block whose rows all have squared lengths in
-/// [`Real::ORDINARY_LENGTH_SQUARED`] is normalized the short way
-/// ([`Real::normalize_ordinary`]: `f64` within about 2 ulps). Any other block (a NaN,
+/// A block whose rows all have squared lengths in [`Real::ORDINARY_LENGTH_SQUARED`] is
+/// normalized without [`Real::normalize`]'s range selects, which scale no such row:
+/// [`Real::normalize_unscaled`], the same bits, or in the fast tier (`P::FAST`)
+/// [`Real::normalize_ordinary`] (`f64` within about 2 ulps). Any other block (a NaN,
 /// infinite, zero, tiny or huge row among its first `len`) takes [`Real::normalize`]
-/// whole, so bad rows are flagged, and extreme ones normalized, as in the accurate tier.
+/// whole, so bad rows are flagged and extreme ones normalized.
 #[inline(always)]
 fn normalize_block<F: Real, P: PowUnit>(
     v: &mut [[F; BLOCK]; 3],
@@ -208,24 +209,27 @@ fn normalize_block<F: Real, P: PowUnit>(
         });
         return;
     }
-    if P::FAST {
-        let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
-        let mut all_ordinary = true;
+    let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
+    let mut all_ordinary = true;
+    for_lanes!(lanes, |j| {
+        // NaN fails both comparisons; lanes past `len` hold stale scratch.
+        let l2 = F::V3::new(x[j], y[j], z[j]).length_squared();
+        all_ordinary &= ((l2 >= lo) & (l2 <= hi)) | (j >= len);
+    });
+    if all_ordinary {
+        // Every row is usable: `ok` stays as it is.
         for_lanes!(lanes, |j| {
-            // NaN fails both comparisons; lanes past `len` hold stale scratch.
-            let l2 = F::V3::new(x[j], y[j], z[j]).length_squared();
-            all_ordinary &= ((l2 >= lo) & (l2 <= hi)) | (j >= len);
+            let raw = F::V3::new(x[j], y[j], z[j]);
+            let u = if P::FAST {
+                F::normalize_ordinary(raw)
+            } else {
+                F::normalize_unscaled(raw)
+            };
+            x[j] = u.x();
+            y[j] = u.y();
+            z[j] = u.z();
         });
-        if all_ordinary {
-            for_lanes!(lanes, |j| {
-                let raw = F::V3::new(x[j], y[j], z[j]);
-                let u = F::normalize_ordinary(raw);
-                x[j] = u.x();
-                y[j] = u.y();
-                z[j] = u.z();
-            });
-            return;
-        }
+        return;
     }
     {
         for_lanes!(lanes, |j| {

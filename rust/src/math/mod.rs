@@ -180,6 +180,10 @@ pub trait Real:
     /// doubled the length error, which exponents amplify). A nonzero component that
     /// underflows keeps its sign as in [`Real::normalize`]. Anything for any other `v`.
     fn normalize_ordinary(v: Self::V3) -> Self::V3;
+    /// [`Real::normalize`]'s unit vector for a `v` whose squared length lies in
+    /// [`Real::ORDINARY_LENGTH_SQUARED`], bit for bit, without the range selects (which
+    /// scale no such vector): the accurate tier's normalization of an ordinary block.
+    fn normalize_unscaled(v: Self::V3) -> Self::V3;
     /// Returns [`Real::normalize`]'s unit vector together with [`Real::length`]'s `|v|`,
     /// sharing the scaling and the square root (bit for bit the values of the two).
     fn normalize_length(v: Self::V3) -> (Self::V3, Self);
@@ -343,6 +347,22 @@ pub fn max_abs<F: Real>(v: F::V3) -> F {
     max(max(v.x().abs(), v.y().abs()), v.z().abs())
 }
 
+/// `u`, with each component that underflowed to 0 where `raw`'s is nonzero replaced by
+/// the smallest subnormal of `raw`'s sign (see [`Real::normalize`]).
+macro_rules! keep_signs {
+    ($f:ident, $v:ty, $u:expr, $raw:expr) => {{
+        let (u, raw) = ($u, $raw);
+        let keep = |u: $f, raw: $f| {
+            if u == 0.0 && raw != 0.0 {
+                $f::from_bits(1).copysign(raw)
+            } else {
+                u
+            }
+        };
+        <$v>::new(keep(u.x, raw.x), keep(u.y, raw.y), keep(u.z, raw.z))
+    }};
+}
+
 /// Returns whether every component of `v` is finite and at least one is nonzero.
 #[inline(always)]
 fn finite_nonzero<F: Real>(v: F::V3) -> bool {
@@ -459,28 +479,21 @@ macro_rules! impl_real {
             }
             #[inline(always)]
             fn normalize_ordinary(v: Self::V3) -> Self::V3 {
+                let Some((magic, steps)) = $newton else {
+                    return Self::normalize_unscaled(v);
+                };
                 let l2 = v.length_squared();
-                let r = match $newton {
-                    // `normalize_length`'s arithmetic without its selects: bit for bit.
-                    None => 1.0 / l2.sqrt(),
-                    Some((magic, steps)) => {
-                        let half = 0.5 * l2;
-                        let mut r = $f::from_bits(magic - (l2.to_bits() >> 1));
-                        for _ in 0..steps {
-                            r = r * (1.5 - half * r * r);
-                        }
-                        r
-                    }
-                };
-                let u = v * r;
-                let keep = |u: $f, raw: $f| {
-                    if u == 0.0 && raw != 0.0 {
-                        $f::from_bits(1).copysign(raw)
-                    } else {
-                        u
-                    }
-                };
-                <$v>::new(keep(u.x, v.x), keep(u.y, v.y), keep(u.z, v.z))
+                let half = 0.5 * l2;
+                let mut r = $f::from_bits(magic - (l2.to_bits() >> 1));
+                for _ in 0..steps {
+                    r = r * (1.5 - half * r * r);
+                }
+                keep_signs!($f, $v, v * r, v)
+            }
+            #[inline(always)]
+            fn normalize_unscaled(v: Self::V3) -> Self::V3 {
+                // `normalize_length`'s arithmetic without its selects: bit for bit.
+                keep_signs!($f, $v, v * (1.0 / v.length_squared().sqrt()), v)
             }
             #[inline(always)]
             fn normalize_length(v: Self::V3) -> (Self::V3, Self) {
@@ -493,16 +506,7 @@ macro_rules! impl_real {
                 let v = if small { v * $up } else { v };
                 let v = if big { v * $down } else { v };
                 let len = v.length_squared().sqrt();
-                let u = v * (1.0 / len);
-                // Keep the sign of components that underflowed (see the trait method).
-                let keep = |u: $f, raw: $f| {
-                    if u == 0.0 && raw != 0.0 {
-                        $f::from_bits(1).copysign(raw)
-                    } else {
-                        u
-                    }
-                };
-                let u = <$v>::new(keep(u.x, raw.x), keep(u.y, raw.y), keep(u.z, raw.z));
+                let u = keep_signs!($f, $v, v * (1.0 / len), raw);
                 let len = if small { len * $down } else { len };
                 (u, if big { len * $up } else { len })
             }
@@ -631,6 +635,68 @@ mod tests {
             let (u, ok) = f32::normalize(v);
             assert!(ok);
             assert!((u.length() - 1.0).abs() < 1e-6, "{scale}: {u}");
+        }
+    }
+
+    /// Every vector whose squared length lies in the ordinary range, including its ends
+    /// and components far below it (which underflow in the quotient), for `T`.
+    fn ordinary_vectors<T: Real>(scales: &[f64], ends: &[f64]) -> Vec<T::V3> {
+        let mut out = Vec::new();
+        let mut state = 0x2545_F491_4F6C_DD1D_u64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for &scale in scales {
+            for _ in 0..200 {
+                let v = [unit(), unit(), unit()].map(|c| T::from_f64(c * scale));
+                out.push(T::V3::new(v[0], v[1], v[2]));
+            }
+        }
+        for &end in ends {
+            let tiny = T::from_f64(f64::MIN_POSITIVE * 1e-10);
+            out.push(T::V3::new(T::from_f64(end), tiny, -tiny));
+        }
+        out.retain(|v| {
+            let l2 = v.length_squared();
+            let (lo, hi) = T::ORDINARY_LENGTH_SQUARED;
+            l2 >= lo && l2 <= hi
+        });
+        out
+    }
+
+    #[test]
+    fn normalize_unscaled_is_normalize_on_ordinary_vectors() {
+        // The eval engine takes it for whole blocks of ordinary rows: the same bits.
+        let scales = [1e-150, 1e-100, 1e-3, 1.0, 1e3, 1e100, 1e150];
+        let ends = [2f64.powi(-499), 2f64.powi(499), 1e-300, 1.0];
+        let v64 = ordinary_vectors::<f64>(&scales, &ends);
+        assert!(v64.len() > 1000);
+        for v in v64 {
+            let (want, ok) = f64::normalize(v);
+            assert!(ok);
+            let got = f64::normalize_unscaled(v);
+            assert_eq!(
+                got.to_array().map(f64::to_bits),
+                want.to_array().map(f64::to_bits),
+                "{v}"
+            );
+        }
+        let scales = [1e-12, 1e-5, 1.0, 1e5, 1e12];
+        let ends = [2f64.powi(-39), 2f64.powi(39), 1.0];
+        let v32 = ordinary_vectors::<f32>(&scales, &ends);
+        assert!(v32.len() > 500);
+        for v in v32 {
+            let (want, ok) = f32::normalize(v);
+            assert!(ok);
+            let got = f32::normalize_unscaled(v);
+            assert_eq!(
+                got.to_array().map(f32::to_bits),
+                want.to_array().map(f32::to_bits),
+                "{v}"
+            );
         }
     }
 
