@@ -990,7 +990,7 @@ pub(crate) mod tests {
     }
 
     /// A small deterministic generator (SplitMix64) for test inputs.
-    fn uniform(state: &mut u64) -> f64 {
+    pub(crate) fn uniform(state: &mut u64) -> f64 {
         *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = *state;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

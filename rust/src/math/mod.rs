@@ -638,66 +638,45 @@ mod tests {
         }
     }
 
-    /// Every vector whose squared length lies in the ordinary range, including its ends
-    /// and components far below it (which underflow in the quotient), for `T`.
-    fn ordinary_vectors<T: Real>(scales: &[f64], ends: &[f64]) -> Vec<T::V3> {
-        let mut out = Vec::new();
+    /// Checks that [`Real::normalize_unscaled`] is [`Real::normalize`] bit for bit on
+    /// vectors whose squared length lies in the ordinary range: random ones at each of
+    /// `scales` and, at each of `ends`, one whose other components underflow in the
+    /// quotient. The eval engine takes it for whole blocks of such rows.
+    fn check_normalize_unscaled<T: Real>(scales: &[f64], ends: &[f64]) -> usize {
         let mut state = 0x2545_F491_4F6C_DD1D_u64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut vectors = Vec::new();
         for &scale in scales {
             for _ in 0..200 {
-                let v = [unit(), unit(), unit()].map(|c| T::from_f64(c * scale));
-                out.push(T::V3::new(v[0], v[1], v[2]));
+                let c = [(); 3].map(|_| {
+                    T::from_f64((2.0 * fastmath::tests::uniform(&mut state) - 1.0) * scale)
+                });
+                vectors.push(T::V3::new(c[0], c[1], c[2]));
             }
         }
-        for &end in ends {
-            let tiny = T::from_f64(f64::MIN_POSITIVE * 1e-10);
-            out.push(T::V3::new(T::from_f64(end), tiny, -tiny));
+        let tiny = T::from_f64(f64::MIN_POSITIVE * 1e-10);
+        vectors.extend(
+            ends.iter()
+                .map(|&end| T::V3::new(T::from_f64(end), tiny, -tiny)),
+        );
+        let (lo, hi) = T::ORDINARY_LENGTH_SQUARED;
+        vectors.retain(|v| v.length_squared() >= lo && v.length_squared() <= hi);
+        let bits = |v: T::V3| [v.x(), v.y(), v.z()].map(|c| c.to_f64().to_bits());
+        for &v in &vectors {
+            let (want, ok) = T::normalize(v);
+            assert!(ok);
+            assert_eq!(bits(T::normalize_unscaled(v)), bits(want), "{:?}", bits(v));
         }
-        out.retain(|v| {
-            let l2 = v.length_squared();
-            let (lo, hi) = T::ORDINARY_LENGTH_SQUARED;
-            l2 >= lo && l2 <= hi
-        });
-        out
+        vectors.len()
     }
 
     #[test]
     fn normalize_unscaled_is_normalize_on_ordinary_vectors() {
-        // The eval engine takes it for whole blocks of ordinary rows: the same bits.
         let scales = [1e-150, 1e-100, 1e-3, 1.0, 1e3, 1e100, 1e150];
         let ends = [2f64.powi(-499), 2f64.powi(499), 1e-300, 1.0];
-        let v64 = ordinary_vectors::<f64>(&scales, &ends);
-        assert!(v64.len() > 1000);
-        for v in v64 {
-            let (want, ok) = f64::normalize(v);
-            assert!(ok);
-            let got = f64::normalize_unscaled(v);
-            assert_eq!(
-                got.to_array().map(f64::to_bits),
-                want.to_array().map(f64::to_bits),
-                "{v}"
-            );
-        }
+        assert!(check_normalize_unscaled::<f64>(&scales, &ends) > 1000);
         let scales = [1e-12, 1e-5, 1.0, 1e5, 1e12];
         let ends = [2f64.powi(-39), 2f64.powi(39), 1.0];
-        let v32 = ordinary_vectors::<f32>(&scales, &ends);
-        assert!(v32.len() > 500);
-        for v in v32 {
-            let (want, ok) = f32::normalize(v);
-            assert!(ok);
-            let got = f32::normalize_unscaled(v);
-            assert_eq!(
-                got.to_array().map(f32::to_bits),
-                want.to_array().map(f32::to_bits),
-                "{v}"
-            );
-        }
+        assert!(check_normalize_unscaled::<f32>(&scales, &ends) > 500);
     }
 
     #[test]
