@@ -366,6 +366,43 @@ def test_large_outputs_written_past_the_caches_are_the_same_bits(rng):
         brdf_rs.set_num_threads(before)
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+@pytest.mark.parametrize("precision", ["accurate", "fast"])
+def test_a_row_has_the_same_bits_whatever_else_its_block_holds(rng, dtype, precision):
+    # A block (128 rows) of ordinary lengths is normalized without the range selects; one
+    # holding a row of extreme length (or a zero row) takes the robust normalization
+    # whole. Every other row of that block must come out as it does on its own (in the
+    # accurate tier bit for bit).
+    rows = 300
+    wi = random_directions(rng, rows).astype(dtype)
+    wo = random_directions(rng, rows).astype(dtype)
+    tiny, huge = (1e-160, 1e160) if dtype == np.float64 else (1e-25, 1e25)
+    scaled_wi, scaled_wo = wi.copy(), wo.copy()
+    scaled_wi[5] *= tiny  # first block
+    scaled_wo[140] *= huge  # second block
+    scaled_wi[260] = 0.0  # third block: a zero row gives NaN there
+    for model in ("torrance_sparrow", "ggx", "ward", "lambert"):
+        extras = required_extras(model)
+        alone = np.concatenate(
+            [
+                brdf_rs.eval(model, wi[k : k + 1], wo[k : k + 1], precision=precision, **extras)
+                for k in range(rows)
+            ]
+        )
+        got = brdf_rs.eval(model, scaled_wi, scaled_wo, check=False, precision=precision, **extras)
+        others = np.setdiff1d(np.arange(rows), [5, 140, 260])
+        if precision == "fast" and dtype == np.float64:
+            # The fast tier's Newton normalization serves ordinary blocks only: the rest
+            # of such a block is normalized exactly, within the tier's bound of the other.
+            np.testing.assert_allclose(got[others], alone[others], rtol=1e-12, err_msg=model)
+        else:
+            np.testing.assert_array_equal(got[others], alone[others], err_msg=model)
+        assert np.all(np.isnan(got[260]))
+        if precision == "accurate":
+            # Scaling by a power of two changes no bit of the normalized row.
+            np.testing.assert_array_equal(got[[5, 140]], alone[[5, 140]], err_msg=model)
+
+
 def test_concurrent_calls_match_serial_calls(rng):
     wi = random_directions(rng, 50_000)
     wo = random_directions(rng, 50_000)
