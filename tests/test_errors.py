@@ -99,6 +99,79 @@ def test_albedo_integer_and_option_arguments_name_their_range(option, value, err
         brdf_rs.albedo("lambert", 0.5, **{option: value})
 
 
+_BAD_OPTIONS = [
+    ("samples", 1.5),
+    ("samples", 2**41),
+    ("samples", np.float32(1e30)),
+    ("seed", -1),
+    ("seed", "1"),
+    ("replicates", np.int64(1)),
+    ("max_samples", np.float64(2.5)),
+    ("tol", -1e-5),
+    ("tol", 0.0),
+    ("tol", 10**400),
+    ("tol", True),
+    ("sampler", "x" * 80),
+    ("sampler", 3),
+    ("sequence", "sobol\ud800"),
+    ("sequence", None),
+    ("samples", None),
+]
+
+
+@pytest.mark.parametrize(("option", "value"), _BAD_OPTIONS)
+def test_an_option_is_refused_in_the_same_words_by_every_route(option, value):
+    """One converter words the options: the public API, the early check the command line
+    and dask use, and the core's own entry point called directly all give its error."""
+    given = {
+        "samples": 64,
+        "sampler": "auto",
+        "sequence": "sobol",
+        "seed": 0,
+        "tol": None,
+        "max_samples": None,
+        "replicates": 16,
+        option: value,
+    }
+    errors = []
+    for route in (
+        lambda: brdf_rs.albedo("lambert", 0.5, **{option: value}),
+        lambda: core.check_albedo_options(given),
+        lambda: core.albedo("lambert", np.array(0.5), {}, given),
+    ):
+        with pytest.raises((TypeError, ValueError)) as caught:
+            route()
+        errors.append((type(caught.value), str(caught.value)))
+    assert errors[0][1].startswith(f"{option}: ")
+    assert errors[1] == errors[0]
+    assert errors[2] == errors[0]
+
+
+def test_the_cores_option_converter_refuses_an_unknown_option_and_fills_defaults():
+    with pytest.raises(TypeError, match=r"^unknown albedo option 'sample'; expected samples,"):
+        core.check_albedo_options({"sample": 64})
+    filled = core.check_albedo_options({})
+    assert filled == {
+        "samples": 4096,
+        "sampler": "auto",
+        "sequence": "sobol",
+        "seed": 0,
+        "replicates": brdf_rs._options.DEFAULT_REPLICATES,
+        "tol": None,
+        "max_samples": None,
+    }
+
+
+@pytest.mark.parametrize("sampler", [3, None, "magic"])
+def test_sample_and_pdf_name_a_bad_sampler(sampler):
+    error = TypeError if not isinstance(sampler, str) else ValueError
+    pattern = r'^sampler: expected "auto", "importance", "cosine" or "uniform"; got'
+    with pytest.raises(error, match=pattern):
+        brdf_rs.sample("ggx", [0.3, 0, 1], [0.2, 0.5], sampler=sampler)
+    with pytest.raises(error, match=pattern):
+        brdf_rs.pdf("ggx", [0.3, 0, 1], [0, 0, 1], sampler=sampler)
+
+
 def test_integer_options_accept_numpy_integers_and_integral_floats():
     a = brdf_rs.albedo("lambert", 0.5, samples=np.int64(64), seed=np.uint64(2**64 - 1))
     b = brdf_rs.albedo("lambert", 0.5, samples=64.0, seed=2**64 - 1, replicates=np.int32(16))

@@ -131,19 +131,14 @@ def albedo(
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
-    options = _options.check(samples, sampler, sequence, seed, tol, max_samples, replicates)
     ids = _options.cell_ids(cell_ids)
+    options = {"samples": samples, "sampler": sampler, "sequence": sequence, "seed": seed}
+    options.update(replicates=replicates, tol=tol, max_samples=max_samples)
     value, stderr, drawn = _core.albedo(
         model,
         mu_array,
         p,
-        options["samples"],
-        options["sampler"],
-        options["sequence"],
-        options["seed"],
-        options["tol"],
-        options["max_samples"],
-        options["replicates"],
+        options,
         ids,
         progress,
         bool(fold_azimuth),

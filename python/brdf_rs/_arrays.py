@@ -6,15 +6,17 @@ converts what is not already a float array of that dtype (ints, lists, big-endia
 floats, mixed widths). Float arrays of the chosen dtype pass through without a copy.
 
 It also holds the checks every public function shares for arguments that are not arrays
-(a model name, an integer option, a number): each error names the argument.
+(a model name, an integer option, a number, a name from a list): each error names the
+argument. The last three are worded once, in the core (``rust/src/py/options.rs``).
 """
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
+
+from . import _brdf_rs as _core
 
 _NUMERIC_KINDS = frozenset("fiu")
 
@@ -82,14 +84,7 @@ def model_name(model: Any) -> str:
 
 def choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
     """Checks a string option: one of ``choices`` (``TypeError`` if not a string)."""
-    quoted = [f'"{c}"' for c in choices]
-    options = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
-    if not isinstance(value, str):
-        raise TypeError(f"{name}: expected {options}; got {type(value).__name__} {show(value)}")
-    if value not in choices:
-        shown = value if len(value) <= 60 else value[:57] + "..."
-        raise ValueError(f"{name}: expected {options}; got {json.dumps(shown)}")
-    return value
+    return _core.choice_option(name, value, list(choices))
 
 
 def is_real(value: Any) -> bool:
@@ -101,17 +96,7 @@ def is_real(value: Any) -> bool:
 
 def real(name: str, value: Any, what: str = "a number") -> float:
     """One finite real number as a float, or an error naming ``name`` and ``what``."""
-    if not is_real(value):
-        raise TypeError(f"{name}: expected {what}, got {type(value).__name__} {show(value)}")
-    try:
-        x = float(value)
-    except OverflowError:
-        raise ValueError(
-            f"{name}: expected {what}, got {show(value)} (beyond float64's {FLOAT64_MAX:.4g})"
-        ) from None
-    if not np.isfinite(x):
-        raise ValueError(f"{name}: expected {what} (finite), got {x}")
-    return x
+    return _core.real_option(name, value, what)
 
 
 #: The largest value of an unsigned 64-bit integer (seeds, sample counts, cell ids).
@@ -121,18 +106,7 @@ U64_MAX = 2**64 - 1
 def integer(name: str, value: Any, lo: int, hi: int = U64_MAX, hi_text: str = "") -> int:
     """An integer option from ``lo`` to ``hi`` (an integral float such as 1e6 is accepted);
     ``hi_text`` spells ``hi`` in messages (``"2**40"``)."""
-    if isinstance(value, (float, np.floating)) and np.isfinite(value) and float(value).is_integer():
-        value = int(value)
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise TypeError(
-            f"{name}: expected an integer from {lo} to {hi_text or hi}, got"
-            f" {type(value).__name__} {show(value)}"
-        )
-    if not lo <= value <= hi:
-        raise ValueError(
-            f"{name}: expected an integer from {lo} to {hi_text or hi}, got {show(value)}"
-        )
-    return int(value)
+    return _core.integer_option(name, value, lo, hi, hi_text)
 
 
 def compute_dtype(arrays: dict[str, np.ndarray]) -> type[np.floating]:

@@ -15,14 +15,20 @@ import numpy.typing as npt
 from ._spec import ModelSpec
 
 __all__ = [
+    "DEFAULT_REPLICATES",
+    "SAMPLERS",
+    "SEQUENCES",
     "PreparedModel",
     "__version__",
     "albedo",
+    "check_albedo_options",
     "check_params",
+    "choice_option",
     "encode_srgb8",
     "eval_f32",
     "eval_f64",
     "eval_fast",
+    "integer_option",
     "isa",
     "max_num_threads",
     "models",
@@ -30,6 +36,7 @@ __all__ = [
     "param_admits",
     "pdf",
     "prepare_model",
+    "real_option",
     "render_scene",
     "sample",
     "scene_counters",
@@ -39,6 +46,9 @@ __all__ = [
 ]
 
 __version__: str
+DEFAULT_REPLICATES: int
+SAMPLERS: list[str]
+SEQUENCES: list[str]
 
 _F64: TypeAlias = npt.NDArray[np.float64]
 _F32: TypeAlias = npt.NDArray[np.float32]
@@ -104,13 +114,7 @@ def albedo(
     model: str,
     mu: _F64,
     params: dict[str, _F64],
-    samples: int,
-    sampler: str,
-    sequence: str,
-    seed: int,
-    tol: float | None,
-    max_samples: int | None,
-    replicates: int,
+    options: dict[str, Any],
     cell_ids: npt.NDArray[np.uint64] | None = None,
     progress: Callable[[int, int], object] | None = None,
     fold_azimuth: bool = True,
@@ -124,7 +128,7 @@ def sample(
     n: _F64 | None,
     tangent: _F64 | None,
     params: dict[str, _F64],
-    sampler: str,
+    sampler: object,
 ) -> tuple[_F64, _F64, _F64]: ...
 def pdf(
     model: str,
@@ -133,8 +137,14 @@ def pdf(
     n: _F64 | None,
     tangent: _F64 | None,
     params: dict[str, _F64],
-    sampler: str,
+    sampler: object,
 ) -> _F64: ...
+def check_albedo_options(given: dict[str, Any]) -> dict[str, Any]: ...
+def integer_option(
+    name: str, value: object, lo: int, hi: int | None = None, hi_text: str = ""
+) -> int: ...
+def real_option(name: str, value: object, what: str = "a number") -> float: ...
+def choice_option(name: str, value: object, choices: list[str]) -> str: ...
 def set_num_threads(n: int) -> None: ...
 def max_num_threads() -> int: ...
 def num_threads() -> int: ...

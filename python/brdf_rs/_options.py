@@ -1,10 +1,11 @@
-"""The integrator's options, checked at the edge before the Rust core.
+"""The integrator's options at the edge of the Rust core.
 
 :func:`brdf_rs.albedo`, :func:`brdf_rs.albedo_table`, ``brdf_rs.dask``, scene tables and
 the command line take the same options (samples, sampler, sequence, seed, tol,
-max_samples, replicates, cell ids, the azimuth ``phi``): this module converts them and
-words their errors, once, for all of them. The core checks the values again (its own
-callers are not all Python).
+max_samples, replicates, cell ids, the azimuth ``phi``). The scalar options are converted
+and their errors worded once, in the core (``rust/src/py/options.rs``): :func:`check`
+calls that converter for callers that must refuse bad options before any work starts.
+The arrays (``cell_ids``, ``phi``) are converted here, before crossing.
 """
 
 from __future__ import annotations
@@ -14,11 +15,10 @@ from typing import Any
 import numpy as np
 
 from . import _arrays
+from . import _brdf_rs as _core
 
 __all__ = [
     "DEFAULT_REPLICATES",
-    "MAX_REPLICATES",
-    "MAX_SAMPLES",
     "SAMPLERS",
     "SEQUENCES",
     "azimuth",
@@ -27,13 +27,10 @@ __all__ = [
 ]
 
 #: Independent scrambles per cell for ``sequence="sobol"`` (the error bar's basis).
-DEFAULT_REPLICATES = 16
-
-#: The integrator's limits (the core checks them again): samples per cell, scrambles.
-MAX_SAMPLES = 2**40
-MAX_REPLICATES = 4096
-SAMPLERS = ("auto", "importance", "cosine", "uniform")
-SEQUENCES = ("sobol", "random")
+DEFAULT_REPLICATES: int = _core.DEFAULT_REPLICATES
+#: The names ``sampler=`` and ``sequence=`` accept.
+SAMPLERS: tuple[str, ...] = tuple(_core.SAMPLERS)
+SEQUENCES: tuple[str, ...] = tuple(_core.SEQUENCES)
 
 
 def cell_ids(ids: Any) -> np.ndarray | None:
@@ -67,36 +64,15 @@ def cell_ids(ids: Any) -> np.ndarray | None:
     return np.ascontiguousarray(a, dtype=np.uint64)
 
 
-def check(
-    samples: Any,
-    sampler: Any,
-    sequence: Any,
-    seed: Any,
-    tol: Any,
-    max_samples: Any,
-    replicates: Any,
-) -> dict[str, Any]:
-    """The options of :func:`brdf_rs.albedo`, converted (integers as ``int``, ``tol`` as
-    ``float``) or refused with an error naming the option; ``tol`` and ``max_samples``
-    stay None when not given."""
-    integer = _arrays.integer
-    options: dict[str, Any] = {
-        "samples": integer("samples", samples, 1, MAX_SAMPLES, "2**40"),
-        "sampler": _arrays.choice("sampler", sampler, SAMPLERS),
-        "sequence": _arrays.choice("sequence", sequence, SEQUENCES),
-        "seed": integer("seed", seed, 0, _arrays.U64_MAX),
-        "tol": None,
-        "max_samples": None,
-        "replicates": integer("replicates", replicates, 2, MAX_REPLICATES),
-    }
-    if tol is not None:
-        tol = _arrays.real("tol", tol, "a positive number (a standard error)")
-        if not tol > 0:
-            raise ValueError(f"tol: must be a positive number; got {tol}")
-        options["tol"] = tol
-    if max_samples is not None:
-        options["max_samples"] = integer("max_samples", max_samples, 1, MAX_SAMPLES, "2**40")
-    return options
+def check(given: dict[str, Any]) -> dict[str, Any]:
+    """The options of :func:`brdf_rs.albedo` (a dict of ``samples``, ``sampler``,
+    ``sequence``, ``seed``, ``replicates``, ``tol``, ``max_samples``; absent: the
+    default; ``tol`` and ``max_samples`` may be None), converted (integers as ``int``,
+    ``tol`` as ``float``; ``tol`` and ``max_samples`` None when not given) or refused
+    with an error naming the option.
+    The core converts them the same way when it is handed them: this is for callers
+    that check before any work starts."""
+    return _core.check_albedo_options(given)
 
 
 def azimuth(phi: Any) -> tuple[np.ndarray | None, bool]:

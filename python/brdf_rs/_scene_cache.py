@@ -116,7 +116,7 @@ def scene_tables(
 
     scene = as_scene(scene)
     mu_count = _arrays.integer("mu_count", mu_count, 1, 1 << 20)
-    checked = _options.check(samples, "auto", "sobol", seed, tol, None, _options.DEFAULT_REPLICATES)
+    checked = _options.check({"samples": samples, "seed": seed, "tol": tol})
     samples, seed, tol = checked["samples"], checked["seed"], checked["tol"]
     directory = Path(cache_dir) if cache_dir is not None else default_cache_dir()
     directory.mkdir(parents=True, exist_ok=True)

@@ -194,13 +194,14 @@ def cmd_table(args: argparse.Namespace) -> int:
     # Everything is checked before any work (and before a progress bar is drawn).
     _grid.table_axes(model, axes, params)
     _options.check(
-        args.samples,
-        args.sampler,
-        args.sequence,
-        args.seed,
-        tol,
-        args.max_samples,
-        _options.DEFAULT_REPLICATES,
+        {
+            "samples": args.samples,
+            "sampler": args.sampler,
+            "sequence": args.sequence,
+            "seed": args.seed,
+            "tol": tol,
+            "max_samples": args.max_samples,
+        }
     )
     out = _table_output(args.output, f"albedo_{model}.npz", TABLE_FORMATS, args.plot)
     plot_path = _plot_path(args.plot)

@@ -291,17 +291,8 @@ def _make_plan(model: str, axes: Mapping[str, Any], chunks: Any, options: dict[s
         if bad in options:
             raise TypeError(f"{bad}: not available for Dask builds ({why})")
     opts = {k: options.pop(k) for k in _OPTION_NAMES if k in options}
-    defaults = {
-        "samples": 4096,
-        "sampler": "auto",
-        "sequence": "sobol",
-        "seed": 0,
-        "tol": None,
-        "max_samples": None,
-        "replicates": _options.DEFAULT_REPLICATES,
-    }
-    opts = {**defaults, **opts}
-    checked = _options.check(**opts)  # the local build's checks and messages
+    opts = {**_options.check({}), **opts}  # every option: the defaults, then the given
+    checked = _options.check(opts)  # the local build's checks and messages
     fixed = options
     names, coords, colour = _grid.table_axes(model, axes, fixed)
     _probe(model, names, colour, coords, fixed, opts)

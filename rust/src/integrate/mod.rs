@@ -88,7 +88,8 @@ pub use crate::sampling::SamplerChoice;
 use crate::simd;
 use cell::integrate_cell_isa;
 pub use options::{
-    AlbedoOptions, CellResult, MAX_SAMPLES_PER_CELL, MAX_SAMPLES_PER_REQUEST, Progress,
+    AlbedoOptions, CellResult, DEFAULT_REPLICATES, MAX_REPLICATES, MAX_SAMPLES_PER_CELL,
+    MAX_SAMPLES_PER_REQUEST, MIN_REPLICATES, Progress,
 };
 
 mod beckmann;

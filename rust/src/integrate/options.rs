@@ -11,6 +11,10 @@ use crate::sampling::streams::{SOBOL_MAX_POINTS, Sequence};
 pub const MAX_SAMPLES_PER_CELL: u64 = 1 << 40;
 /// The largest total sample count one request may ask for (2^44 ≈ 1.8e13: days of work).
 pub const MAX_SAMPLES_PER_REQUEST: f64 = 17_592_186_044_416.0;
+/// Independent scrambles per Sobol cell: the fewest and most allowed, and the default.
+pub const MIN_REPLICATES: u32 = 2;
+pub const MAX_REPLICATES: u32 = 4096;
+pub const DEFAULT_REPLICATES: u32 = 16;
 
 /// Options of an albedo computation.
 #[derive(Clone, Copy, Debug)]
@@ -44,7 +48,7 @@ impl Default for AlbedoOptions {
             seed: 0,
             tol: None,
             max_samples: 1 << 24,
-            replicates: 16,
+            replicates: DEFAULT_REPLICATES,
             fold_azimuth: true,
             average_azimuth: false,
         }
@@ -72,9 +76,10 @@ impl AlbedoOptions {
                 ));
             }
         }
-        if self.replicates < 2 || self.replicates > 4096 {
+        if !(MIN_REPLICATES..=MAX_REPLICATES).contains(&self.replicates) {
             return bad(format!(
-                "replicates: must be between 2 and 4096 (independent scrambles per cell); got {}",
+                "replicates: must be between {MIN_REPLICATES} and {MAX_REPLICATES} \
+                 (independent scrambles per cell); got {}",
                 self.replicates
             ));
         }

@@ -20,9 +20,9 @@ use crate::integrate::{self, AlbedoOptions, CellResult, Cells, Progress, Sampler
 use crate::math::Real;
 use crate::models::spec::{ExactFactor, SceneUse};
 use crate::models::{ModelKind, ParamKind, TangentUse};
-use crate::sampling::streams::Sequence;
 
 mod fast;
+mod options;
 mod scene;
 
 impl From<BrdfError> for PyErr {
@@ -393,21 +393,17 @@ fn run_interruptible<'py, T: Send>(
 
 /// Directional albedo of every cell of `mu` broadcast with `params` (see
 /// `brdf_rs.albedo`). Returns `(value, stderr, samples)`.
+/// `options` is the dict of the integrator's options, converted by
+/// [`options::albedo_options`] as `check_albedo_options` converts it.
 #[pyfunction]
-#[pyo3(signature = (model, mu, params, samples, sampler, sequence, seed, tol, max_samples, replicates, cell_ids=None, progress=None, fold_azimuth=true, phi=None, average_azimuth=false))]
+#[pyo3(signature = (model, mu, params, options, cell_ids=None, progress=None, fold_azimuth=true, phi=None, average_azimuth=false))]
 #[allow(clippy::too_many_arguments)]
 fn albedo<'py>(
     py: Python<'py>,
     model: &str,
     mu: Arr<'py, f64>,
     params: &Bound<'py, PyDict>,
-    samples: u64,
-    sampler: &str,
-    sequence: &str,
-    seed: u64,
-    tol: Option<f64>,
-    max_samples: Option<u64>,
-    replicates: u32,
+    options: &Bound<'py, PyDict>,
     cell_ids: Option<PyReadonlyArrayDyn<'py, u64>>,
     progress: Option<Bound<'py, PyAny>>,
     fold_azimuth: bool,
@@ -415,22 +411,10 @@ fn albedo<'py>(
     average_azimuth: bool,
 ) -> PyResult<AlbedoArrays<'py>> {
     let kind = ModelKind::from_name(model)?;
-    let sampler = sampler_choice(sampler)?;
-    let sequence = Sequence::from_name(sequence).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "sequence: expected \"sobol\" or \"random\"; got {sequence:?}"
-        ))
-    })?;
     let options = AlbedoOptions {
-        samples,
-        sampler,
-        sequence,
-        seed,
-        tol,
-        max_samples: max_samples.unwrap_or_else(|| samples.max(1 << 24)),
-        replicates,
         fold_azimuth,
         average_azimuth,
+        ..options::albedo_options(options)?.0
     };
     let params = param_arrays::<f64>(params)?;
     let views = params
@@ -478,12 +462,8 @@ fn albedo<'py>(
     ))
 }
 
-fn sampler_choice(name: &str) -> PyResult<SamplerChoice> {
-    SamplerChoice::from_name(name).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "sampler: expected \"auto\", \"importance\", \"cosine\" or \"uniform\"; got {name:?}"
-        ))
-    })
+fn sampler_choice(name: &Bound<'_, PyAny>) -> PyResult<SamplerChoice> {
+    Ok(SamplerChoice::ALL[options::index("sampler", name, &SamplerChoice::NAMES)?])
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -495,7 +475,7 @@ fn sampling_call<'py>(
     n: Option<Arr<'py, f64>>,
     tangent: Option<Arr<'py, f64>>,
     params: &Bound<'py, PyDict>,
-    sampler: &str,
+    sampler: &Bound<'py, PyAny>,
     sampling: bool,
 ) -> PyResult<eval::sample::Output> {
     let kind = ModelKind::from_name(model)?;
@@ -542,7 +522,7 @@ fn sample<'py>(
     n: Option<Arr<'py, f64>>,
     tangent: Option<Arr<'py, f64>>,
     params: &Bound<'py, PyDict>,
-    sampler: &str,
+    sampler: &Bound<'py, PyAny>,
 ) -> PyResult<Arrays3<'py>> {
     let out = sampling_call(py, model, wi, u, n, tangent, params, sampler, true)?;
     let mut vec_shape = out.batch.clone();
@@ -565,7 +545,7 @@ fn pdf<'py>(
     n: Option<Arr<'py, f64>>,
     tangent: Option<Arr<'py, f64>>,
     params: &Bound<'py, PyDict>,
-    sampler: &str,
+    sampler: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let out = sampling_call(py, model, wi, wo, n, tangent, params, sampler, false)?;
     shaped(py, out.pdf, out.batch)
@@ -619,6 +599,18 @@ mod brdf_rs_ext {
 
     #[pymodule_export]
     use super::fast::{PreparedModel, eval_fast, prepare_model};
+
+    #[pymodule_export]
+    use super::options::{check_albedo_options, choice_option, integer_option, real_option};
+
+    #[pymodule_export]
+    const SAMPLERS: [&str; 4] = crate::sampling::SamplerChoice::NAMES;
+
+    #[pymodule_export]
+    const SEQUENCES: [&str; 2] = crate::sampling::streams::Sequence::NAMES;
+
+    #[pymodule_export]
+    const DEFAULT_REPLICATES: u32 = crate::integrate::DEFAULT_REPLICATES;
 
     #[pymodule_export]
     use super::scene::{

@@ -34,15 +34,24 @@ pub enum SamplerChoice {
 }
 
 impl SamplerChoice {
+    /// Every choice, in the order the interfaces list them.
+    pub const ALL: [SamplerChoice; 4] = [
+        SamplerChoice::Auto,
+        SamplerChoice::Importance,
+        SamplerChoice::Cosine,
+        SamplerChoice::Uniform,
+    ];
+    /// Their names, in the same order.
+    pub const NAMES: [&'static str; 4] = ["auto", "importance", "cosine", "uniform"];
+
+    /// Returns the name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
     /// Parses `auto`, `importance`, `cosine` or `uniform`.
     pub fn from_name(name: &str) -> Option<SamplerChoice> {
-        match name {
-            "auto" => Some(SamplerChoice::Auto),
-            "importance" => Some(SamplerChoice::Importance),
-            "cosine" => Some(SamplerChoice::Cosine),
-            "uniform" => Some(SamplerChoice::Uniform),
-            _ => None,
-        }
+        Self::ALL.into_iter().find(|c| c.name() == name)
     }
 }
 
@@ -439,6 +448,21 @@ pub fn reflected_pdf(half_pdf: f64, wo_dot_h: f64) -> f64 {
 mod tests {
     use super::*;
     use std::f64::consts::{PI, TAU};
+
+    #[test]
+    fn sampler_and_sequence_names_parse_back() {
+        for c in SamplerChoice::ALL {
+            assert_eq!(SamplerChoice::from_name(c.name()), Some(c));
+        }
+        for name in streams::Sequence::NAMES {
+            assert_eq!(
+                streams::Sequence::from_name(name).map(|s| s.name()),
+                Some(name)
+            );
+        }
+        assert_eq!(SamplerChoice::from_name("Auto"), None);
+        assert_eq!(streams::Sequence::from_name("halton"), None);
+    }
 
     /// Integrates a warp's pdf over the sphere by a fine midpoint rule.
     fn pdf_integral(w: Warp) -> f64 {

@@ -24,6 +24,9 @@ pub enum Sequence {
 }
 
 impl Sequence {
+    /// The names of the sequences, in the order the interfaces list them.
+    pub const NAMES: [&'static str; 2] = ["sobol", "random"];
+
     /// Parses `"random"` or `"sobol"`.
     pub fn from_name(name: &str) -> Option<Sequence> {
         match name {
