@@ -1,14 +1,17 @@
-"""How efficiently the sheen and cloth lobes are sampled: uniform against cosine draws.
+"""How efficiently the sheen and cloth lobes are sampled: uniform, cosine and the model's own.
 
-The sheen models peak where the half vector lies near the surface (grazing angles), so
-``brdf_rs.sample`` and the integrator draw them uniformly over the hemisphere. For each
-model, incidence and roughness this measures, over 2^18 random draws per sampler
-(``sampler="uniform"`` and ``sampler="cosine"``, kd = 0, ks = 1), the mean weight (the
-albedo) and the per-draw relative spread ``sd(weight)/mean(weight)``: the number of
-draws an estimate needs for a given relative error is proportional to its square. Also
-the largest weight seen (cosine draws of ``charlie_sheen`` have weights ``f·π`` that grow
-like ``1/mu_o``). Prints a table, writes ``benches/results/sheen_sampling.md`` and a
-plot ``benches/results/sheen_sampling.png`` (relative spread against roughness).
+The Charlie sheens peak where the half vector lies near the surface (grazing angles), so
+``brdf_rs.sample`` and the integrator draw them uniformly over the hemisphere; Ashikhmin's
+cloth is nearly flat near normal incidence and peaks at grazing ``wo`` near grazing
+incidence, and draws from a mixture of cosine and uniform draws that moves with the
+incidence. For each model, incidence and roughness this measures, over 2^18 random draws
+per sampler (``sampler="uniform"``, ``"cosine"`` and ``"auto"``, the model's own; kd = 0,
+ks = 1), the mean weight (the albedo) and the per-draw relative spread
+``sd(weight)/mean(weight)``: the number of draws an estimate needs for a given relative
+error is proportional to its square. Also the largest weight seen (cosine draws of
+``charlie_sheen`` have weights ``f·π`` that grow like ``1/mu_o``). Prints a table, writes
+``benches/results/sheen_sampling.md`` and a plot ``benches/results/sheen_sampling.png``
+(relative spread against roughness).
 
     python benches/sheen_sampling.py
 """
@@ -24,7 +27,7 @@ import numpy as np
 MODELS = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth")
 MUS = (1.0, 0.5, 0.1)
 ALPHAS = (0.05, 0.2, 0.5, 1.0)
-SAMPLERS = ("uniform", "cosine")
+SAMPLERS = ("uniform", "cosine", "auto")
 DRAWS = 1 << 18
 OUT = Path(__file__).resolve().parent / "results"
 
@@ -46,8 +49,9 @@ def main() -> None:
     args = parser.parse_args()
     rows = [
         "| model | mu | alpha | albedo | rel. spread, uniform | rel. spread, cosine | "
-        "draws cosine needs per uniform draw | largest weight, uniform | largest, cosine |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "rel. spread, own | draws cosine needs per uniform draw | draws own needs per draw "
+        "of the better of the two | largest weight, uniform | largest, cosine | largest, own |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     curves: dict[tuple[str, float, str], list[float]] = {}
     for model in MODELS:
@@ -55,11 +59,15 @@ def main() -> None:
             for alpha in ALPHAS:
                 stats = {s: spread(model, mu, alpha, s) for s in SAMPLERS}
                 (mean, su, mu_max), (_, sc, mc_max) = stats["uniform"], stats["cosine"]
+                _, so, mo_max = stats["auto"]
                 for s in SAMPLERS:
                     curves.setdefault((model, mu, s), []).append(stats[s][1])
+                best = min(su, sc)
+                own = f"{(so / best) ** 2:.2f}" if best > 1e-9 * so else "(the better is exact)"
                 rows.append(
                     f"| {model} | {mu:g} | {alpha:g} | {mean:.4g} | {su:.3g} | {sc:.3g} | "
-                    f"{(sc / su) ** 2:.2f} | {mu_max:.3g} | {mc_max:.3g} |"
+                    f"{so:.3g} | {(sc / su) ** 2:.2f} | {own} | {mu_max:.3g} | {mc_max:.3g} | "
+                    f"{mo_max:.3g} |"
                 )
     text = "\n".join(rows)
     print(text)
@@ -83,7 +91,7 @@ def main() -> None:
     fig, axes = plt.subplots(1, len(MODELS), figsize=(12, 3.6), sharey=True)
     for ax, model in zip(axes, MODELS, strict=True):
         for mu in MUS:
-            for s, style in zip(SAMPLERS, ("-", "--"), strict=True):
+            for s, style in zip(SAMPLERS, ("-", "--", ":"), strict=True):
                 ax.plot(ALPHAS, curves[(model, mu, s)], style, marker="o", label=f"mu={mu:g} {s}")
         ax.set_xscale("log")
         ax.set_yscale("log")

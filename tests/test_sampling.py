@@ -208,11 +208,12 @@ def _chi2_cases() -> list[Case]:
     for model, points in microfacet_points.items():
         for mu, roughness, mixture in points:
             cases.append(Case.of(model, mu, **_params(model, roughness, mixture)))
-    # Sheen and cloth (drawn uniformly): grazing to normal incidence, sharp to wide.
+    # Sheen (drawn uniformly) and cloth (a cosine/uniform mixture whose shares move with
+    # mu and alpha): grazing to normal incidence, sharp to wide.
     sheen_points = {
         "charlie_sheen": [(0.05, 0.3, False), (0.5, 1.0, True), (0.95, 0.01, False)],
         "charlie_sheen_neubelt": [(0.5, 0.05, False)],
-        "ashikhmin_cloth": [(0.95, 0.5, True)],
+        "ashikhmin_cloth": [(0.95, 0.5, True), (0.3, 0.8, False), (0.05, 0.05, False)],
     }
     for model, points in sheen_points.items():
         for mu, roughness, mixture in points:

@@ -212,6 +212,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         (SamplerChoice::Cosine, _) | (_, Importance::Cosine) => {
                             Warp::CosineHemisphere
                         }
+                        (_, Importance::CosineUniform { cosine }) => Warp::CosineUniform { cosine },
                         (_, Importance::PhongLobe { p }) => Warp::PhongLobe { p },
                         (_, Importance::BlinnHalf { p }) => Warp::BlinnHalf { p },
                         (_, Importance::GgxVisible { alpha }) => Warp::GgxVisible { alpha },
@@ -358,8 +359,10 @@ impl<K: Kernel> CellIntegrand<K> {
         let mut stratified = Vec::new();
         for (k, lobe) in self.lobes.iter_mut().enumerate() {
             let hits: u64 = sums.iter().map(|s| s.hits[k]).sum();
-            let plain = matches!(lobe.warp, Warp::CosineHemisphere | Warp::UniformHemisphere)
-                && lobe.ggx.is_none()
+            let plain = matches!(
+                lobe.warp,
+                Warp::CosineHemisphere | Warp::UniformHemisphere | Warp::CosineUniform { .. }
+            ) && lobe.ggx.is_none()
                 && lobe.beckmann.is_none();
             if !plain && hits * MIN_HIT_RATE < total {
                 lobe.warp = Warp::CosineHemisphere;

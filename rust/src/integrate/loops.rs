@@ -176,6 +176,7 @@ fn directions(
     match warp {
         Warp::UniformHemisphere => both_folds!(Warp::UniformHemisphere, normal),
         Warp::CosineHemisphere => both_folds!(Warp::CosineHemisphere, normal),
+        Warp::CosineUniform { cosine } => both_folds!(Warp::CosineUniform { cosine }, normal),
         Warp::PhongLobe { p } => both_folds!(Warp::PhongLobe { p }, mirror),
         Warp::BlinnHalf { p } => both_folds!(Warp::BlinnHalf { p }, half),
         Warp::BlinnStratum { p, v_lo, width } => {
@@ -236,6 +237,7 @@ fn directions_averaged(
     match warp {
         Warp::UniformHemisphere => average_loop!(Warp::UniformHemisphere, normal),
         Warp::CosineHemisphere => average_loop!(Warp::CosineHemisphere, normal),
+        Warp::CosineUniform { cosine } => average_loop!(Warp::CosineUniform { cosine }, normal),
         Warp::PhongLobe { p } => average_loop!(Warp::PhongLobe { p }, mirror),
         Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
         Warp::BlinnStratum { p, v_lo, width } => {

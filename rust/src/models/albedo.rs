@@ -22,6 +22,12 @@ pub enum Importance {
     /// Uniform over the hemisphere (lobes that peak at grazing angles, such as sheen,
     /// whose weight `f·mu_o·2π` stays bounded where cosine sampling's `f·π` does not).
     Uniform,
+    /// A one-sample mixture of the two: cosine-weighted with probability `cosine`, else
+    /// uniform; the density is the mixture's, `cosine·mu/π + (1 − cosine)/(2π)`, so the
+    /// weight never exceeds `1/(1 − cosine)` times the uniform one or `1/cosine` times
+    /// the cosine one (lobes that are flat at some incidences and peak at grazing
+    /// angles at others, such as Ashikhmin's cloth).
+    CosineUniform { cosine: f64 },
     /// The Phong lobe `cos^p α_r` about the mirror direction.
     PhongLobe { p: f64 },
     /// Half vectors from the Blinn NDF `∝ cos^p θh` (pdf_h `= D·cos θh`).

@@ -6,7 +6,7 @@
 //! share is taken as 0 where `cot²θh/α²` is beyond 700 (the exponential is below 1e-304
 //! there, and would underflow before `1/sin⁴θh` could overflow) and where `h = n`.
 
-use super::albedo::Term;
+use super::albedo::{Importance, Term};
 use super::sheen::{self, Colours, SHEEN_SPEC, Angles};
 use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
@@ -86,7 +86,18 @@ impl Kernel for AshikhminCloth {
         pp.colours.rgb_wide(lobe, &a, w)
     }
 
-    fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(sheen::albedo_terms(slots))
+    /// The lobe drawn from a mixture of cosine and uniform draws, mostly cosine near
+    /// normal incidence (where a narrow lobe is nearly flat and cosine draws nearly
+    /// exact) and mostly uniform near grazing incidence (where it peaks at grazing
+    /// `wo`); for alpha above 1/2 the lobe is no longer flat at normal incidence and the
+    /// cosine share falls to half of that at alpha = 1. `benches/sheen_sampling.py`
+    /// measures the three samplers.
+    fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
+        let wide = (2.0 * ALPHA.read(slots) - 1.0).clamp(0.0, 1.0);
+        let cosine = (0.05 + 0.9 * mu.clamp(0.0, 1.0)) * (1.0 - 0.5 * wide);
+        Some(sheen::albedo_terms(
+            slots,
+            Importance::CosineUniform { cosine },
+        ))
     }
 }

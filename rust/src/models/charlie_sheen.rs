@@ -6,7 +6,7 @@
 //! `G2 = 1/(1 + Λ(mu_i) + Λ(mu_o))` with the fitted `Λ` of [`sheen::LambdaFit`]; no
 //! Fresnel term and no terminator softening (which would break reciprocity).
 
-use super::albedo::Term;
+use super::albedo::{Importance, Term};
 use super::sheen::{self, Colours, SHEEN_SPEC, Charlie, LambdaFit};
 use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
@@ -76,6 +76,6 @@ impl Kernel for CharlieSheen {
     }
 
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(sheen::albedo_terms(slots))
+        Some(sheen::albedo_terms(slots, Importance::Uniform))
     }
 }

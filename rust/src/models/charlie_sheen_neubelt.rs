@@ -5,7 +5,7 @@
 //! `f = kd/π + ks·D·V`, `D = (2 + 1/α)·sin(θh)^(1/α)/(2π)`,
 //! `V = 1/(4(mu_i + mu_o − mu_i·mu_o))` ([`sheen::neubelt`], bounded).
 
-use super::albedo::Term;
+use super::albedo::{Importance, Term};
 use super::sheen::{self, Colours, SHEEN_SPEC, Charlie};
 use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
@@ -67,6 +67,6 @@ impl Kernel for CharlieSheenNeubelt {
     }
 
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        Some(sheen::albedo_terms(slots))
+        Some(sheen::albedo_terms(slots, Importance::Uniform))
     }
 }

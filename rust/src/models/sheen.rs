@@ -112,8 +112,9 @@ impl<F: Real> Colours<F> {
 }
 
 /// The albedo terms of every sheen model: `kd` exactly, the lobe at `ks = 1` drawn
-/// uniformly over the hemisphere.
-pub fn albedo_terms(slots: &[f64]) -> Vec<Term> {
+/// with `importance` (uniformly over the hemisphere for the Charlie sheens: measured,
+/// `benches/sheen_sampling.py`).
+pub fn albedo_terms(slots: &[f64], importance: Importance) -> Vec<Term> {
     vec![
         Term {
             colour: KD.read(slots),
@@ -123,7 +124,7 @@ pub fn albedo_terms(slots: &[f64]) -> Vec<Term> {
             colour: KS.read(slots),
             integral: Integral::Lobe {
                 basis: basis(slots, &[(KD, 0.0), (KS, 1.0)]),
-                importance: Importance::Uniform,
+                importance,
             },
         },
     ]

@@ -18,6 +18,7 @@ pub fn warp_of(importance: Importance) -> Warp {
     match importance {
         Importance::Cosine => Warp::CosineHemisphere,
         Importance::Uniform => Warp::UniformHemisphere,
+        Importance::CosineUniform { cosine } => Warp::CosineUniform { cosine },
         Importance::PhongLobe { p } => Warp::PhongLobe { p },
         Importance::BlinnHalf { p } => Warp::BlinnHalf { p },
         Importance::GgxVisible { alpha } => Warp::GgxVisible { alpha },

@@ -236,6 +236,12 @@ impl GgxVisibleNormals {
     }
 }
 
+/// The density of [`Warp::CosineUniform`] at a direction of cosine `cos` (> 0).
+#[inline(always)]
+fn mixture_density(cosine: f64, cos: f64) -> f64 {
+    (cosine * cos + 0.5 * (1.0 - cosine)) * FRAC_1_PI
+}
+
 /// A warp of the unit square onto directions about the local +z axis (the normal or
 /// the mirror direction); the half-vector warps return the half vector `h`, to be
 /// reflected into `wo` (density `pdf_h / (4 |wo·h|)`).
@@ -245,6 +251,10 @@ pub enum Warp {
     UniformHemisphere,
     /// Cosine-weighted on the upper hemisphere: pdf `cos θ/π`.
     CosineHemisphere,
+    /// Cosine-weighted with probability `cosine`, else uniform (`u0` below `cosine`
+    /// picks the cosine warp and is stretched back onto `[0, 1)`): pdf
+    /// `cosine·cos θ/π + (1 − cosine)/(2π)`, the mixture's, whichever drew the point.
+    CosineUniform { cosine: f64 },
     /// The Phong lobe `(p+1)/(2π)·cos^p α` about the axis, over the whole sphere's
     /// upper half about the axis (the caller rejects directions below the surface).
     PhongLobe { p: f64 },
@@ -318,6 +328,19 @@ impl Warp {
                 let cos = v.sqrt();
                 spherical(cos, u0 / (1.0 + cos), azimuth(a, full), cos * FRAC_1_PI)
             }
+            Warp::CosineUniform { cosine } => {
+                let picked = u0 < cosine;
+                let (warp, u) = if picked {
+                    (Warp::CosineHemisphere, u0 / cosine)
+                } else {
+                    (Warp::UniformHemisphere, (u0 - cosine) / (1.0 - cosine))
+                };
+                // Rounding may land the stretched number on 1: keep it below.
+                let u = u.min(1.0 - f64::EPSILON / 2.0);
+                let s = warp.sample_azimuth(wi, u, a, full);
+                let pdf = mixture_density(cosine, s.dir.z);
+                Sampled { pdf, ..s }
+            }
             Warp::PhongLobe { p } => power_cosine(v, p + 1.0, 1.0, azimuth(a, full)),
             Warp::BlinnHalf { p } => power_cosine(v, p + 2.0, 1.0, azimuth(a, full)),
             Warp::BlinnStratum { p, v_lo, width } => {
@@ -379,6 +402,7 @@ impl Warp {
         let density = match *self {
             Warp::UniformHemisphere => 0.5 * FRAC_1_PI,
             Warp::CosineHemisphere => cos * FRAC_1_PI,
+            Warp::CosineUniform { cosine } => mixture_density(cosine, cos),
             Warp::PhongLobe { p } => {
                 (p + 1.0) * 0.5 * FRAC_1_PI * pow_unit_f64(c, one_minus_cos, p)
             }
@@ -487,6 +511,8 @@ mod tests {
         for w in [
             Warp::UniformHemisphere,
             Warp::CosineHemisphere,
+            Warp::CosineUniform { cosine: 0.05 },
+            Warp::CosineUniform { cosine: 0.7 },
             Warp::PhongLobe { p: 0.0 },
             Warp::PhongLobe { p: 7.5 },
             Warp::PhongLobe { p: 300.0 },
@@ -582,6 +608,9 @@ mod tests {
         for w in [
             Warp::UniformHemisphere,
             Warp::CosineHemisphere,
+            Warp::CosineUniform { cosine: 0.05 },
+            Warp::CosineUniform { cosine: 0.5 },
+            Warp::CosineUniform { cosine: 0.95 },
             Warp::PhongLobe { p: 3.5 },
             Warp::PhongLobe { p: 1e5 },
             Warp::BlinnHalf { p: 0.0 },
@@ -632,6 +661,27 @@ mod tests {
         }
     }
 
+    /// The mixture draws its share of points from each warp, each as that warp draws its
+    /// own (stretched) number, with the mixture's density.
+    #[test]
+    fn the_cosine_uniform_mixture_draws_from_both_warps() {
+        let cosine = 0.25;
+        let w = Warp::CosineUniform { cosine };
+        for (u0, warp, stretched) in [
+            (0.2, Warp::CosineHemisphere, 0.8),
+            (0.625, Warp::UniformHemisphere, 0.5),
+        ] {
+            let s = w.sample(DVec3::Z, [u0, 0.3]);
+            let t = warp.sample(DVec3::Z, [stretched, 0.3]);
+            assert!((s.dir - t.dir).length() < 1e-15, "{s:?} {t:?}");
+            let want = (cosine * s.dir.z + 0.5 * (1.0 - cosine)) / PI;
+            assert!((s.pdf - want).abs() < 1e-15);
+        }
+        // u0 just below 1 still gives a direction above the plane.
+        let s = w.sample(DVec3::Z, [1.0 - f64::EPSILON / 2.0, 0.5]);
+        assert!(s.dir.z >= 0.0 && s.pdf.is_finite() && s.pdf > 0.0);
+    }
+
     /// A stratum draws the lobe restricted to its range of `v = cos^(p+k)` (`k` = 2 for
     /// Blinn half vectors, 1 for the Phong lobe); the whole range is bitwise the whole
     /// lobe's warp.
@@ -678,6 +728,7 @@ mod tests {
     fn samples_are_unit_and_above_the_axis_plane() {
         for w in [
             Warp::CosineHemisphere,
+            Warp::CosineUniform { cosine: 0.3 },
             Warp::PhongLobe { p: 1e6 },
             Warp::BlinnHalf { p: 0.0 },
         ] {
