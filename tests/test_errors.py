@@ -162,6 +162,11 @@ def test_the_cores_option_converter_refuses_an_unknown_option_and_fills_defaults
     }
 
 
+def test_albedo_checks_its_options_before_the_cell_ids():
+    with pytest.raises(ValueError, match=r"^samples: expected an integer from 1 to 2\*\*40"):
+        brdf_rs.albedo("ggx", 0.5, samples=0, cell_ids=[-1])
+
+
 @pytest.mark.parametrize("sampler", [3, None, "magic"])
 def test_sample_and_pdf_name_a_bad_sampler(sampler):
     error = TypeError if not isinstance(sampler, str) else ValueError

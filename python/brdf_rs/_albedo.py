@@ -131,9 +131,11 @@ def albedo(
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
-    ids = _options.cell_ids(cell_ids)
     options = {"samples": samples, "sampler": sampler, "sequence": sequence, "seed": seed}
     options.update(replicates=replicates, tol=tol, max_samples=max_samples)
+    # Checked before cell_ids (the core converts them again, by the same code).
+    options = _options.check(options)
+    ids = _options.cell_ids(cell_ids)
     value, stderr, drawn = _core.albedo(
         model,
         mu_array,

@@ -6,8 +6,8 @@ converts what is not already a float array of that dtype (ints, lists, big-endia
 floats, mixed widths). Float arrays of the chosen dtype pass through without a copy.
 
 It also holds the checks every public function shares for arguments that are not arrays
-(a model name, an integer option, a number, a name from a list): each error names the
-argument. The last three are worded once, in the core (``rust/src/py/options.rs``).
+(a model name, an integer option, a name from a list): each error names the
+argument. Integers and names are worded once, in the core (``rust/src/py/options.rs``).
 """
 
 from __future__ import annotations
@@ -92,11 +92,6 @@ def is_real(value: Any) -> bool:
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
         value, (bool, np.bool_)
     )
-
-
-def real(name: str, value: Any, what: str = "a number") -> float:
-    """One finite real number as a float, or an error naming ``name`` and ``what``."""
-    return _core.real_option(name, value, what)
 
 
 #: The largest value of an unsigned 64-bit integer (seeds, sample counts, cell ids).

@@ -601,7 +601,7 @@ mod brdf_rs_ext {
     use super::fast::{PreparedModel, eval_fast, prepare_model};
 
     #[pymodule_export]
-    use super::options::{check_albedo_options, choice_option, integer_option, real_option};
+    use super::options::{check_albedo_options, choice_option, integer_option};
 
     #[pymodule_export]
     const SAMPLERS: [&str; 4] = crate::sampling::SamplerChoice::NAMES;

@@ -226,8 +226,7 @@ pub(crate) fn albedo_options(given: &Bound<'_, PyDict>) -> PyResult<(AlbedoOptio
         o.sampler = SamplerChoice::ALL[index("sampler", &v, &SamplerChoice::NAMES)?];
     }
     if let Some(v) = get("sequence")? {
-        let name = choice("sequence", &v, &Sequence::NAMES)?;
-        o.sequence = Sequence::from_name(name).unwrap_or(o.sequence);
+        o.sequence = Sequence::ALL[index("sequence", &v, &Sequence::NAMES)?];
     }
     if let Some(v) = get("seed")? {
         o.seed = integer("seed", &v, 0, U64_MAX, "")?;
@@ -296,13 +295,6 @@ pub(crate) fn integer_option(
     hi_text: &str,
 ) -> PyResult<u64> {
     integer(name, value, lo, hi.unwrap_or(U64_MAX), hi_text)
-}
-
-/// A finite real option (see [`real`]).
-#[pyfunction]
-#[pyo3(name = "real_option", signature = (name, value, what = "a number"))]
-pub(crate) fn real_option(name: &str, value: &Bound<'_, PyAny>, what: &str) -> PyResult<f64> {
-    real(name, value, what)
 }
 
 /// A string option, one of `choices` (see [`choice`]).

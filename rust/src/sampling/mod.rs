@@ -336,7 +336,7 @@ impl Warp {
                     (Warp::UniformHemisphere, (u0 - cosine) / (1.0 - cosine))
                 };
                 // Rounding may land the stretched number on 1: keep it below.
-                let u = u.min(1.0 - f64::EPSILON / 2.0);
+                let u = u.min(ONE_BELOW);
                 let s = warp.sample_azimuth(wi, u, a, full);
                 let pdf = mixture_density(cosine, s.dir.z);
                 Sampled { pdf, ..s }

@@ -24,23 +24,21 @@ pub enum Sequence {
 }
 
 impl Sequence {
-    /// The names of the sequences, in the order the interfaces list them.
+    /// Every sequence, in the order the interfaces list them.
+    pub const ALL: [Sequence; 2] = [Sequence::Sobol, Sequence::Random];
+    /// Their names, in the same order.
     pub const NAMES: [&'static str; 2] = ["sobol", "random"];
 
     /// Parses `"random"` or `"sobol"`.
     pub fn from_name(name: &str) -> Option<Sequence> {
-        match name {
-            "random" => Some(Sequence::Random),
-            "sobol" => Some(Sequence::Sobol),
-            _ => None,
-        }
+        Self::ALL.into_iter().find(|s| s.name() == name)
     }
 
     /// Returns the name.
     pub fn name(self) -> &'static str {
         match self {
-            Sequence::Random => "random",
-            Sequence::Sobol => "sobol",
+            Sequence::Sobol => Self::NAMES[0],
+            Sequence::Random => Self::NAMES[1],
         }
     }
 }
