@@ -17,7 +17,8 @@ Tables are integrated with Sobol points, where a warp's shape in the unit square
 as well as its density: a second table compares, for a 16 x 8 table of each model
 (mu at texel centres, alpha log-spaced from 0.01 to 1), the median standard error and
 the RMS error against a 2^18-sample table of the model's own sampler, at 256 and 4096
-samples per cell, for each sampler.
+samples per cell, for each sampler ("own" is the default, ``"auto"``: with Sobol points
+the integrator draws the cloth uniformly, as this table measured).
 
     python benches/sheen_sampling.py
 """
