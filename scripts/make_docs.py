@@ -49,6 +49,9 @@ SHOWCASE: dict[str, dict[str, Any]] = {
     "ggx": {"kd": [0.3, 0.12, 0.05], "ks": 0.04, "alpha": 0.15},
     "beckmann": {"kd": [0.3, 0.12, 0.05], "ks": 0.04, "alpha": 0.15},
     "ggx_ms": {"alpha": 0.8},
+    # Gold-like per-channel eta and k.
+    "ggx_conductor": {"eta": [0.14, 0.37, 1.44], "k": [3.98, 2.38, 1.60], "alpha": 0.15},
+    "beckmann_conductor": {"eta": [0.14, 0.37, 1.44], "k": [3.98, 2.38, 1.60], "alpha": 0.15},
     "beckmann_ms": {"alpha": 0.8},
     "ward": {"kd": [0.6, 0.25, 0.1], "ks": 0.3, "alpha_x": 0.1, "alpha_y": 0.4},
     "ashikhmin_shirley": {"Rd": [0.6, 0.25, 0.1], "nu": 20, "nv": 400},

@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -442,6 +442,47 @@ def _beckmann(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
     return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
 
 
+def _conductor_fresnel(g: _Geometry, eta: mpf, k: mpf) -> mpf:
+    """pbrt-v4's ``FrComplex`` at ``cos_b``, as it is written (complex Snell's law, the
+    average of the s- and p-reflectances), at 40 more digits than the working precision:
+    the differences in ``r_s`` and ``r_p`` cancel as ``eta + i·k → 1``."""
+    with mpmath.extradps(40):
+        cos_i = g.cos_b
+        sin2_i = g.one_minus_cos_b * (1 + cos_i)
+        eta_c = mpmath.mpc(eta, k)
+        cos_t = mpmath.sqrt(1 - sin2_i / (eta_c * eta_c))
+        r_parl = (eta_c * cos_i - cos_t) / (eta_c * cos_i + cos_t)
+        r_perp = (cos_i - eta_c * cos_t) / (cos_i + eta_c * cos_t)
+        value = (abs(r_parl) ** 2 + abs(r_perp) ** 2) / 2
+    return +value
+
+
+def _fresnel_variant(
+    g: _Geometry, kd: Colour, lobe: Colour, fresnel: Callable[[int], mpf]
+) -> Colour:
+    """``kd/π + F·lobe`` per channel: ``lobe`` the base model's value at ``kd = 0``,
+    ``ks = 1`` (F = 1), ``fresnel(channel)`` its Fresnel term."""
+    red, green, blue = (
+        d / mpmath.pi + (fresnel(c) * x if x != 0 else mpf(0))
+        for c, (d, x) in enumerate(zip(kd, lobe, strict=True))
+    )
+    return red, green, blue
+
+
+_ONE = (mpf(1), mpf(1), mpf(1))
+_ZERO = (mpf(0), mpf(0), mpf(0))
+
+
+def _ggx_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha: mpf) -> Colour:
+    lobe = _ggx(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
+
+
+def _beckmann_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha: mpf) -> Colour:
+    lobe = _beckmann(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
+
+
 #: Estevez & Kulla's fit of the Charlie sheen's ``Λ``: ``(a, b, c, d, e)`` at roughness 1
 #: and at roughness 0 (docs/models.md), taken as exact decimals.
 _CHARLIE_AT_1 = ("21.5473", "3.82987", "0.19823", "-1.97760", "-4.32054")
@@ -660,6 +701,7 @@ _KINDS = {
     "sigma": _SCALAR,
     "threshold": _SCALAR,
     "alpha": _SCALAR,
+    "k": _COLOUR,
     "alpha_x": _SCALAR,
     "alpha_y": _SCALAR,
     "nu": _SCALAR,
@@ -679,9 +721,12 @@ class _Model:
     required: tuple[str, ...] = ()
     tangent: bool = False  # required
     tangent_optional: bool = False
+    #: Parameter kinds that differ from ``_KINDS`` (a conductor's ``eta`` is a colour).
+    kinds: dict[str, str] = field(default_factory=dict)
 
 
 _LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
+_CONDUCTOR_DEFAULTS = {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5}
 
 _MODELS: dict[str, _Model] = {
     "lambert": _Model("A", _lambert, {"kd": 0.5}),
@@ -696,6 +741,10 @@ _MODELS: dict[str, _Model] = {
     "torrance_sparrow": _Model("A", _torrance_sparrow, {**_LOBE, "eta": 1.5}),
     "ggx": _Model("A", _ggx, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
     "beckmann": _Model("A", _beckmann, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
+    "ggx_conductor": _Model("A", _ggx_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}),
+    "beckmann_conductor": _Model(
+        "A", _beckmann_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}
+    ),
     "ward": _Model(
         "A",
         _ward,
@@ -742,8 +791,8 @@ def _raw_parameters(model: str, params: dict[str, Any]) -> dict[str, Any]:
     return {**spec.defaults, **params}
 
 
-def _convert(name: str, value: Any) -> Any:
-    kind = _KINDS[name]
+def _convert(name: str, value: Any, kinds: dict[str, str]) -> Any:
+    kind = kinds.get(name, _KINDS[name])
     if kind == _COLOUR:
         return _colour(value, name)
     if kind == _SCALAR:
@@ -778,7 +827,7 @@ def _evaluate(
     zero = (mpf(0), mpf(0), mpf(0))
     if spec.family == "A" and not (geometry.a > 0 and geometry.b > 0):
         return zero
-    values = {name: _convert(name, value) for name, value in params.items()}
+    values = {name: _convert(name, value, spec.kinds) for name, value in params.items()}
     if spec.tangent:
         if tangent is None:
             raise TypeError(f"{model}: missing required argument 'tangent'")
