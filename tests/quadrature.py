@@ -210,6 +210,8 @@ _SETUPS: dict[str, _Setup] = {
     # The same lobes with other Fresnel terms (smooth in the half vector).
     "ggx_conductor": _Setup("half", width=_width_alpha, horizon_singular=True),
     "beckmann_conductor": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "ggx_f82": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "beckmann_f82": _Setup("half", width=_width_alpha, horizon_singular=True),
     "ward": _Setup("half", width=_width_ward, horizon_singular=True, check=_check_ward),
 }
 

@@ -43,6 +43,9 @@ def test_white_furnace_smooth_limit(model, mu):
         ),
         ("ggx_conductor", {"kd": 0.0, "eta": 1.5, "k": 0.0, "alpha": 0.6}),
         ("beckmann_conductor", {"kd": 0.2, "eta": [0.5, 0.5, 2.0], "k": 3.0, "alpha": 0.3}),
+        # Tinted, untinted and clamped channels (f0 = f82 = 0 goes negative unclamped).
+        ("ggx_f82", {"kd": 0.0, "f0": [0.9, 0.5, 0.0], "f82": [0.6, 1.0, 0.0], "alpha": 0.2}),
+        ("beckmann_f82", {"kd": 0.1, "f0": [0.9, 0.5, 0.0], "f82": [0.6, 1.0, 0.0], "alpha": 0.7}),
         ("ward", {"kd": 0.3, "ks": 0.5, "alpha_x": 0.4, "alpha_y": 0.4}),
     ],
 )

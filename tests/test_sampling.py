@@ -73,7 +73,7 @@ DIFFUSE = ("lambert", "oren_nayar")
 MICROFACET = ("ggx", "beckmann", "ward", "ashikhmin_shirley")
 MULTIPLE_SCATTERING = ("ggx_ms", "beckmann_ms")
 #: ggx's and beckmann's lobes with other Fresnel terms (drawn from the same visible normals).
-FRESNEL_VARIANTS = ("ggx_conductor", "beckmann_conductor")
+FRESNEL_VARIANTS = ("ggx_conductor", "beckmann_conductor", "ggx_f82", "beckmann_f82")
 SHEEN = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth")
 MUS = (0.05, 0.5, 0.95)
 EXPONENTS = (1.0, 10.0, 100.0, 1e3, 1e4)
@@ -156,6 +156,9 @@ def _params(model: str, p: float, mixture: bool) -> dict:
     if model in ("ggx_conductor", "beckmann_conductor"):
         kd = [0.3, 0.2, 0.1] if mixture else 0.0
         return {"alpha": p, "kd": kd, "eta": [0.2, 1.0, 1.5], "k": [3.0, 2.0, 0.0]}
+    if model in ("ggx_f82", "beckmann_f82"):
+        kd = [0.3, 0.2, 0.1] if mixture else 0.0
+        return {"alpha": p, "kd": kd, "f0": [0.95, 0.6, 0.1], "f82": [0.9, 0.5, 0.0]}
     if model in ("ggx", "beckmann"):
         return {"alpha": p, "kd": [0.3, 0.2, 0.1] if mixture else 0.0, "ks": [1.0, 0.8, 0.6]}
     if model == "ward":
@@ -212,6 +215,8 @@ def _chi2_cases() -> list[Case]:
         # Their lobes' samplers, with one mixture term per distinct colour channel.
         "ggx_conductor": [(0.05, 0.3, False), (0.7, 0.1, True)],
         "beckmann_conductor": [(0.5, 0.5, True)],
+        "ggx_f82": [(0.3, 0.2, True)],
+        "beckmann_f82": [(0.9, 0.05, False)],
     }
     for model, points in microfacet_points.items():
         for mu, roughness, mixture in points:

@@ -483,6 +483,27 @@ def _beckmann_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha:
     return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
 
 
+def _f82_fresnel(g: _Geometry, f0: mpf, f82: mpf) -> mpf:
+    """The F82-tint term: ``max(0, F_S(μ) − a·μ(1 − μ)^6)``, ``F_S`` Schlick's for ``f0`` and
+    ``a = (1 − f82)·F_S(1/7)/((1/7)(6/7)^6)``, at ``μ = cos_b``."""
+    mu_bar = mpf(1) / 7
+    schlick_bar = f0 + (1 - f0) * (1 - mu_bar) ** 5
+    a = (1 - f82) * schlick_bar / (mu_bar * (1 - mu_bar) ** 6)
+    x = g.one_minus_cos_b
+    value = f0 + (1 - f0) * x**5 - a * g.cos_b * x**6
+    return max(mpf(0), value)
+
+
+def _ggx_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf) -> Colour:
+    lobe = _ggx(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
+
+
+def _beckmann_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf) -> Colour:
+    lobe = _beckmann(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
+
+
 #: Estevez & Kulla's fit of the Charlie sheen's ``Λ``: ``(a, b, c, d, e)`` at roughness 1
 #: and at roughness 0 (docs/models.md), taken as exact decimals.
 _CHARLIE_AT_1 = ("21.5473", "3.82987", "0.19823", "-1.97760", "-4.32054")
@@ -702,6 +723,8 @@ _KINDS = {
     "threshold": _SCALAR,
     "alpha": _SCALAR,
     "k": _COLOUR,
+    "f0": _COLOUR,
+    "f82": _COLOUR,
     "alpha_x": _SCALAR,
     "alpha_y": _SCALAR,
     "nu": _SCALAR,
@@ -727,6 +750,7 @@ class _Model:
 
 _LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
 _CONDUCTOR_DEFAULTS = {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5}
+_F82_DEFAULTS = {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5}
 
 _MODELS: dict[str, _Model] = {
     "lambert": _Model("A", _lambert, {"kd": 0.5}),
@@ -745,6 +769,8 @@ _MODELS: dict[str, _Model] = {
     "beckmann_conductor": _Model(
         "A", _beckmann_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}
     ),
+    "ggx_f82": _Model("A", _ggx_f82, _F82_DEFAULTS),
+    "beckmann_f82": _Model("A", _beckmann_f82, _F82_DEFAULTS),
     "ward": _Model(
         "A",
         _ward,

@@ -764,6 +764,54 @@ def beckmann_conductor(
     return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
 
 
+def _f82_fresnel(cos_b: float, one_minus_cos_b: float, f0: float, f82: float) -> float:
+    """The F82-tint Fresnel term: Schlick's ``F_S`` for ``f0`` less ``a·μ(1 − μ)^6``, with ``a``
+    such that ``F(1/7) = f82·F_S(1/7)``; clamped at 0 (docs/models.md)."""
+    mu_bar = 1.0 / 7.0
+    schlick_bar = f0 + (1.0 - f0) * (1.0 - mu_bar) ** 5
+    a = (1.0 - f82) * schlick_bar / (mu_bar * (1.0 - mu_bar) ** 6)
+    schlick = f0 + (1.0 - f0) * one_minus_cos_b**5
+    return max(0.0, schlick - a * cos_b * one_minus_cos_b**6)
+
+
+def ggx_f82(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f82: Colour,
+    alpha: float,
+) -> RGB:
+    """``ggx``'s lobe with the F82-tint Fresnel term (per channel ``f0``, ``f82``)."""
+    f0_rgb, f82_rgb = _rgb(f0), _rgb(f82)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return _f82_fresnel(cos_b, one_minus, f0_rgb[c], f82_rgb[c])
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, ggx, alpha)
+
+
+def beckmann_f82(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f82: Colour,
+    alpha: float,
+) -> RGB:
+    """``beckmann``'s lobe with the F82-tint Fresnel term (per channel ``f0``, ``f82``)."""
+    f0_rgb, f82_rgb = _rgb(f0), _rgb(f82)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return _f82_fresnel(cos_b, one_minus, f0_rgb[c], f82_rgb[c])
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
+
+
 def ward(
     wi: Sequence[float],
     wo: Sequence[float],
@@ -1149,6 +1197,8 @@ MODELS: dict[str, Callable[..., RGB]] = {
         beckmann,
         ggx_conductor,
         beckmann_conductor,
+        ggx_f82,
+        beckmann_f82,
         ward,
         ashikhmin_shirley,
         charlie_sheen,
@@ -1181,6 +1231,8 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "beckmann": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "ggx_conductor": {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5},
     "beckmann_conductor": {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5},
+    "ggx_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
+    "beckmann_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
     "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
     "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
     "charlie_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},

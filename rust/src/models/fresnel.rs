@@ -1,11 +1,11 @@
 //! Fresnel terms other than Schlick's for the microfacet lobes (docs/models.md:
-//! `ggx_conductor`, `beckmann_conductor`): each a function of `cos_b = wi·h` given as a
+//! `ggx_conductor`, `beckmann_conductor`, `ggx_f82`, `beckmann_f82`): each a function of `cos_b = wi·h` given as a
 //! [`Cosine`] (the cosine with its accurate complement), per colour channel, with its
 //! constants prepared once per parameter set.
 
 use super::spec::ValidRange;
 use crate::math::geometry::Cosine;
-use crate::math::{Real, Vector3};
+use crate::math::{Real, Vector3, max};
 
 /// The range of a conductor's `eta` and `k` (`k` from 0): wide enough for every measured
 /// metal, and narrow enough that every square and quotient of [`conductor`] stays a
@@ -112,6 +112,51 @@ pub fn conductor<F: Real>(ch: &Conductor<F>, cos_b: Cosine<F>) -> F {
     let d_im = mu * w_im;
     let f = r_s2 * ((mu2 * w_abs2 + s2 * s2) / (d_re * d_re + d_im * d_im));
     if ch.e2 > F::ZERO { f } else { F::ZERO }
+}
+
+/// `μ̄(1 − μ̄)^6` at `μ̄ = 1/7` is `6^6/7^7`: its reciprocal, and Schlick's weight there over
+/// it, `(6/7)^5·7^7/6^6 = 49/6`.
+const F82_SCALE_F0: f64 = 823_543.0 / 46_656.0;
+const F82_SCALE_EXCESS: f64 = 49.0 / 6.0;
+
+/// One channel of the F82-tint Fresnel term: `f0`, `1 − f0` and the coefficient
+/// `a = (1 − f82)·Schlick(f0, 1/7)/(μ̄(1 − μ̄)^6)`, `μ̄ = 1/7`.
+#[derive(Clone, Copy, Debug)]
+pub struct F82<F> {
+    f0: F,
+    one_minus_f0: F,
+    a: F,
+}
+
+impl<F: Real> F82<F> {
+    /// The channel of normal-incidence reflectance `f0` and tint `f82`:
+    /// `a = (1 − f82)·(f0·7^7/6^6 + (1 − f0)·49/6)`.
+    #[inline(always)]
+    pub fn new(f0: F, f82: F) -> Self {
+        let one_minus_f0 = F::ONE - f0;
+        let schlick_over =
+            f0 * F::from_f64(F82_SCALE_F0) + one_minus_f0 * F::from_f64(F82_SCALE_EXCESS);
+        F82 {
+            f0,
+            one_minus_f0,
+            a: (F::ONE - f82) * schlick_over,
+        }
+    }
+}
+
+/// Returns the F82-tint Fresnel term (Kutz et al. 2021; Hoffman 2023; OpenPBR's metal, as
+/// MaterialX's `mx_fresnel_hoffman_schlick` with `F90 = 1`, exponent 5) at `μ = cos_b`:
+///
+/// `F = max(0, Schlick(f0, μ) − a·μ·(1 − μ)^6) = max(0, f0 + x^5·((1 − f0) − a·μ·x))`,
+/// `x = 1 − μ` (the accurate complement), with `a` from [`F82::new`], so that
+/// `F(1/7) = f82·Schlick(f0, 1/7)`. `f0 = f82 = 1` gives exactly 1.
+#[inline(always)]
+pub fn f82<F: Real>(ch: &F82<F>, cos_b: Cosine<F>) -> F {
+    let x = cos_b.one_minus;
+    let x2 = x * x;
+    let x5 = x2 * x2 * x;
+    let f = ch.f0 + x5 * (ch.one_minus_f0 - ch.a * cos_b.cos * x);
+    max(f, F::ZERO)
 }
 
 #[cfg(test)]
@@ -272,5 +317,42 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn f82_meets_its_tint_at_one_seventh_and_its_ends() {
+        let schlick = |f0: f64, mu: f64| f0 + (1.0 - f0) * (1.0 - mu).powi(5);
+        for f0 in [0.0, 0.04, 0.5, 0.9, 1.0] {
+            for tint in [0.0, 0.3, 0.8, 1.0] {
+                let ch = F82::new(f0, tint);
+                let at = |mu: f64| f82(&ch, cosine(mu));
+                let want = tint * schlick(f0, 1.0 / 7.0);
+                assert!((at(1.0 / 7.0) - want).abs() <= 1e-14, "{f0} {tint}");
+                assert_eq!(at(1.0), f0);
+                assert_eq!(at(0.0), 1.0);
+                for i in 0..=100 {
+                    let mu = f64::from(i) / 100.0;
+                    // The closed form of a against the formula written out.
+                    let a = (1.0 - tint) * schlick(f0, 1.0 / 7.0)
+                        / ((1.0 / 7.0) * (6.0f64 / 7.0).powi(6));
+                    let direct = (schlick(f0, mu) - a * mu * (1.0 - mu).powi(6)).max(0.0);
+                    assert!((at(mu) - direct).abs() <= 1e-14, "{f0} {tint} {mu}");
+                    assert!((0.0..=1.0).contains(&at(mu)));
+                }
+            }
+        }
+        // Untinted: Schlick's F; f0 = f82 = 1: exactly 1.
+        let ch = F82::new(0.3, 1.0);
+        assert_eq!(
+            f82(&ch, cosine(0.4)),
+            0.3 + 0.7 * (0.6f64 * 0.6 * 0.6 * 0.6 * 0.6)
+        );
+        for i in 0..=100 {
+            assert_eq!(f82(&F82::new(1.0, 1.0), cosine(f64::from(i) / 100.0)), 1.0);
+        }
+        // The formula goes negative for small f0 and f82: clamped.
+        assert_eq!(f82(&F82::new(0.0, 0.0), cosine(0.5)), 0.0);
+        let unclamped = 0.5f64.powi(5) * (1.0 - 49.0 / 24.0);
+        assert!(unclamped < -0.03);
     }
 }

@@ -1,5 +1,5 @@
 //! What the Fresnel variants of `ggx` and `beckmann` share (docs/models.md:
-//! `ggx_conductor`, `beckmann_conductor`): a kernel over a microfacet lobe and a Fresnel
+//! `ggx_conductor`, `beckmann_conductor`, `ggx_f82`, `beckmann_f82`): a kernel over a microfacet lobe and a Fresnel
 //! term, the parameter layouts and the albedo terms.
 //!
 //! Each variant is `f = kd/π + F(cos_b)·lobe`, where `lobe = D·G2/(4 mu_i mu_o)` is
@@ -12,9 +12,9 @@
 //! The integrator and `brdf_rs.sample` draw the lobe from the base model's visible
 //! normals ([`Importance::GgxVisible`], [`Importance::BeckmannVisible`]), with the
 //! generic weight `f·mu_o/pdf`: the base models' closed-form weights hold Schlick's `F`
-//! only. The Fresnel term is not affine in the conductor's colours, so the lobe is
-//! integrated once per distinct channel (channels with equal parameters share one
-//! integral).
+//! only. The conductor's and the (clamped) F82-tint terms are not affine in their
+//! colours, so the lobe is integrated once per distinct channel (channels with equal
+//! parameters share one integral).
 
 use std::marker::PhantomData;
 
@@ -22,7 +22,7 @@ use super::albedo::{Importance, Integral, Slots, Term, basis};
 use super::fresnel::{self, EXTINCTION_RANGE, INDEX_RANGE};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
+    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource, beckmann, ggx};
 use crate::math::geometry::{Cosine, above_both, weighted};
@@ -297,13 +297,77 @@ impl FresnelTerm for Conductor {
     }
 }
 
+/// The F82-tint Fresnel term ([`fresnel::f82`]): parameters `kd`, `f0`, `f82`, `alpha`.
+pub struct F82Tint;
+
+/// The F82-tint variants' layout.
+pub mod f82 {
+    use super::super::slots::{ColourSlot, ScalarSlot};
+    crate::param_slots! {
+        KD: ColourSlot,
+        F0: ColourSlot,
+        F82: ColourSlot,
+        ALPHA: ScalarSlot,
+    }
+}
+
+/// The F82-tint variants' parameters, `alpha` documented as `alpha_doc`.
+pub const fn f82_params(alpha_doc: &'static str) -> [ParamSpec; 4] {
+    [
+        spec::kd(0.0, f82::KD),
+        ParamSpec {
+            name: "f0",
+            kind: ParamKind::Colour,
+            default: Some(0.8),
+            range: ValidRange::UNIT,
+            doc: "F0: reflectance at normal incidence (RGB, in [0, 1])",
+            slot: f82::F0.first(),
+        },
+        ParamSpec {
+            name: "f82",
+            kind: ParamKind::Colour,
+            default: Some(1.0),
+            range: ValidRange::UNIT,
+            doc: "F82 tint: the reflectance at cos_b = 1/7 (about 82°) as a fraction of \
+                  Schlick's there (RGB, in [0, 1]; 1 is Schlick's F)",
+            slot: f82::F82.first(),
+        },
+        alpha(f82::ALPHA, alpha_doc),
+    ]
+}
+
+impl FresnelTerm for F82Tint {
+    type Channel<F: Real> = fresnel::F82<F>;
+    const POWERS: bool = false;
+    const KD: ColourSlot = f82::KD;
+    const ALPHA: ScalarSlot = f82::ALPHA;
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [fresnel::F82<F>; 3] {
+        let (f0, tint) = (f82::F0.read(p), f82::F82.read(p));
+        [0, 1, 2].map(|c| fresnel::F82::new(f0[c], tint[c]))
+    }
+
+    #[inline(always)]
+    fn eval<F: Real, P: PowUnit>(ch: &fresnel::F82<F>, cos_b: Cosine<F>) -> F {
+        fresnel::f82(ch, cos_b)
+    }
+
+    /// Per distinct channel: the clamp at 0 makes `F` other than affine in `f0`, `f82`.
+    fn lobe_terms(slots: &[f64]) -> Vec<([f64; 3], Slots)> {
+        per_channel_terms(slots, f82::KD, &[f82::F0, f82::F82])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::models::beckmann::Beckmann as BeckmannKernel;
     use crate::models::beckmann_conductor::BeckmannConductor;
+    use crate::models::beckmann_f82::BeckmannF82;
     use crate::models::ggx::Ggx as GgxKernel;
     use crate::models::ggx_conductor::GgxConductor;
+    use crate::models::ggx_f82::GgxF82;
     use glam::DVec3;
 
     /// Direction pairs over the hemisphere, grazing and near-mirror ones included.
@@ -401,6 +465,45 @@ mod tests {
             };
             check_against_base::<GgxConductor, GgxKernel, Ggx>(&v, &base, alpha, f);
             check_against_base::<BeckmannConductor, BeckmannKernel, Beckmann>(&v, &base, alpha, f);
+        }
+    }
+
+    #[test]
+    fn f82_variants_are_fresnel_times_the_base_lobe_and_the_base_at_f_one() {
+        use f82::{ALPHA, F0, F82};
+        let f0 = [0.9, 0.04, 1.0];
+        let tint = [0.6, 0.0, 1.0];
+        for alpha in [0.05, 0.5, 1.3] {
+            let mut v = vec![0.0; 10];
+            F0.write(&mut v, f0);
+            F82.write(&mut v, tint);
+            ALPHA.write(&mut v, alpha);
+            let base = slots_of(&[(3, 1.0), (4, 1.0), (5, 1.0), (6, alpha)], 7);
+            let f =
+                |c: Cosine<f64>, ch: usize| fresnel::f82(&fresnel::F82::new(f0[ch], tint[ch]), c);
+            check_against_base::<GgxF82, GgxKernel, Ggx>(&v, &base, alpha, f);
+            check_against_base::<BeckmannF82, BeckmannKernel, Beckmann>(&v, &base, alpha, f);
+            // f0 = f82 = 1 (blue above) gives F = 1: the base model at ks = 1, bit for bit.
+            let (pv, pb) = (
+                GgxF82::prepare::<f64, [f64]>(&v[..]),
+                GgxKernel::prepare::<f64, [f64]>(&base[..]),
+            );
+            let (qv, qb) = (
+                BeckmannF82::prepare::<f64, [f64]>(&v[..]),
+                BeckmannKernel::prepare::<f64, [f64]>(&base[..]),
+            );
+            for d in directions() {
+                let (a, b) = (
+                    GgxF82::eval::<f64>(&pv, &d),
+                    GgxKernel::eval::<f64>(&pb, &d),
+                );
+                assert_eq!(a[2].to_bits(), b[2].to_bits());
+                let (a, b) = (
+                    BeckmannF82::eval::<f64>(&qv, &d),
+                    BeckmannKernel::eval::<f64>(&qb, &d),
+                );
+                assert_eq!(a[2].to_bits(), b[2].to_bits());
+            }
         }
     }
 

@@ -188,6 +188,8 @@ declare_models! {
     BeckmannMs => beckmann_ms::BeckmannMs,
     GgxConductor => ggx_conductor::GgxConductor,
     BeckmannConductor => beckmann_conductor::BeckmannConductor,
+    GgxF82 => ggx_f82::GgxF82,
+    BeckmannF82 => beckmann_f82::BeckmannF82,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
     CharlieSheen => charlie_sheen::CharlieSheen,
