@@ -91,6 +91,8 @@ def random_value(rng: np.random.Generator, model: str, spec: dict, size=None):
             return 10.0 ** rng.uniform(-2, 0, size=size)
         if name in ("nu", "nv"):
             return 10.0 ** rng.uniform(0, 4, size=size)
+        if name == "exponent":  # the generalized Schlick term's power
+            return 10.0 ** rng.uniform(-1, 1.5, size=size)
         return rng.uniform(spec["min"], spec["max"], size=size)
     raise AssertionError(f"no varying generator for {model}.{name}")
 

@@ -212,6 +212,8 @@ _SETUPS: dict[str, _Setup] = {
     "beckmann_conductor": _Setup("half", width=_width_alpha, horizon_singular=True),
     "ggx_f82": _Setup("half", width=_width_alpha, horizon_singular=True),
     "beckmann_f82": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "ggx_gen_schlick": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "beckmann_gen_schlick": _Setup("half", width=_width_alpha, horizon_singular=True),
     "ward": _Setup("half", width=_width_ward, horizon_singular=True, check=_check_ward),
 }
 

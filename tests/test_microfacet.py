@@ -46,6 +46,20 @@ def test_white_furnace_smooth_limit(model, mu):
         # Tinted, untinted and clamped channels (f0 = f82 = 0 goes negative unclamped).
         ("ggx_f82", {"kd": 0.0, "f0": [0.9, 0.5, 0.0], "f82": [0.6, 1.0, 0.0], "alpha": 0.2}),
         ("beckmann_f82", {"kd": 0.1, "f0": [0.9, 0.5, 0.0], "f82": [0.6, 1.0, 0.0], "alpha": 0.7}),
+        (
+            "ggx_gen_schlick",
+            {
+                "kd": 0.1,
+                "f0": [0.04, 0.5, 1.0],
+                "f90": [1.0, 0.2, 1.0],
+                "exponent": 2.0,
+                "alpha": 0.3,
+            },
+        ),
+        (
+            "beckmann_gen_schlick",
+            {"kd": 0.0, "f0": [0.04, 0.9, 0.0], "f90": 1.0, "exponent": 8.0, "alpha": 0.1},
+        ),
         ("ward", {"kd": 0.3, "ks": 0.5, "alpha_x": 0.4, "alpha_y": 0.4}),
     ],
 )

@@ -504,6 +504,25 @@ def _beckmann_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf)
     return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
 
 
+def _gen_schlick_fresnel(g: _Geometry, f0: mpf, f90: mpf, exponent: mpf) -> mpf:
+    """``f0 + (f90 − f0)(1 − cos_b)^exponent``."""
+    return f0 + (f90 - f0) * _power(g.one_minus_cos_b, exponent)
+
+
+def _ggx_gen_schlick(
+    g: _Geometry, kd: Colour, f0: Colour, f90: Colour, exponent: mpf, alpha: mpf
+) -> Colour:
+    lobe = _ggx(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _gen_schlick_fresnel(g, f0[c], f90[c], exponent))
+
+
+def _beckmann_gen_schlick(
+    g: _Geometry, kd: Colour, f0: Colour, f90: Colour, exponent: mpf, alpha: mpf
+) -> Colour:
+    lobe = _beckmann(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _gen_schlick_fresnel(g, f0[c], f90[c], exponent))
+
+
 #: Estevez & Kulla's fit of the Charlie sheen's ``Λ``: ``(a, b, c, d, e)`` at roughness 1
 #: and at roughness 0 (docs/models.md), taken as exact decimals.
 _CHARLIE_AT_1 = ("21.5473", "3.82987", "0.19823", "-1.97760", "-4.32054")
@@ -725,6 +744,8 @@ _KINDS = {
     "k": _COLOUR,
     "f0": _COLOUR,
     "f82": _COLOUR,
+    "f90": _COLOUR,
+    "exponent": _SCALAR,
     "alpha_x": _SCALAR,
     "alpha_y": _SCALAR,
     "nu": _SCALAR,
@@ -751,6 +772,7 @@ class _Model:
 _LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
 _CONDUCTOR_DEFAULTS = {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5}
 _F82_DEFAULTS = {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5}
+_GEN_SCHLICK_DEFAULTS = {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5}
 
 _MODELS: dict[str, _Model] = {
     "lambert": _Model("A", _lambert, {"kd": 0.5}),
@@ -771,6 +793,8 @@ _MODELS: dict[str, _Model] = {
     ),
     "ggx_f82": _Model("A", _ggx_f82, _F82_DEFAULTS),
     "beckmann_f82": _Model("A", _beckmann_f82, _F82_DEFAULTS),
+    "ggx_gen_schlick": _Model("A", _ggx_gen_schlick, _GEN_SCHLICK_DEFAULTS),
+    "beckmann_gen_schlick": _Model("A", _beckmann_gen_schlick, _GEN_SCHLICK_DEFAULTS),
     "ward": _Model(
         "A",
         _ward,

@@ -812,6 +812,46 @@ def beckmann_f82(
     return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
 
 
+def ggx_gen_schlick(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f90: Colour,
+    exponent: float,
+    alpha: float,
+) -> RGB:
+    """``ggx``'s lobe with the generalized Schlick term ``f0 + (f90 − f0)(1 − cos_b)^exponent``."""
+    f0_rgb, f90_rgb = _rgb(f0), _rgb(f90)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return f0_rgb[c] + (f90_rgb[c] - f0_rgb[c]) * _pow(one_minus, exponent, cos_b)
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, ggx, alpha)
+
+
+def beckmann_gen_schlick(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f90: Colour,
+    exponent: float,
+    alpha: float,
+) -> RGB:
+    """``beckmann``'s lobe with the generalized Schlick term (as ``ggx_gen_schlick``)."""
+    f0_rgb, f90_rgb = _rgb(f0), _rgb(f90)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return f0_rgb[c] + (f90_rgb[c] - f0_rgb[c]) * _pow(one_minus, exponent, cos_b)
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
+
+
 def ward(
     wi: Sequence[float],
     wo: Sequence[float],
@@ -1199,6 +1239,8 @@ MODELS: dict[str, Callable[..., RGB]] = {
         beckmann_conductor,
         ggx_f82,
         beckmann_f82,
+        ggx_gen_schlick,
+        beckmann_gen_schlick,
         ward,
         ashikhmin_shirley,
         charlie_sheen,
@@ -1233,6 +1275,8 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "beckmann_conductor": {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5},
     "ggx_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
     "beckmann_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
+    "ggx_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
+    "beckmann_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
     "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
     "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
     "charlie_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},

@@ -1,11 +1,12 @@
 //! Fresnel terms other than Schlick's for the microfacet lobes (docs/models.md:
-//! `ggx_conductor`, `beckmann_conductor`, `ggx_f82`, `beckmann_f82`): each a function of `cos_b = wi·h` given as a
+//! `ggx_conductor`, `beckmann_conductor`, `ggx_f82`, `beckmann_f82`, `ggx_gen_schlick`,
+//! `beckmann_gen_schlick`): each a function of `cos_b = wi·h` given as a
 //! [`Cosine`] (the cosine with its accurate complement), per colour channel, with its
 //! constants prepared once per parameter set.
 
 use super::spec::ValidRange;
 use crate::math::geometry::Cosine;
-use crate::math::{Real, Vector3, max};
+use crate::math::{PowUnit, Real, Vector3, max};
 
 /// The range of a conductor's `eta` and `k` (`k` from 0): wide enough for every measured
 /// metal, and narrow enough that every square and quotient of [`conductor`] stays a
@@ -157,6 +158,30 @@ pub fn f82<F: Real>(ch: &F82<F>, cos_b: Cosine<F>) -> F {
     let x5 = x2 * x2 * x;
     let f = ch.f0 + x5 * (ch.one_minus_f0 - ch.a * cos_b.cos * x);
     max(f, F::ZERO)
+}
+
+/// One channel of the generalized Schlick term: `f0` and `f90 − f0`.
+#[derive(Clone, Copy, Debug)]
+pub struct GenSchlick<F> {
+    f0: F,
+    rise: F,
+}
+
+impl<F: Real> GenSchlick<F> {
+    #[inline(always)]
+    pub fn new(f0: F, f90: F) -> Self {
+        GenSchlick { f0, rise: f90 - f0 }
+    }
+}
+
+/// Returns the generalized Schlick term of MaterialX (`mx_fresnel_schlick(cosTheta, F0,
+/// F90, exponent)`, `mix(F0, F90, pow(1 − cosTheta, exponent))`) at `μ = cos_b`:
+/// `F = f0 + (f90 − f0)·(1 − μ)^exponent`, the power of the accurate complement through `P`.
+/// `f0 = f90 = 1` gives exactly 1.
+#[inline(always)]
+pub fn gen_schlick<F: Real, P: PowUnit>(ch: &GenSchlick<F>, cos_b: Cosine<F>, exponent: F) -> F {
+    let w = P::pow_unit(cos_b.one_minus, cos_b.cos, exponent);
+    ch.f0 + ch.rise * w
 }
 
 #[cfg(test)]
@@ -354,5 +379,26 @@ mod tests {
         assert_eq!(f82(&F82::new(0.0, 0.0), cosine(0.5)), 0.0);
         let unclamped = 0.5f64.powi(5) * (1.0 - 49.0 / 24.0);
         assert!(unclamped < -0.03);
+    }
+
+    #[test]
+    fn gen_schlick_blends_f0_into_f90() {
+        use crate::math::SeriesPow;
+        let ch = GenSchlick::new(0.2, 0.9);
+        let at = |mu: f64, e: f64| gen_schlick::<f64, SeriesPow>(&ch, cosine(mu), e);
+        assert_eq!(at(1.0, 5.0), 0.2);
+        assert!((at(0.0, 5.0) - 0.9).abs() <= 1e-15);
+        for e in [0.2, 1.0, 5.0, 40.0] {
+            for i in 0..=50 {
+                let mu = f64::from(i) / 50.0;
+                let want = 0.2 + 0.7 * (1.0 - mu).powf(e);
+                assert!((at(mu, e) - want).abs() <= 1e-15, "{mu} {e}");
+            }
+        }
+        let one = GenSchlick::new(1.0, 1.0);
+        for i in 0..=50 {
+            let mu = f64::from(i) / 50.0;
+            assert_eq!(gen_schlick::<f64, SeriesPow>(&one, cosine(mu), 3.7), 1.0);
+        }
     }
 }

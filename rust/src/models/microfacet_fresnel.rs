@@ -1,5 +1,6 @@
 //! What the Fresnel variants of `ggx` and `beckmann` share (docs/models.md:
-//! `ggx_conductor`, `beckmann_conductor`, `ggx_f82`, `beckmann_f82`): a kernel over a microfacet lobe and a Fresnel
+//! `ggx_conductor`, `beckmann_conductor`, `ggx_f82`, `beckmann_f82`, `ggx_gen_schlick`,
+//! `beckmann_gen_schlick`): a kernel over a microfacet lobe and a Fresnel
 //! term, the parameter layouts and the albedo terms.
 //!
 //! Each variant is `f = kd/π + F(cos_b)·lobe`, where `lobe = D·G2/(4 mu_i mu_o)` is
@@ -14,7 +15,8 @@
 //! generic weight `f·mu_o/pdf`: the base models' closed-form weights hold Schlick's `F`
 //! only. The conductor's and the (clamped) F82-tint terms are not affine in their
 //! colours, so the lobe is integrated once per distinct channel (channels with equal
-//! parameters share one integral).
+//! parameters share one integral); the generalized Schlick term is affine in `f0` and
+//! `f90`, two integrals.
 
 use std::marker::PhantomData;
 
@@ -359,15 +361,101 @@ impl FresnelTerm for F82Tint {
     }
 }
 
+/// The generalized Schlick Fresnel term ([`fresnel::gen_schlick`]): parameters `kd`, `f0`,
+/// `f90`, `exponent`, `alpha`.
+pub struct GenSchlick;
+
+/// The generalized Schlick variants' layout.
+pub mod gen_schlick {
+    use super::super::slots::{ColourSlot, ScalarSlot};
+    crate::param_slots! {
+        KD: ColourSlot,
+        F0: ColourSlot,
+        F90: ColourSlot,
+        EXPONENT: ScalarSlot,
+        ALPHA: ScalarSlot,
+    }
+}
+
+/// The generalized Schlick variants' parameters, `alpha` documented as `alpha_doc`.
+pub const fn gen_schlick_params(alpha_doc: &'static str) -> [ParamSpec; 5] {
+    [
+        spec::kd(0.0, gen_schlick::KD),
+        ParamSpec {
+            name: "f0",
+            kind: ParamKind::Colour,
+            default: Some(0.04),
+            range: ValidRange::UNIT,
+            doc: "F0: reflectance at normal incidence (RGB, in [0, 1])",
+            slot: gen_schlick::F0.first(),
+        },
+        ParamSpec {
+            name: "f90",
+            kind: ParamKind::Colour,
+            default: Some(1.0),
+            range: ValidRange::UNIT,
+            doc: "F90: reflectance at grazing incidence (RGB, in [0, 1])",
+            slot: gen_schlick::F90.first(),
+        },
+        ParamSpec {
+            name: "exponent",
+            kind: ParamKind::Scalar,
+            default: Some(5.0),
+            range: ValidRange::POSITIVE,
+            doc: "the power of (1 − cos_b) that blends F0 into F90 (5: Schlick's)",
+            slot: gen_schlick::EXPONENT.first(),
+        },
+        alpha(gen_schlick::ALPHA, alpha_doc),
+    ]
+}
+
+impl FresnelTerm for GenSchlick {
+    /// The channel's `f0`, `f90 − f0`, and the exponent.
+    type Channel<F: Real> = (fresnel::GenSchlick<F>, F);
+    const POWERS: bool = true;
+    const KD: ColourSlot = gen_schlick::KD;
+    const ALPHA: ScalarSlot = gen_schlick::ALPHA;
+
+    #[inline(always)]
+    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [(fresnel::GenSchlick<F>, F); 3] {
+        let (f0, f90) = (gen_schlick::F0.read(p), gen_schlick::F90.read(p));
+        let exponent = gen_schlick::EXPONENT.read(p);
+        [0, 1, 2].map(|c| (fresnel::GenSchlick::new(f0[c], f90[c]), exponent))
+    }
+
+    #[inline(always)]
+    fn eval<F: Real, P: PowUnit>(ch: &(fresnel::GenSchlick<F>, F), cos_b: Cosine<F>) -> F {
+        fresnel::gen_schlick::<F, P>(&ch.0, cos_b, ch.1)
+    }
+
+    /// `F = f0·(1 − w) + f90·w` is affine in the two colours: the lobe at `f0 = 1, f90 = 0`
+    /// with the colour `f0`, and at `f0 = 0, f90 = 1` with the colour `f90`.
+    fn lobe_terms(slots: &[f64]) -> Vec<([f64; 3], Slots)> {
+        use gen_schlick::{F0, F90, KD};
+        vec![
+            (
+                F0.read(slots),
+                basis(slots, &[(KD, 0.0), (F0, 1.0), (F90, 0.0)]),
+            ),
+            (
+                F90.read(slots),
+                basis(slots, &[(KD, 0.0), (F0, 0.0), (F90, 1.0)]),
+            ),
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::models::beckmann::Beckmann as BeckmannKernel;
     use crate::models::beckmann_conductor::BeckmannConductor;
     use crate::models::beckmann_f82::BeckmannF82;
+    use crate::models::beckmann_gen_schlick::BeckmannGenSchlick;
     use crate::models::ggx::Ggx as GgxKernel;
     use crate::models::ggx_conductor::GgxConductor;
     use crate::models::ggx_f82::GgxF82;
+    use crate::models::ggx_gen_schlick::GgxGenSchlick;
     use glam::DVec3;
 
     /// Direction pairs over the hemisphere, grazing and near-mirror ones included.
@@ -505,6 +593,57 @@ mod tests {
                 assert_eq!(a[2].to_bits(), b[2].to_bits());
             }
         }
+    }
+
+    #[test]
+    fn gen_schlick_variants_are_fresnel_times_the_base_lobe_and_the_base_at_f_one() {
+        use crate::math::SeriesPow;
+        use gen_schlick::{ALPHA, EXPONENT, F0, F90};
+        let f0 = [0.04, 0.5, 1.0];
+        let f90 = [1.0, 0.2, 1.0];
+        let exponent = 3.5;
+        for alpha in [0.05, 0.5, 1.3] {
+            let mut v = vec![0.0; 11];
+            F0.write(&mut v, f0);
+            F90.write(&mut v, f90);
+            EXPONENT.write(&mut v, exponent);
+            ALPHA.write(&mut v, alpha);
+            let base = slots_of(&[(3, 1.0), (4, 1.0), (5, 1.0), (6, alpha)], 7);
+            let f = |c: Cosine<f64>, ch: usize| {
+                fresnel::gen_schlick::<f64, SeriesPow>(
+                    &fresnel::GenSchlick::new(f0[ch], f90[ch]),
+                    c,
+                    exponent,
+                )
+            };
+            check_against_base::<GgxGenSchlick, GgxKernel, Ggx>(&v, &base, alpha, f);
+            check_against_base::<BeckmannGenSchlick, BeckmannKernel, Beckmann>(&v, &base, alpha, f);
+        }
+    }
+
+    #[test]
+    fn gen_schlick_lobe_terms_are_its_two_colours() {
+        use gen_schlick::{ALPHA, EXPONENT, F0, F90, KD};
+        let mut v = vec![0.0; 11];
+        KD.write(&mut v, [0.1, 0.2, 0.3]);
+        F0.write(&mut v, [0.04, 0.5, 0.9]);
+        F90.write(&mut v, [1.0, 0.7, 0.2]);
+        EXPONENT.write(&mut v, 2.0);
+        ALPHA.write(&mut v, 0.3);
+        let terms = GenSchlick::lobe_terms(&v);
+        assert_eq!(terms.len(), 2);
+        assert_eq!(terms[0].0, [0.04, 0.5, 0.9]);
+        assert_eq!(terms[1].0, [1.0, 0.7, 0.2]);
+        assert_eq!(
+            (F0.read(&terms[0].1[..]), F90.read(&terms[0].1[..])),
+            ([1.0; 3], [0.0; 3])
+        );
+        assert_eq!(
+            (F0.read(&terms[1].1[..]), F90.read(&terms[1].1[..])),
+            ([0.0; 3], [1.0; 3])
+        );
+        assert_eq!(KD.read(&terms[1].1[..]), [0.0; 3]);
+        assert_eq!(EXPONENT.read(&terms[1].1[..]), 2.0);
     }
 
     #[test]

@@ -190,6 +190,8 @@ declare_models! {
     BeckmannConductor => beckmann_conductor::BeckmannConductor,
     GgxF82 => ggx_f82::GgxF82,
     BeckmannF82 => beckmann_f82::BeckmannF82,
+    GgxGenSchlick => ggx_gen_schlick::GgxGenSchlick,
+    BeckmannGenSchlick => beckmann_gen_schlick::BeckmannGenSchlick,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
     CharlieSheen => charlie_sheen::CharlieSheen,
