@@ -49,6 +49,14 @@ SHOWCASE: dict[str, dict[str, Any]] = {
     "ggx": {"kd": [0.3, 0.12, 0.05], "ks": 0.04, "alpha": 0.15},
     "beckmann": {"kd": [0.3, 0.12, 0.05], "ks": 0.04, "alpha": 0.15},
     "ggx_ms": {"alpha": 0.8},
+    # Gold-like per-channel eta and k.
+    "ggx_conductor": {"eta": [0.14, 0.37, 1.44], "k": [3.98, 2.38, 1.60], "alpha": 0.15},
+    "beckmann_conductor": {"eta": [0.14, 0.37, 1.44], "k": [3.98, 2.38, 1.60], "alpha": 0.15},
+    # A copper-like tint (f82 below 1 in green and blue).
+    "ggx_f82": {"f0": [0.95, 0.64, 0.54], "f82": [1.0, 0.8, 0.7], "alpha": 0.15},
+    "beckmann_f82": {"f0": [0.95, 0.64, 0.54], "f82": [1.0, 0.8, 0.7], "alpha": 0.15},
+    "ggx_gen_schlick": {"kd": [0.3, 0.12, 0.05], "alpha": 0.15},
+    "beckmann_gen_schlick": {"kd": [0.3, 0.12, 0.05], "alpha": 0.15},
     "beckmann_ms": {"alpha": 0.8},
     "ward": {"kd": [0.6, 0.25, 0.1], "ks": 0.3, "alpha_x": 0.1, "alpha_y": 0.4},
     "ashikhmin_shirley": {"Rd": [0.6, 0.25, 0.1], "nu": 20, "nv": 400},

@@ -79,7 +79,8 @@ def random_value(rng: np.random.Generator, model: str, spec: dict, size=None):
     if kind == "colour":
         hi = 1.0 if spec["max"] <= 1.0 else 1.5
         shape = (3,) if size is None else (size, 3)
-        return rng.uniform(0.0, hi, size=shape)
+        # A conductor's eta (a colour whose range starts above 0) keeps to its range.
+        return rng.uniform(max(0.0, spec["min"]), hi, size=shape)
     if kind == "scalar":
         if name == "p":
             p = 10.0 ** rng.uniform(-1, 3, size=size)
@@ -90,6 +91,8 @@ def random_value(rng: np.random.Generator, model: str, spec: dict, size=None):
             return 10.0 ** rng.uniform(-2, 0, size=size)
         if name in ("nu", "nv"):
             return 10.0 ** rng.uniform(0, 4, size=size)
+        if name == "exponent":  # the generalized Schlick term's power
+            return 10.0 ** rng.uniform(-1, 1.5, size=size)
         return rng.uniform(spec["min"], spec["max"], size=size)
     raise AssertionError(f"no varying generator for {model}.{name}")
 

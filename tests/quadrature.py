@@ -207,6 +207,13 @@ _SETUPS: dict[str, _Setup] = {
     # near-horizon singularities (Ward's 1/sqrt(mu_o), Smith's Λ near complex mu_o ~ iα).
     "ggx": _Setup("half", width=_width_alpha, horizon_singular=True),
     "beckmann": _Setup("half", width=_width_alpha, horizon_singular=True),
+    # The same lobes with other Fresnel terms (smooth in the half vector).
+    "ggx_conductor": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "beckmann_conductor": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "ggx_f82": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "beckmann_f82": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "ggx_gen_schlick": _Setup("half", width=_width_alpha, horizon_singular=True),
+    "beckmann_gen_schlick": _Setup("half", width=_width_alpha, horizon_singular=True),
     "ward": _Setup("half", width=_width_ward, horizon_singular=True, check=_check_ward),
 }
 

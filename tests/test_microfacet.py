@@ -36,6 +36,30 @@ def test_white_furnace_smooth_limit(model, mu):
         ("beckmann", {"kd": 0.0, "ks": 1.0, "alpha": 0.2}),
         ("beckmann", {"kd": 0.2, "ks": [0.9, 0.1, 0.5], "alpha": 0.9}),
         ("ward", {"kd": 0.0, "ks": 1.0, "alpha_x": 0.1, "alpha_y": 0.1}),
+        # Gold-like channels (one integral each), a dielectric, a grey metal.
+        (
+            "ggx_conductor",
+            {"kd": 0.1, "eta": [0.14, 0.37, 1.44], "k": [4.0, 2.4, 1.6], "alpha": 0.05},
+        ),
+        ("ggx_conductor", {"kd": 0.0, "eta": 1.5, "k": 0.0, "alpha": 0.6}),
+        ("beckmann_conductor", {"kd": 0.2, "eta": [0.5, 0.5, 2.0], "k": 3.0, "alpha": 0.3}),
+        # Tinted, untinted and clamped channels (f0 = f82 = 0 goes negative unclamped).
+        ("ggx_f82", {"kd": 0.0, "f0": [0.9, 0.5, 0.0], "f82": [0.6, 1.0, 0.0], "alpha": 0.2}),
+        ("beckmann_f82", {"kd": 0.1, "f0": [0.9, 0.5, 0.0], "f82": [0.6, 1.0, 0.0], "alpha": 0.7}),
+        (
+            "ggx_gen_schlick",
+            {
+                "kd": 0.1,
+                "f0": [0.04, 0.5, 1.0],
+                "f90": [1.0, 0.2, 1.0],
+                "exponent": 2.0,
+                "alpha": 0.3,
+            },
+        ),
+        (
+            "beckmann_gen_schlick",
+            {"kd": 0.0, "f0": [0.04, 0.9, 0.0], "f90": 1.0, "exponent": 8.0, "alpha": 0.1},
+        ),
         ("ward", {"kd": 0.3, "ks": 0.5, "alpha_x": 0.4, "alpha_y": 0.4}),
     ],
 )

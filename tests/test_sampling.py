@@ -72,6 +72,15 @@ BLINN = (
 DIFFUSE = ("lambert", "oren_nayar")
 MICROFACET = ("ggx", "beckmann", "ward", "ashikhmin_shirley")
 MULTIPLE_SCATTERING = ("ggx_ms", "beckmann_ms")
+#: ggx's and beckmann's lobes with other Fresnel terms (drawn from the same visible normals).
+FRESNEL_VARIANTS = (
+    "ggx_conductor",
+    "beckmann_conductor",
+    "ggx_f82",
+    "beckmann_f82",
+    "ggx_gen_schlick",
+    "beckmann_gen_schlick",
+)
 SHEEN = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth")
 MUS = (0.05, 0.5, 0.95)
 EXPONENTS = (1.0, 10.0, 100.0, 1e3, 1e4)
@@ -79,7 +88,7 @@ TILTED = (0.35, -0.25, 0.9)
 
 
 def test_the_model_lists_cover_family_a():
-    lists = PHONG + BLINN + DIFFUSE + MICROFACET + MULTIPLE_SCATTERING + SHEEN
+    lists = PHONG + BLINN + DIFFUSE + MICROFACET + MULTIPLE_SCATTERING + SHEEN + FRESNEL_VARIANTS
     assert sorted(lists) == sorted(FAMILY_A)
 
 
@@ -151,6 +160,21 @@ def _params(model: str, p: float, mixture: bool) -> dict:
         return {"alpha": alpha, "kd": [0.3, 0.2, 0.1] if mixture else 0.0, "ks": [1.0, 0.8, 0.6]}
     if model in MULTIPLE_SCATTERING:  # alpha within the table's range [1e-3, 1]
         return {"alpha": min(max(p, 1e-3), 1.0), "ks": [1.0, 0.8, 0.6]}
+    if model in ("ggx_conductor", "beckmann_conductor"):
+        kd = [0.3, 0.2, 0.1] if mixture else 0.0
+        return {"alpha": p, "kd": kd, "eta": [0.2, 1.0, 1.5], "k": [3.0, 2.0, 0.0]}
+    if model in ("ggx_f82", "beckmann_f82"):
+        kd = [0.3, 0.2, 0.1] if mixture else 0.0
+        return {"alpha": p, "kd": kd, "f0": [0.95, 0.6, 0.1], "f82": [0.9, 0.5, 0.0]}
+    if model in ("ggx_gen_schlick", "beckmann_gen_schlick"):
+        kd = [0.3, 0.2, 0.1] if mixture else 0.0
+        return {
+            "alpha": p,
+            "kd": kd,
+            "f0": [0.9, 0.5, 0.04],
+            "f90": [1.0, 0.3, 1.0],
+            "exponent": 3.0,
+        }
     if model in ("ggx", "beckmann"):
         return {"alpha": p, "kd": [0.3, 0.2, 0.1] if mixture else 0.0, "ks": [1.0, 0.8, 0.6]}
     if model == "ward":
@@ -204,6 +228,13 @@ def _chi2_cases() -> list[Case]:
         ],
         "ward": [(0.05, 0.05, False), (0.5, 0.2, True), (0.95, 0.02, False)],
         "ashikhmin_shirley": [(0.05, 0.1, False), (0.5, 0.01, True), (0.95, 1.0, False)],
+        # Their lobes' samplers, with one mixture term per distinct colour channel.
+        "ggx_conductor": [(0.05, 0.3, False), (0.7, 0.1, True)],
+        "beckmann_conductor": [(0.5, 0.5, True)],
+        "ggx_f82": [(0.3, 0.2, True)],
+        "beckmann_f82": [(0.9, 0.05, False)],
+        "ggx_gen_schlick": [(0.95, 0.4, True)],
+        "beckmann_gen_schlick": [(0.2, 0.2, False)],
     }
     for model, points in microfacet_points.items():
         for mu, roughness, mixture in points:

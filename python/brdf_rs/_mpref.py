@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
@@ -442,6 +442,87 @@ def _beckmann(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
     return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
 
 
+def _conductor_fresnel(g: _Geometry, eta: mpf, k: mpf) -> mpf:
+    """pbrt-v4's ``FrComplex`` at ``cos_b``, as it is written (complex Snell's law, the
+    average of the s- and p-reflectances), at 40 more digits than the working precision:
+    the differences in ``r_s`` and ``r_p`` cancel as ``eta + i·k → 1``."""
+    with mpmath.extradps(40):
+        cos_i = g.cos_b
+        sin2_i = g.one_minus_cos_b * (1 + cos_i)
+        eta_c = mpmath.mpc(eta, k)
+        cos_t = mpmath.sqrt(1 - sin2_i / (eta_c * eta_c))
+        r_parl = (eta_c * cos_i - cos_t) / (eta_c * cos_i + cos_t)
+        r_perp = (cos_i - eta_c * cos_t) / (cos_i + eta_c * cos_t)
+        value = (abs(r_parl) ** 2 + abs(r_perp) ** 2) / 2
+    return +value
+
+
+def _fresnel_variant(
+    g: _Geometry, kd: Colour, lobe: Colour, fresnel: Callable[[int], mpf]
+) -> Colour:
+    """``kd/π + F·lobe`` per channel: ``lobe`` the base model's value at ``kd = 0``,
+    ``ks = 1`` (F = 1), ``fresnel(channel)`` its Fresnel term."""
+    red, green, blue = (
+        d / mpmath.pi + (fresnel(c) * x if x != 0 else mpf(0))
+        for c, (d, x) in enumerate(zip(kd, lobe, strict=True))
+    )
+    return red, green, blue
+
+
+_ONE = (mpf(1), mpf(1), mpf(1))
+_ZERO = (mpf(0), mpf(0), mpf(0))
+
+
+def _ggx_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha: mpf) -> Colour:
+    lobe = _ggx(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
+
+
+def _beckmann_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha: mpf) -> Colour:
+    lobe = _beckmann(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
+
+
+def _f82_fresnel(g: _Geometry, f0: mpf, f82: mpf) -> mpf:
+    """The F82-tint term: ``max(0, F_S(μ) − a·μ(1 − μ)^6)``, ``F_S`` Schlick's for ``f0`` and
+    ``a = (1 − f82)·F_S(1/7)/((1/7)(6/7)^6)``, at ``μ = cos_b``."""
+    mu_bar = mpf(1) / 7
+    schlick_bar = f0 + (1 - f0) * (1 - mu_bar) ** 5
+    a = (1 - f82) * schlick_bar / (mu_bar * (1 - mu_bar) ** 6)
+    x = g.one_minus_cos_b
+    value = f0 + (1 - f0) * x**5 - a * g.cos_b * x**6
+    return max(mpf(0), value)
+
+
+def _ggx_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf) -> Colour:
+    lobe = _ggx(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
+
+
+def _beckmann_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf) -> Colour:
+    lobe = _beckmann(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
+
+
+def _gen_schlick_fresnel(g: _Geometry, f0: mpf, f90: mpf, exponent: mpf) -> mpf:
+    """``f0 + (f90 − f0)(1 − cos_b)^exponent``."""
+    return f0 + (f90 - f0) * _power(g.one_minus_cos_b, exponent)
+
+
+def _ggx_gen_schlick(
+    g: _Geometry, kd: Colour, f0: Colour, f90: Colour, exponent: mpf, alpha: mpf
+) -> Colour:
+    lobe = _ggx(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _gen_schlick_fresnel(g, f0[c], f90[c], exponent))
+
+
+def _beckmann_gen_schlick(
+    g: _Geometry, kd: Colour, f0: Colour, f90: Colour, exponent: mpf, alpha: mpf
+) -> Colour:
+    lobe = _beckmann(g, _ZERO, _ONE, alpha)
+    return _fresnel_variant(g, kd, lobe, lambda c: _gen_schlick_fresnel(g, f0[c], f90[c], exponent))
+
+
 #: Estevez & Kulla's fit of the Charlie sheen's ``Λ``: ``(a, b, c, d, e)`` at roughness 1
 #: and at roughness 0 (docs/models.md), taken as exact decimals.
 _CHARLIE_AT_1 = ("21.5473", "3.82987", "0.19823", "-1.97760", "-4.32054")
@@ -660,6 +741,11 @@ _KINDS = {
     "sigma": _SCALAR,
     "threshold": _SCALAR,
     "alpha": _SCALAR,
+    "k": _COLOUR,
+    "f0": _COLOUR,
+    "f82": _COLOUR,
+    "f90": _COLOUR,
+    "exponent": _SCALAR,
     "alpha_x": _SCALAR,
     "alpha_y": _SCALAR,
     "nu": _SCALAR,
@@ -679,9 +765,14 @@ class _Model:
     required: tuple[str, ...] = ()
     tangent: bool = False  # required
     tangent_optional: bool = False
+    #: Parameter kinds that differ from ``_KINDS`` (a conductor's ``eta`` is a colour).
+    kinds: dict[str, str] = field(default_factory=dict)
 
 
 _LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
+_CONDUCTOR_DEFAULTS = {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5}
+_F82_DEFAULTS = {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5}
+_GEN_SCHLICK_DEFAULTS = {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5}
 
 _MODELS: dict[str, _Model] = {
     "lambert": _Model("A", _lambert, {"kd": 0.5}),
@@ -696,6 +787,14 @@ _MODELS: dict[str, _Model] = {
     "torrance_sparrow": _Model("A", _torrance_sparrow, {**_LOBE, "eta": 1.5}),
     "ggx": _Model("A", _ggx, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
     "beckmann": _Model("A", _beckmann, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
+    "ggx_conductor": _Model("A", _ggx_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}),
+    "beckmann_conductor": _Model(
+        "A", _beckmann_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}
+    ),
+    "ggx_f82": _Model("A", _ggx_f82, _F82_DEFAULTS),
+    "beckmann_f82": _Model("A", _beckmann_f82, _F82_DEFAULTS),
+    "ggx_gen_schlick": _Model("A", _ggx_gen_schlick, _GEN_SCHLICK_DEFAULTS),
+    "beckmann_gen_schlick": _Model("A", _beckmann_gen_schlick, _GEN_SCHLICK_DEFAULTS),
     "ward": _Model(
         "A",
         _ward,
@@ -742,8 +841,8 @@ def _raw_parameters(model: str, params: dict[str, Any]) -> dict[str, Any]:
     return {**spec.defaults, **params}
 
 
-def _convert(name: str, value: Any) -> Any:
-    kind = _KINDS[name]
+def _convert(name: str, value: Any, kinds: dict[str, str]) -> Any:
+    kind = kinds.get(name, _KINDS[name])
     if kind == _COLOUR:
         return _colour(value, name)
     if kind == _SCALAR:
@@ -778,7 +877,7 @@ def _evaluate(
     zero = (mpf(0), mpf(0), mpf(0))
     if spec.family == "A" and not (geometry.a > 0 and geometry.b > 0):
         return zero
-    values = {name: _convert(name, value) for name, value in params.items()}
+    values = {name: _convert(name, value, spec.kinds) for name, value in params.items()}
     if spec.tangent:
         if tangent is None:
             raise TypeError(f"{model}: missing required argument 'tangent'")

@@ -29,6 +29,7 @@ Entry point: :func:`eval` (``eval("phong", wi, wo, p=10.0)``); :data:`MODELS` ma
 name to its function and :data:`DEFAULTS` holds each model's default parameters.
 """
 
+import cmath
 import decimal
 import math
 import sys
@@ -680,6 +681,177 @@ def beckmann(
     return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
 
 
+def _conductor_fresnel(cos_b: float, one_minus_cos_b: float, eta: float, k: float) -> float:
+    """The unpolarized Fresnel reflectance ``(|r_s|² + |r_p|²)/2`` of a conductor of
+    relative index ``η̃ = eta + i·k`` at ``cos_b`` (pbrt-v4's ``FrComplex``).
+
+    With ``w = sqrt(η̃² − sin²θb)`` and ``e = η̃² − 1`` (so ``w² = e + cos_b²``):
+    ``r_s = (cos_b − w)/(cos_b + w) = −e/(cos_b + w)²`` and
+    ``r_p = (η̃² cos_b − w)/(η̃² cos_b + w) = e·(cos_b² η̃² − sin²θb)/(η̃² cos_b + w)²``,
+    which keep their digits as ``η̃ → 1`` (``e`` is formed without cancellation)."""
+    sin2 = one_minus_cos_b * (1.0 + cos_b)
+    eta_c = complex(eta, k)
+    e = complex((eta - 1.0) * (eta + 1.0) - k * k, 2.0 * eta * k)
+    if e == 0:
+        return 0.0
+    # Re w² summed where it rounds least: from e where cos_b < eta, else from η̃² − sin².
+    w2 = e + cos_b * cos_b if cos_b < eta else complex(eta * eta - k * k - sin2, 2.0 * eta * k)
+    w = cmath.sqrt(w2)
+    r_s = -e / (cos_b + w) ** 2
+    r_p = e * (cos_b * cos_b * eta_c * eta_c - sin2) / (eta_c * eta_c * cos_b + w) ** 2
+    return (abs(r_s) ** 2 + abs(r_p) ** 2) / 2.0
+
+
+def _microfacet_fresnel(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    kd: Colour,
+    fresnel: Callable[[float, float, int], float],
+    lobe_model: Callable[..., RGB],
+    alpha: float,
+) -> RGB:
+    """``kd/π + F·lobe``: the lobe of ``lobe_model`` (``ggx`` or ``beckmann`` at
+    ``kd = 0``, ``ks = 1``), times ``fresnel(cos_b, 1 − cos_b, channel)``."""
+    wi_u, wo_u, n_u = _frame(wi, wo, n)
+    if not (_cos(n_u, wi_u) > 0.0 and _cos(n_u, wo_u) > 0.0):
+        return BLACK
+    lobe = lobe_model(wi, wo, n, kd=0.0, ks=1.0, alpha=alpha)[0]
+    if lobe == 0.0:
+        return _three(kd_c / math.pi for kd_c in _rgb(kd))
+    cos_b = _cos_b(wi_u, wo_u)
+    one_minus = _one_minus_cos_b(wi_u, wo_u, cos_b)
+    return _three(
+        kd_c / math.pi + fresnel(cos_b, one_minus, c) * lobe for c, kd_c in enumerate(_rgb(kd))
+    )
+
+
+def ggx_conductor(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    eta: Colour,
+    k: Colour,
+    alpha: float,
+) -> RGB:
+    """``ggx``'s lobe with a conductor's Fresnel term (per channel ``eta + i·k``)."""
+    eta_rgb, k_rgb = _rgb(eta), _rgb(k)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return _conductor_fresnel(cos_b, one_minus, eta_rgb[c], k_rgb[c])
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, ggx, alpha)
+
+
+def beckmann_conductor(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    eta: Colour,
+    k: Colour,
+    alpha: float,
+) -> RGB:
+    """``beckmann``'s lobe with a conductor's Fresnel term (per channel ``eta + i·k``)."""
+    eta_rgb, k_rgb = _rgb(eta), _rgb(k)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return _conductor_fresnel(cos_b, one_minus, eta_rgb[c], k_rgb[c])
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
+
+
+def _f82_fresnel(cos_b: float, one_minus_cos_b: float, f0: float, f82: float) -> float:
+    """The F82-tint Fresnel term: Schlick's ``F_S`` for ``f0`` less ``a·μ(1 − μ)^6``, with ``a``
+    such that ``F(1/7) = f82·F_S(1/7)``; clamped at 0 (docs/models.md)."""
+    mu_bar = 1.0 / 7.0
+    schlick_bar = f0 + (1.0 - f0) * (1.0 - mu_bar) ** 5
+    a = (1.0 - f82) * schlick_bar / (mu_bar * (1.0 - mu_bar) ** 6)
+    schlick = f0 + (1.0 - f0) * one_minus_cos_b**5
+    return max(0.0, schlick - a * cos_b * one_minus_cos_b**6)
+
+
+def ggx_f82(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f82: Colour,
+    alpha: float,
+) -> RGB:
+    """``ggx``'s lobe with the F82-tint Fresnel term (per channel ``f0``, ``f82``)."""
+    f0_rgb, f82_rgb = _rgb(f0), _rgb(f82)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return _f82_fresnel(cos_b, one_minus, f0_rgb[c], f82_rgb[c])
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, ggx, alpha)
+
+
+def beckmann_f82(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f82: Colour,
+    alpha: float,
+) -> RGB:
+    """``beckmann``'s lobe with the F82-tint Fresnel term (per channel ``f0``, ``f82``)."""
+    f0_rgb, f82_rgb = _rgb(f0), _rgb(f82)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return _f82_fresnel(cos_b, one_minus, f0_rgb[c], f82_rgb[c])
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
+
+
+def ggx_gen_schlick(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f90: Colour,
+    exponent: float,
+    alpha: float,
+) -> RGB:
+    """``ggx``'s lobe with the generalized Schlick term ``f0 + (f90 − f0)(1 − cos_b)^exponent``."""
+    f0_rgb, f90_rgb = _rgb(f0), _rgb(f90)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return f0_rgb[c] + (f90_rgb[c] - f0_rgb[c]) * _pow(one_minus, exponent, cos_b)
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, ggx, alpha)
+
+
+def beckmann_gen_schlick(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    f0: Colour,
+    f90: Colour,
+    exponent: float,
+    alpha: float,
+) -> RGB:
+    """``beckmann``'s lobe with the generalized Schlick term (as ``ggx_gen_schlick``)."""
+    f0_rgb, f90_rgb = _rgb(f0), _rgb(f90)
+
+    def fresnel(cos_b: float, one_minus: float, c: int) -> float:
+        return f0_rgb[c] + (f90_rgb[c] - f0_rgb[c]) * _pow(one_minus, exponent, cos_b)
+
+    return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
+
+
 def ward(
     wi: Sequence[float],
     wo: Sequence[float],
@@ -1063,6 +1235,12 @@ MODELS: dict[str, Callable[..., RGB]] = {
         torrance_sparrow,
         ggx,
         beckmann,
+        ggx_conductor,
+        beckmann_conductor,
+        ggx_f82,
+        beckmann_f82,
+        ggx_gen_schlick,
+        beckmann_gen_schlick,
         ward,
         ashikhmin_shirley,
         charlie_sheen,
@@ -1093,6 +1271,12 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "torrance_sparrow": {"kd": 0.0, "ks": 1.0, "p": 32.0, "eta": 1.5},
     "ggx": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "beckmann": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
+    "ggx_conductor": {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5},
+    "beckmann_conductor": {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5},
+    "ggx_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
+    "beckmann_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
+    "ggx_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
+    "beckmann_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
     "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
     "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
     "charlie_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},

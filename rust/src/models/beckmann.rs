@@ -15,7 +15,8 @@ use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
-    above_both, clamped_cosine, half_vector, schlick_rgb, schlick_weight, smith_quotient, weighted,
+    Cosine, above_both, clamped_cosine, half_vector, schlick_rgb, schlick_weight, smith_quotient,
+    weighted,
 };
 use crate::math::{PowUnit, Real, Vector3};
 
@@ -39,12 +40,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[
         spec::kd(0.0, KD),
         spec::f0(1.0, KS),
-        spec::roughness(
-            "alpha",
-            0.5,
-            ALPHA,
-            "roughness α: RMS slope of the microfacets",
-        ),
+        spec::roughness("alpha", 0.5, ALPHA, ALPHA_DOC),
     ],
     tangent: TangentUse::None,
     reciprocal: true,
@@ -57,6 +53,9 @@ pub static SPEC: ModelSpec = ModelSpec {
     energy_table: true,
     exact: None,
 };
+
+/// The roughness parameter's doc line (shared with the models on this lobe).
+pub const ALPHA_DOC: &str = "roughness α: RMS slope of the microfacets";
 
 /// Derived constants.
 #[derive(Clone, Copy)]
@@ -109,6 +108,28 @@ pub fn lambda_of_c<F: Real>(c: F) -> F {
     if value > F::ZERO { value } else { F::ZERO }
 }
 
+/// Returns the scalar Beckmann lobe `D·G2/(4 mu_i mu_o)` (F = 1), the cosine
+/// `cos_b = wi·h` its Fresnel term is evaluated at (with its complement) and whether the
+/// lobe is defined (`wi ≠ −wo`; the caller gives 0 where it is not).
+#[inline(always)]
+pub fn lobe<F: Real>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, bool) {
+    let mu_i = d.n.dot(d.wi);
+    let mu_o = d.n.dot(d.wo);
+    let hv = half_vector::<F>(d.wi, d.wo);
+    let cos_th = clamped_cosine::<F>(d.n, hv.h);
+    let c2 = cos_th.cos * cos_th.cos;
+    let sin2_th = cos_th.one_minus * (F::ONE + cos_th.cos);
+    let t = sin2_th / (alpha2 * c2);
+    let ndf = (-t).exp() / (F::PI * alpha2 * c2 * c2);
+    // Far from the peak exp(−t) is 0 before cos⁴ underflows: never 0/0.
+    let ndf = if t < F::from_f64(700.0) { ndf } else { F::ZERO };
+    let l_i = mu_lambda(mu_i, d.n.cross(d.wi).length_squared(), alpha);
+    let l_o = mu_lambda(mu_o, d.n.cross(d.wo).length_squared(), alpha);
+    // D is 0 far from the peak, where G2/(4 mu_i mu_o) alone may be infinite.
+    let spec = smith_quotient(F::flush_subnormal(ndf), mu_i, mu_o, l_i, l_o);
+    (spec, hv.cos_b, hv.defined)
+}
+
 impl Kernel for Beckmann {
     type Prepared<F: Real> = Prepared<F>;
 
@@ -129,24 +150,11 @@ impl Kernel for Beckmann {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let mu_i = d.n.dot(d.wi);
-        let mu_o = d.n.dot(d.wo);
-        let hv = half_vector::<F>(d.wi, d.wo);
-        let cos_th = clamped_cosine::<F>(d.n, hv.h);
-        let c2 = cos_th.cos * cos_th.cos;
-        let sin2_th = cos_th.one_minus * (F::ONE + cos_th.cos);
-        let t = sin2_th / (pp.alpha2 * c2);
-        let ndf = (-t).exp() / (F::PI * pp.alpha2 * c2 * c2);
-        // Far from the peak exp(−t) is 0 before cos⁴ underflows: never 0/0.
-        let ndf = if t < F::from_f64(700.0) { ndf } else { F::ZERO };
-        let l_i = mu_lambda(mu_i, d.n.cross(d.wi).length_squared(), pp.alpha);
-        let l_o = mu_lambda(mu_o, d.n.cross(d.wo).length_squared(), pp.alpha);
-        // D is 0 far from the peak, where G2/(4 mu_i mu_o) alone may be infinite.
-        let spec = smith_quotient(F::flush_subnormal(ndf), mu_i, mu_o, l_i, l_o);
-        let spec = if hv.defined { spec } else { F::ZERO };
-        let fresnel = schlick_rgb(pp.f0, schlick_weight(hv.cos_b));
+        let (spec, cos_b, defined) = lobe(d, pp.alpha, pp.alpha2);
+        let spec = if defined { spec } else { F::ZERO };
+        let fresnel = schlick_rgb(pp.f0, schlick_weight(cos_b));
         let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);
-        above_both(mu_i, mu_o, rgb)
+        above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
     }
 
     /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals

@@ -15,7 +15,9 @@ use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted};
+use crate::math::geometry::{
+    Cosine, above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted,
+};
 use crate::math::{PowUnit, Real, Vector3, max, min};
 
 /// The GGX kernel.
@@ -38,12 +40,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     params: &[
         spec::kd(0.0, KD),
         spec::f0(1.0, KS),
-        spec::roughness(
-            "alpha",
-            0.5,
-            ALPHA,
-            "roughness α: the NDF's width (α = r² for a perceptual roughness r)",
-        ),
+        spec::roughness("alpha", 0.5, ALPHA, ALPHA_DOC),
     ],
     tangent: TangentUse::None,
     reciprocal: true,
@@ -57,6 +54,9 @@ pub static SPEC: ModelSpec = ModelSpec {
     exact: None,
 };
 
+/// The roughness parameter's doc line (shared with the models on this lobe).
+pub const ALPHA_DOC: &str = "roughness α: the NDF's width (α = r² for a perceptual roughness r)";
+
 /// Derived constants.
 #[derive(Clone, Copy)]
 pub struct Prepared<F> {
@@ -67,8 +67,8 @@ pub struct Prepared<F> {
     d_scale: F,
 }
 
-/// Returns the scalar GGX lobe `D·G2/(4 mu_i mu_o)` (F = 1), Schlick's weight
-/// `(1 − cos_b)^5` and whether the lobe is defined.
+/// Returns the scalar GGX lobe `D·G2/(4 mu_i mu_o)` (F = 1), the cosine `cos_b = wi·h`
+/// its Fresnel term is evaluated at (with its complement) and whether the lobe is defined.
 ///
 /// In terms of `L = μ·Λ(μ) = a/P`, `a = α²|n × w|²` (`α² sin²θ`),
 /// `P = 2(sqrt(μ² + a) + μ)`: `G2/(4 mu_i mu_o) = P_i P_o/(4 q m)` with the larger cosine
@@ -84,7 +84,7 @@ pub struct Prepared<F> {
 /// moved the value by up to 5 ulps, come out as the factor `1 + 3e_n + (e_i + e_o)/2 +
 /// 2e_h`; `h` is the corrected half vector ([`half_vector_exact`]).
 #[inline(always)]
-pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, F, bool) {
+pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, Cosine<F>, bool) {
     let e_n = F::length_error(d.n);
     let e_i = F::length_error(d.wi);
     let e_o = F::length_error(d.wo);
@@ -122,7 +122,7 @@ pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, F, bool) {
     } else {
         spec
     };
-    (spec, schlick_weight(hv.cos_b), hv.defined)
+    (spec, hv.cos_b, hv.defined)
 }
 
 impl Kernel for Ggx {
@@ -146,9 +146,9 @@ impl Kernel for Ggx {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let (spec, w, defined) = lobe(d, pp.alpha2, pp.d_scale);
+        let (spec, cos_b, defined) = lobe(d, pp.alpha2, pp.d_scale);
         let spec = if defined { spec } else { F::ZERO };
-        let fresnel = schlick_rgb(pp.f0, w);
+        let fresnel = schlick_rgb(pp.f0, schlick_weight(cos_b));
         let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);
         above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
     }

@@ -9,7 +9,9 @@
 //! (selects, not early returns).
 
 pub mod albedo;
+pub mod fresnel;
 pub mod lobes;
+pub mod microfacet_fresnel;
 pub mod sheen;
 pub mod slots;
 pub mod spec;
@@ -184,6 +186,12 @@ declare_models! {
     GgxMs => ggx_ms::GgxMs,
     Beckmann => beckmann::Beckmann,
     BeckmannMs => beckmann_ms::BeckmannMs,
+    GgxConductor => ggx_conductor::GgxConductor,
+    BeckmannConductor => beckmann_conductor::BeckmannConductor,
+    GgxF82 => ggx_f82::GgxF82,
+    BeckmannF82 => beckmann_f82::BeckmannF82,
+    GgxGenSchlick => ggx_gen_schlick::GgxGenSchlick,
+    BeckmannGenSchlick => beckmann_gen_schlick::BeckmannGenSchlick,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
     CharlieSheen => charlie_sheen::CharlieSheen,

@@ -12,7 +12,7 @@ use crate::math::Real;
 
 /// Most parameter slots a per-element (varying) parameter set may use: the batch engine's
 /// scratch holds this many, and a family-A model's albedo basis has at most this many.
-pub const MAX_VARYING_SLOTS: usize = 8;
+pub const MAX_VARYING_SLOTS: usize = 12;
 
 /// A scalar parameter's slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

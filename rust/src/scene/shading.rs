@@ -592,12 +592,14 @@ mod tests {
             let mut given = toon_required(kind);
             let Some(names) = weight_params(kind) else {
                 // Schlick F0 (blinn_phong_fresnel, ggx, beckmann, the multiple-scattering
-                // lobes, ashikhmin_shirley): black colours still reflect at grazing angles.
+                // lobes, ashikhmin_shirley) and the conductor Fresnel term: black colours
+                // (those that may be 0: not a conductor's eta) still reflect at grazing
+                // angles.
                 let black: Vec<(&str, Vec<f64>)> = kind
                     .spec()
                     .params
                     .iter()
-                    .filter(|p| p.kind == crate::models::ParamKind::Colour)
+                    .filter(|p| p.kind == crate::models::ParamKind::Colour && p.range.admits(0.0))
                     .map(|p| (p.name, vec![0.0]))
                     .collect();
                 let t = term(kind, &black);
@@ -705,7 +707,10 @@ mod tests {
             let Some(DiffuseTerm::Lambert(scale)) = family_a_diffuse(kind) else {
                 continue;
             };
-            let mut given = vec![("kd", vec![0.3, 0.6, 0.9]), ("ks", vec![0.4, 0.2, 0.7])];
+            let mut given = vec![("kd", vec![0.3, 0.6, 0.9])];
+            if kind.spec().param("ks").is_some() {
+                given.push(("ks", vec![0.4, 0.2, 0.7]));
+            }
             if kind.spec().params.iter().any(|p| p.name == "p") {
                 given.push(("p", vec![20.0]));
             }

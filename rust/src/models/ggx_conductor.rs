@@ -1,0 +1,37 @@
+//! `ggx_conductor`: the GGX lobe of `ggx` with the exact Fresnel reflectance of a
+//! conductor of complex relative index `eta + i·k` (per RGB channel) in place of
+//! Schlick's.
+//!
+//! `f = kd/π + D·G2·F/(4·mu_i·mu_o)` with `ggx`'s `D` and height-correlated `G2`
+//! ([`ggx::lobe`](super::ggx::lobe)) and `F = (|r_s|² + |r_p|²)/2` at `cos_b = wi·h`
+//! ([`conductor`](super::fresnel::conductor)). The kernel and layout are the family's
+//! ([`super::microfacet_fresnel`]).
+
+use super::microfacet_fresnel::{
+    Conductor, Ggx, VARIANT_SPEC, Variant, VariantSpec, conductor_params,
+};
+use super::spec::ModelSpec;
+// The conductor variants' layout (`kd`, `eta`, `k`, `alpha`).
+pub use super::microfacet_fresnel::conductor::SLOTS;
+
+/// The GGX conductor kernel.
+pub type GgxConductor = Variant<Ggx, Conductor>;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "ggx_conductor",
+    summary: "GGX microfacet BRDF (ggx's lobe) with the exact Fresnel term of a conductor \
+              of complex index eta + i·k",
+    formula: "f = kd/π + D·G2·F/(4·mu_i·mu_o), D, G2 as ggx, \
+              F = (|r_s|² + |r_p|²)/2, r_s = (cos_b − w)/(cos_b + w), \
+              r_p = (η̃²cos_b − w)/(η̃²cos_b + w), w = sqrt(η̃² − 1 + cos_b²), η̃ = eta + i·k",
+    source: "Walter et al. 2007 (GGX); Heitz 2014 (height-correlated Smith); \
+             Pharr, Jakob & Humphreys, pbrt-v4 (FrComplex)",
+    params: &conductor_params(super::ggx::ALPHA_DOC),
+    ..VARIANT_SPEC
+};
+
+impl VariantSpec for GgxConductor {
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+}

@@ -1,0 +1,37 @@
+//! `ggx_gen_schlick`: the GGX lobe of `ggx` with MaterialX's generalized Schlick Fresnel
+//! term `F = f0 + (f90 − f0)(1 − cos_b)^exponent` in place of Schlick's.
+//!
+//! `f = kd/π + D·G2·F/(4·mu_i·mu_o)` with `ggx`'s `D` and height-correlated `G2`
+//! ([`ggx::lobe`](super::ggx::lobe)) and `F` per channel
+//! ([`gen_schlick`](super::fresnel::gen_schlick)). The kernel and layout are the family's
+//! ([`super::microfacet_fresnel`]).
+
+use super::microfacet_fresnel::{
+    GenSchlick, Ggx, VARIANT_SPEC, Variant, VariantSpec, gen_schlick_params,
+};
+use super::spec::ModelSpec;
+// The generalized Schlick variants' layout (`kd`, `f0`, `f90`, `exponent`, `alpha`).
+pub use super::microfacet_fresnel::gen_schlick::SLOTS;
+
+/// The GGX generalized Schlick kernel.
+pub type GgxGenSchlick = Variant<Ggx, GenSchlick>;
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "ggx_gen_schlick",
+    summary: "GGX microfacet BRDF (ggx's lobe) with MaterialX's generalized Schlick Fresnel \
+              term (F0, F90, exponent)",
+    formula: "f = kd/π + D·G2·F/(4·mu_i·mu_o), D, G2 as ggx, \
+              F = f0 + (f90 − f0)(1 − cos_b)^exponent",
+    source: "Walter et al. 2007 (GGX); Heitz 2014 (height-correlated Smith); \
+             MaterialX (mx_fresnel_schlick); Schlick 1994",
+    params: &gen_schlick_params(super::ggx::ALPHA_DOC),
+    // F is affine in f0 and f90 with no constant term: kd = f0 = f90 = 0 gives 0.
+    weights: Some(&["kd", "f0", "f90"]),
+    ..VARIANT_SPEC
+};
+
+impl VariantSpec for GgxGenSchlick {
+    fn spec() -> &'static ModelSpec {
+        &SPEC
+    }
+}
