@@ -812,6 +812,13 @@ def beckmann_f82(
     return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
 
 
+def _gen_schlick_fresnel(
+    cos_b: float, one_minus_cos_b: float, f0: float, f90: float, exponent: float
+) -> float:
+    """The generalized Schlick term ``f0 + (f90 − f0)(1 − cos_b)^exponent``."""
+    return f0 + (f90 - f0) * _pow(one_minus_cos_b, exponent, cos_b)
+
+
 def ggx_gen_schlick(
     wi: Sequence[float],
     wo: Sequence[float],
@@ -827,7 +834,7 @@ def ggx_gen_schlick(
     f0_rgb, f90_rgb = _rgb(f0), _rgb(f90)
 
     def fresnel(cos_b: float, one_minus: float, c: int) -> float:
-        return f0_rgb[c] + (f90_rgb[c] - f0_rgb[c]) * _pow(one_minus, exponent, cos_b)
+        return _gen_schlick_fresnel(cos_b, one_minus, f0_rgb[c], f90_rgb[c], exponent)
 
     return _microfacet_fresnel(wi, wo, n, kd, fresnel, ggx, alpha)
 
@@ -847,7 +854,7 @@ def beckmann_gen_schlick(
     f0_rgb, f90_rgb = _rgb(f0), _rgb(f90)
 
     def fresnel(cos_b: float, one_minus: float, c: int) -> float:
-        return f0_rgb[c] + (f90_rgb[c] - f0_rgb[c]) * _pow(one_minus, exponent, cos_b)
+        return _gen_schlick_fresnel(cos_b, one_minus, f0_rgb[c], f90_rgb[c], exponent)
 
     return _microfacet_fresnel(wi, wo, n, kd, fresnel, beckmann, alpha)
 

@@ -5,7 +5,7 @@
 //! constants prepared once per parameter set.
 
 use super::spec::ValidRange;
-use crate::math::geometry::Cosine;
+use crate::math::geometry::{Cosine, schlick_weight};
 use crate::math::{PowUnit, Real, Vector3, max};
 
 /// The range of a conductor's `eta` and `k` (`k` from 0): wide enough for every measured
@@ -153,10 +153,8 @@ impl<F: Real> F82<F> {
 /// `F(1/7) = f82·Schlick(f0, 1/7)`. `f0 = f82 = 1` gives exactly 1.
 #[inline(always)]
 pub fn f82<F: Real>(ch: &F82<F>, cos_b: Cosine<F>) -> F {
-    let x = cos_b.one_minus;
-    let x2 = x * x;
-    let x5 = x2 * x2 * x;
-    let f = ch.f0 + x5 * (ch.one_minus_f0 - ch.a * cos_b.cos * x);
+    let x5 = schlick_weight(cos_b);
+    let f = ch.f0 + x5 * (ch.one_minus_f0 - ch.a * cos_b.cos * cos_b.one_minus);
     max(f, F::ZERO)
 }
 

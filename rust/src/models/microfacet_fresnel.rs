@@ -226,6 +226,19 @@ pub const VARIANT_SPEC: ModelSpec = ModelSpec {
     exact: None,
 };
 
+/// `f0`, the reflectance at normal incidence, of the F82-tint and generalized Schlick
+/// terms (`ggx` and `beckmann` call theirs `ks`: [`spec::f0`]).
+const fn f0(default: f64, slot: ColourSlot) -> ParamSpec {
+    ParamSpec {
+        name: "f0",
+        kind: ParamKind::Colour,
+        default: Some(default),
+        range: ValidRange::UNIT,
+        doc: "F0: reflectance at normal incidence (RGB, in [0, 1])",
+        slot: slot.first(),
+    }
+}
+
 /// The roughness parameter `alpha` (default 0.5) with the lobe's doc line.
 const fn alpha(slot: ScalarSlot, doc: &'static str) -> ParamSpec {
     spec::roughness("alpha", 0.5, slot, doc)
@@ -317,14 +330,7 @@ pub mod f82 {
 pub const fn f82_params(alpha_doc: &'static str) -> [ParamSpec; 4] {
     [
         spec::kd(0.0, f82::KD),
-        ParamSpec {
-            name: "f0",
-            kind: ParamKind::Colour,
-            default: Some(0.8),
-            range: ValidRange::UNIT,
-            doc: "F0: reflectance at normal incidence (RGB, in [0, 1])",
-            slot: f82::F0.first(),
-        },
+        f0(0.8, f82::F0),
         ParamSpec {
             name: "f82",
             kind: ParamKind::Colour,
@@ -381,14 +387,7 @@ pub mod gen_schlick {
 pub const fn gen_schlick_params(alpha_doc: &'static str) -> [ParamSpec; 5] {
     [
         spec::kd(0.0, gen_schlick::KD),
-        ParamSpec {
-            name: "f0",
-            kind: ParamKind::Colour,
-            default: Some(0.04),
-            range: ValidRange::UNIT,
-            doc: "F0: reflectance at normal incidence (RGB, in [0, 1])",
-            slot: gen_schlick::F0.first(),
-        },
+        f0(0.04, gen_schlick::F0),
         ParamSpec {
             name: "f90",
             kind: ParamKind::Colour,
