@@ -12,8 +12,8 @@ use super::spec::{
 };
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
-use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight};
+use super::{Directions, Kernel, ParamSource, PowerStage};
+use crate::math::geometry::{clamped_cosine, half_vector, schlick_weight};
 use crate::math::{PowUnit, Real, Vector3};
 
 /// The Blinn-Phong-with-Fresnel kernel.
@@ -67,19 +67,49 @@ impl Kernel for BlinnPhongFresnel {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &(DiffuseSpecular<F>, F), d: &Directions<F>) -> [F; 3] {
-        let (lobe, norm) = pp;
+        let stage = Self::power_stage(pp, d);
+        let power = P::pow_unit(stage.base.cos, stage.base.one_minus, stage.p);
+        Self::finish_power(pp, &stage, power)
+    }
+
+    const SPLIT_POWER: bool = true;
+
+    /// `cos_th` and `p`; keeps Schlick's weight, whether `h` is defined and whether both
+    /// directions are above the surface (1 or 0).
+    #[inline(always)]
+    fn power_stage<F: Real>(pp: &(DiffuseSpecular<F>, F), d: &Directions<F>) -> PowerStage<F> {
+        let (lobe, _) = pp;
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let hv = half_vector::<F>(d.wi, d.wo);
         let cos_th = clamped_cosine::<F>(d.n, hv.h);
         let w = schlick_weight(hv.cos_b);
-        let spec = *norm * cos_th.powf::<P>(lobe.p);
-        let spec = if hv.defined { spec } else { F::ZERO };
+        let flag = |x: bool| if x { F::ONE } else { F::ZERO };
+        let above = mu_i > F::ZERO && mu_o > F::ZERO;
+        PowerStage {
+            base: cos_th,
+            p: lobe.p,
+            keep: [w, flag(hv.defined), flag(above), F::ZERO],
+        }
+    }
+
+    #[inline(always)]
+    fn finish_power<F: Real>(
+        pp: &(DiffuseSpecular<F>, F),
+        stage: &PowerStage<F>,
+        power: F,
+    ) -> [F; 3] {
+        let (lobe, norm) = pp;
+        let [w, defined, above, _] = stage.keep;
+        let spec = *norm * F::flush_subnormal(power);
+        let spec = if defined != F::ZERO { spec } else { F::ZERO };
         let rgb = [0, 1, 2].map(|c| {
             let fresnel = lobe.ks[c] + (F::ONE - lobe.ks[c]) * w;
             fresnel * spec + lobe.kd[c]
         });
-        above_both(mu_i, mu_o, rgb)
+        // Zero unless both directions are above the surface (family A).
+        let above = above != F::ZERO;
+        rgb.map(|c| if above { c } else { F::ZERO })
     }
 
     /// As [`Kernel::sampling_terms`]; where the lobe is sharp or `wi` near the normal,

@@ -4,7 +4,7 @@
 
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
-use super::{Directions, Kernel, ParamSource};
+use super::{Directions, Kernel, ParamSource, PowerStage};
 use crate::math::geometry::{Cosine, above_both, clamped_cosine, half_vector, mirror, weighted};
 use crate::math::{PowUnit, Real, Vector3};
 use crate::models::slots::{ColourSlot, ScalarSlot};
@@ -53,6 +53,27 @@ pub trait PowerLobeModel: 'static {
     /// Returns the lobe for a unit `ks` at `d`, given `mu_i = n·wi`; 0 where it is
     /// undefined (the half vector of opposite directions).
     fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F;
+    /// Whether the lobe is the plain power `base^p` of [`PowerLobeModel::lobe_base`]'s
+    /// cosine (flushed, [`Cosine::powf`]), 0 where that is undefined: then the model's
+    /// kernel evaluates a block in three passes ([`Kernel::SPLIT_POWER`]).
+    const PLAIN_POWER: bool = false;
+    /// For a [`PowerLobeModel::PLAIN_POWER`] lobe: the cosine raised to `p` and whether
+    /// the lobe is defined; [`PowerLobeModel::lobe`] must be exactly
+    /// [`plain_power_lobe`] of it. A placeholder for the other lobes.
+    #[inline(always)]
+    fn lobe_base<F: Real>(
+        _pp: &DiffuseSpecular<F>,
+        _d: &Directions<F>,
+        _mu_i: F,
+    ) -> (Cosine<F>, bool) {
+        (
+            Cosine {
+                cos: F::ZERO,
+                one_minus: F::ONE,
+            },
+            false,
+        )
+    }
     /// Returns the lobe's factor `A` (of `A·cos^p`) in the albedo at incidence `mu`.
     fn lobe_scale(slots: &[f64], mu: f64) -> f64;
 }
@@ -87,6 +108,37 @@ impl<K: PowerLobeModel> Kernel for K {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         above_both(mu_i, mu_o, pp.combine(K::lobe::<F, P>(pp, d, mu_i)))
+    }
+
+    const SPLIT_POWER: bool = K::PLAIN_POWER;
+
+    /// The lobe's cosine and `p`; keeps whether the lobe is defined and whether both
+    /// directions are above the surface (1 or 0).
+    #[inline(always)]
+    fn power_stage<F: Real>(pp: &DiffuseSpecular<F>, d: &Directions<F>) -> PowerStage<F> {
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let (base, defined) = K::lobe_base(pp, d, mu_i);
+        let flag = |x: bool| if x { F::ONE } else { F::ZERO };
+        let above = mu_i > F::ZERO && mu_o > F::ZERO;
+        PowerStage {
+            base,
+            p: pp.p,
+            keep: [flag(defined), flag(above), F::ZERO, F::ZERO],
+        }
+    }
+
+    #[inline(always)]
+    fn finish_power<F: Real>(pp: &DiffuseSpecular<F>, stage: &PowerStage<F>, power: F) -> [F; 3] {
+        let lobe = F::flush_subnormal(power);
+        let lobe = if stage.keep[0] != F::ZERO {
+            lobe
+        } else {
+            F::ZERO
+        };
+        let rgb = pp.combine(lobe);
+        let above = stage.keep[1] != F::ZERO;
+        rgb.map(|c| if above { c } else { F::ZERO })
     }
 
     /// The diffuse term and the lobe; where the lobe is sharp or `wi` near the normal,
@@ -139,6 +191,14 @@ impl<F: Real> DiffuseSpecular<F> {
     pub fn combine(&self, lobe: F) -> [F; 3] {
         [0, 1, 2].map(|c| weighted(self.ks[c], lobe) + self.kd[c])
     }
+}
+
+/// The lobe of a [`PowerLobeModel::PLAIN_POWER`] model: `base^p` ([`Cosine::powf`]) where
+/// `defined`, else 0.
+#[inline(always)]
+pub fn plain_power_lobe<F: Real, P: PowUnit>((base, defined): (Cosine<F>, bool), p: F) -> F {
+    let lobe = base.powf::<P>(p);
+    if defined { lobe } else { F::ZERO }
 }
 
 /// Returns `cos_ar = max(0, r·wo)` with `r` the mirror of `wi` about `n`, given

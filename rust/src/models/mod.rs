@@ -21,7 +21,7 @@ pub mod tables;
 pub use spec::{Family, ModelSpec, ParamKind, ParamSpec, TangentUse, ValidRange};
 
 use crate::error::{BrdfError, closest};
-use crate::math::geometry::WideCosine;
+use crate::math::geometry::{Cosine, WideCosine};
 use crate::math::{PowUnit, Real, SeriesPow};
 
 /// The unit directions one evaluation sees. `wi` points toward the light, `wo` toward the
@@ -93,6 +93,40 @@ pub trait Kernel: 'static {
     /// accurate loops.
     const POWERS: bool = false;
 
+    /// Whether the kernel's one power can be computed apart from the rest
+    /// ([`Kernel::power_stage`], [`Kernel::finish_power`]): the eval engine then runs the
+    /// model over a block in three passes (the bases, the powers, the rest), which
+    /// computes [`Kernel::eval_with`]'s bits, and faster (the power's long chain does not
+    /// share a loop body, and its registers, with the geometry). The stage functions'
+    /// defaults are placeholders for kernels without it.
+    const SPLIT_POWER: bool = false;
+
+    /// The first part of [`Kernel::eval_with`] for a [`Kernel::SPLIT_POWER`] kernel: the
+    /// power's base and exponent, and what [`Kernel::finish_power`] needs of the rest.
+    #[inline(always)]
+    fn power_stage<F: Real>(_prepared: &Self::Prepared<F>, _d: &Directions<F>) -> PowerStage<F> {
+        PowerStage {
+            base: Cosine {
+                cos: F::ZERO,
+                one_minus: F::ONE,
+            },
+            p: F::ZERO,
+            keep: [F::ZERO; STAGE_KEEP],
+        }
+    }
+
+    /// The rest of [`Kernel::eval_with`] given [`Kernel::power_stage`]'s stage and the
+    /// power `stage.base^stage.p` (as [`PowUnit::pow_unit`] returns it, before any flush):
+    /// `finish_power(pp, &stage, P::pow_unit(..))` is `eval_with::<F, P>` bit for bit.
+    #[inline(always)]
+    fn finish_power<F: Real>(
+        _prepared: &Self::Prepared<F>,
+        _stage: &PowerStage<F>,
+        _power: F,
+    ) -> [F; 3] {
+        [F::ZERO; 3]
+    }
+
     /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
     /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one
     /// is (Ward's `1/sqrt(mu_i·mu_o)`). Most models only need its sign, which
@@ -123,6 +157,18 @@ pub trait Kernel: 'static {
     fn sampling_terms(slots: &[f64], mu: f64) -> Option<Vec<albedo::Term>> {
         Self::albedo_terms(slots, mu)
     }
+}
+
+/// How many values [`PowerStage::keep`] holds.
+pub const STAGE_KEEP: usize = 4;
+
+/// What [`Kernel::power_stage`] hands on: the power's base and exponent, and values of
+/// the rest of the evaluation ([`Kernel::finish_power`] reads them).
+#[derive(Clone, Copy, Debug)]
+pub struct PowerStage<F> {
+    pub base: Cosine<F>,
+    pub p: F,
+    pub keep: [F; STAGE_KEEP],
 }
 
 /// Something done with a kernel type chosen at run time: `ModelKind::visit` calls

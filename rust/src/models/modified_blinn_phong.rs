@@ -3,11 +3,12 @@
 //! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine};
+use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine, plain_power_lobe};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, ParamSource};
+use crate::math::geometry::Cosine;
 use crate::math::{PowUnit, Real};
 
 /// The modified Blinn-Phong kernel.
@@ -33,10 +34,15 @@ impl PowerLobeModel for ModifiedBlinnPhong {
     }
 
     #[inline(always)]
-    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, _mu_i: F) -> F {
-        let (cos_th, defined) = half_cosine(d);
-        let lobe = cos_th.powf::<P>(pp.p);
-        if defined { lobe } else { F::ZERO }
+    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
+        plain_power_lobe::<F, P>(Self::lobe_base(pp, d, mu_i), pp.p)
+    }
+
+    const PLAIN_POWER: bool = true;
+
+    #[inline(always)]
+    fn lobe_base<F: Real>(_pp: &DiffuseSpecular<F>, d: &Directions<F>, _mu_i: F) -> (Cosine<F>, bool) {
+        half_cosine(d)
     }
 
     fn lobe_scale(_slots: &[f64], _mu: f64) -> f64 {

@@ -4,11 +4,12 @@
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine};
+use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine, plain_power_lobe};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, ParamSource};
+use crate::math::geometry::Cosine;
 use crate::math::{PowUnit, Real};
 
 /// The normalized Phong kernel.
@@ -35,7 +36,14 @@ impl PowerLobeModel for NormalizedPhong {
 
     #[inline(always)]
     fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
-        mirror_cosine(d, mu_i).powf::<P>(pp.p)
+        plain_power_lobe::<F, P>(Self::lobe_base(pp, d, mu_i), pp.p)
+    }
+
+    const PLAIN_POWER: bool = true;
+
+    #[inline(always)]
+    fn lobe_base<F: Real>(_pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> (Cosine<F>, bool) {
+        (mirror_cosine(d, mu_i), true)
     }
 
     fn lobe_scale(slots: &[f64], _mu: f64) -> f64 {

@@ -15,8 +15,8 @@ use super::spec::{
     self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, ParamKind, ParamSpec,
     SceneUse, TangentUse, ValidRange,
 };
-use super::{Directions, Kernel, ParamSource};
-use crate::math::geometry::{above_both, clamped_cosine, half_vector, schlick_weight, weighted};
+use super::{Directions, Kernel, ParamSource, PowerStage};
+use crate::math::geometry::{clamped_cosine, half_vector, schlick_weight, weighted};
 use crate::math::{PowUnit, Real, Vector3};
 
 /// The Torrance-Sparrow kernel.
@@ -97,12 +97,22 @@ impl Kernel for TorranceSparrow {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        let stage = Self::power_stage(pp, d);
+        let power = P::pow_unit(stage.base.cos, stage.base.one_minus, stage.p);
+        Self::finish_power(pp, &stage, power)
+    }
+
+    const SPLIT_POWER: bool = true;
+
+    /// `cos_th` and `p`; keeps the Fresnel factor, `G/(4 mu_i mu_o)`, whether `h` is
+    /// defined and whether both directions are above the surface (1 or 0).
+    #[inline(always)]
+    fn power_stage<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> PowerStage<F> {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
         let hv = half_vector::<F>(d.wi, d.wo);
         let cos_th = clamped_cosine::<F>(d.n, hv.h);
         let cos_b = hv.cos_b;
-        let d_lobe = cos_th.powf::<P>(pp.p);
         let fresnel = pp.r0 + (F::ONE - pp.r0) * schlick_weight(cos_b);
         // G/(4 mu_i mu_o) = min(1/a, c/b) with a = 4 mu_i mu_o, c = cos_th and
         // b = 2 cos_b max(mu_i, mu_o) (the two shadowing terms share the larger cosine).
@@ -117,12 +127,27 @@ impl Kernel for TorranceSparrow {
         let first = b < c * a;
         let quotient = if first { F::ONE } else { c } / if first { a } else { b };
         let g_over = if c == F::ZERO { F::ZERO } else { quotient };
+        let flag = |x: bool| if x { F::ONE } else { F::ZERO };
+        let above = mu_i > F::ZERO && mu_o > F::ZERO;
+        PowerStage {
+            base: cos_th,
+            p: pp.p,
+            keep: [fresnel, g_over, flag(hv.defined), flag(above)],
+        }
+    }
+
+    #[inline(always)]
+    fn finish_power<F: Real>(pp: &Prepared<F>, stage: &PowerStage<F>, power: F) -> [F; 3] {
+        let [fresnel, g_over, defined, above] = stage.keep;
+        let d_lobe = F::flush_subnormal(power);
         // D·F is 0 where cos_th^p underflows; G/(4 mu_i mu_o) is infinite where the
         // exact value is (grazing): never multiply the two into NaN.
         let spec = weighted(d_lobe * fresnel, g_over);
-        let spec = if hv.defined { spec } else { F::ZERO };
+        let spec = if defined != F::ZERO { spec } else { F::ZERO };
         let rgb = [0, 1, 2].map(|c| weighted(pp.ks_norm[c], spec) + pp.kd_over_pi[c]);
-        above_both(mu_i, mu_o, rgb)
+        // Zero unless both directions are above the surface (family A).
+        let above = above != F::ZERO;
+        rgb.map(|c| if above { c } else { F::ZERO })
     }
 
     /// The diffuse term and the specular lobe; where the lobe is sharp and `wi` near the
