@@ -33,13 +33,26 @@ KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
 DDS_MAGIC = b"DDS "
 
 
-def save(lut: Lut, path: Path) -> Path:
-    from . import _lutcode
-    from .lut import CONTAINERS
+def check(fmt_name: str, path: Path) -> str:
+    """The container of ``path`` (its suffix), checked against the pixel format before
+    any work: raises ``ValueError`` naming the argument."""
+    from .lut import CONTAINERS, FORMATS
 
     suffix = path.suffix.lower()
     if suffix not in CONTAINERS:
         raise ValueError(f"path: unknown LUT file type {suffix!r}; use {', '.join(CONTAINERS)}")
+    if suffix == ".exr" and FORMATS[fmt_name].encoding != "sfloat":
+        raise ValueError(
+            f"format: .exr holds half or float channels; {fmt_name} is not one (use"
+            " R16G16_SFLOAT, R32G32_SFLOAT, R16_SFLOAT or R32_SFLOAT)"
+        )
+    return suffix
+
+
+def save(lut: Lut, path: Path) -> Path:
+    from . import _lutcode
+
+    suffix = check(lut.spec.format, path)
     meta = lut.meta(path.name)
     if suffix == ".exr":
         _save_exr(lut, path, meta)
@@ -73,14 +86,6 @@ def _save_exr(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
         raise ImportError(
             "writing .exr needs the OpenEXR package: pip install brdf-rs[exr]"
         ) from None
-    from .lut import FORMATS
-
-    fmt = FORMATS[lut.spec.format]
-    if fmt.encoding != "sfloat":
-        raise ValueError(
-            f"format: .exr holds half or float channels; {fmt.name} is not one (use"
-            " R16G16_SFLOAT, R32G32_SFLOAT, R16_SFLOAT or R32_SFLOAT)"
-        )
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     header[META_KEY] = _meta_text(meta)
     channels = {
