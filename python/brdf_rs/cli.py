@@ -737,7 +737,7 @@ def cmd_lut(args: argparse.Namespace) -> int:
         if not path.is_file():
             raise UsageError(f"--verify {args.verify}: no such file")
         result = lut.verify(path)
-        summary = {
+        checked: dict[str, Any] = {
             "file": str(path.resolve()),
             "ok": result.ok,
             "hash_ok": result.hash_ok,
@@ -745,7 +745,7 @@ def cmd_lut(args: argparse.Namespace) -> int:
             "tolerance": result.tolerance,
         }
         if args.json:
-            _print_json(summary)
+            _print_json(checked)
         else:
             verdict = "matches" if result.ok and result.hash_ok else "DOES NOT match"
             print(f"{path}: {verdict} its rebuilt table")
