@@ -1,0 +1,358 @@
+"""Engine LUTs (brdf_rs.lut): layouts against the engines' conventions as read from their
+sources, values against the library's own integrals, files read back by independent
+readers (OpenEXR, pypng and Pillow) or, where no independent reader of the format exists
+on PyPI (KTX2 and DDS with float and 16-bit formats: Pillow and OpenImageIO read neither),
+their headers checked field by field against the published specifications; the C header
+compiled and run; the error budget checked against fresh integrals at off-grid points."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import struct
+import subprocess
+import sys
+
+import brdf_rs
+import numpy as np
+import pytest
+from brdf_rs import lut
+from conftest import run_cli
+
+SMALL = {"samples": 256}
+
+
+def small(preset: str, n: int = 8, **changes):
+    spec = lut.preset(preset, **SMALL, **changes)
+    cols = lut.Axis(spec.columns.quantity, n, spec.columns.placement, floor=spec.columns.floor)
+    rows = lut.Axis(spec.rows.quantity, n, spec.rows.placement, floor=spec.rows.floor)
+    import dataclasses
+
+    return dataclasses.replace(spec, columns=cols, rows=rows)
+
+
+@pytest.fixture(scope="module")
+def filament():
+    return lut.build(small("filament"), interp_limit=8)
+
+
+# ------------------------------------------------------------------------------ layouts
+
+
+def test_presets_reproduce_the_engines_layouts():
+    f = lut.preset("filament")
+    # Filament's cmgen: NoV = (x + 0.5) / width, linear roughness = coord^2, 128 x 128 RG16F.
+    assert (f.columns.size, f.rows.size, f.format) == (128, 128, "R16G16_SFLOAT")
+    np.testing.assert_allclose(f.columns.positions(), (np.arange(128) + 0.5) / 128)
+    np.testing.assert_allclose(
+        f.rows.physical(f.rows.positions()), ((np.arange(128) + 0.5) / 128) ** 2
+    )
+    assert f.channel_names == ("B", "A+B")
+    c = lut.preset("cycles")
+    # Cycles: data[y * nx + x], x = roughness i / 31, y = mu j / 31.
+    assert c.columns.quantity == "perceptual" and c.rows.quantity == "mu"
+    np.testing.assert_allclose(c.columns.positions(), np.arange(32) / 31)
+    np.testing.assert_allclose(c.rows.physical(c.rows.positions())[1:], np.arange(1, 32) / 31)
+    assert c.rows.physical(np.array(0.0)) == 1e-4
+    assert lut.preset("ue5").format == "R16G16_UNORM"
+    assert lut.preset("gltf").columns.size == 1024
+
+
+def test_dfg_channels_are_the_split_sum_integrals_in_image_order(filament):
+    spec = filament.spec
+    mu = (np.arange(8) + 0.5) / 8
+    rough = ((np.arange(8) + 0.5) / 8) ** 2
+    # dfg_table keys cell (mu i, roughness j) by i * n + j: the same streams, the same bits.
+    ids = np.arange(64, dtype=np.uint64).reshape(8, 8).T  # [j, i]
+    common = {"alpha": rough[:, None], "kd": 0, "samples": 256, "cell_ids": ids}
+    one = brdf_rs.albedo("ggx", mu[None, :], ks=1, **common)
+    zero = brdf_rs.albedo("ggx", mu[None, :], ks=0, **common)
+    # rows = roughness, columns = mu: channel B = I(F0 = 0), A + B = I(F0 = 1).
+    assert spec.rows.role == "roughness"
+    np.testing.assert_allclose(filament.image[..., 0], zero.value[..., 0], atol=1e-15)
+    np.testing.assert_allclose(filament.image[..., 1], one.value[..., 0], atol=1e-15)
+
+
+def test_cycles_energy_table_rows_are_mu_columns_roughness():
+    t = lut.build(small("cycles", 6), interp_limit=4)
+    r = np.maximum(np.arange(6) / 5, 3.1623e-4)
+    mu = np.maximum(np.arange(6) / 5, 1e-4)
+    e = brdf_rs.energy_compensation_table("ggx", mu, r**2, samples=256, tol=None)
+    np.testing.assert_allclose(t.image[..., 0], e.e, atol=1e-12)  # rows mu, columns r
+    np.testing.assert_allclose(t.image[..., 1], np.broadcast_to(e.e_avg, (6, 6)), atol=1e-12)
+
+
+# ------------------------------------------------------------------------------- budget
+
+
+def test_quantization_budget_is_exact_against_an_independent_half_rounding(filament):
+    halves = np.array(
+        [struct.unpack("<e", struct.pack("<e", v))[0] for v in filament.image.reshape(-1)]
+    ).reshape(filament.image.shape)
+    np.testing.assert_array_equal(filament.decoded, halves)
+    err = np.abs(halves - filament.image).reshape(-1, 2)
+    assert filament.budget.quant_worst == err.max(axis=0).tolist()
+    np.testing.assert_allclose(filament.budget.quant_rms, np.sqrt((err**2).mean(axis=0)))
+
+
+def test_unorm_quantization_is_round_to_65535ths():
+    t = lut.build(small("ue5", 4), interp_limit=4)
+    expected = np.round(np.clip(t.image, 0, 1) * 65535) / 65535
+    np.testing.assert_array_equal(t.decoded, expected)
+
+
+def test_lookup_off_grid_is_within_the_budget_of_fresh_integrals():
+    spec = lut.LutSpec(
+        "dfg",
+        "ggx",
+        lut.Axis("mu", 16),
+        lut.Axis("perceptual", 16),
+        "R16G16_SFLOAT",
+        samples=4096,
+    )
+    t = lut.build(spec, interp_limit=16)
+    rng = np.random.default_rng(3)
+    mu = rng.uniform(0.05, 1, 40)
+    r = rng.uniform(0.1, 1, 40)
+    one = brdf_rs.albedo("ggx", mu, alpha=r**2, kd=0, ks=1, samples=1 << 14, seed=9)
+    zero = brdf_rs.albedo("ggx", mu, alpha=r**2, kd=0, ks=0, samples=1 << 14, seed=9)
+    exact = np.stack([one.value[:, 0] - zero.value[:, 0], zero.value[:, 0]], -1)
+    got = t.lookup(mu, r**2)
+    slack = 3 * np.stack([np.hypot(one.stderr[:, 0], zero.stderr[:, 0]), zero.stderr[:, 0]], -1)
+    assert np.all(np.abs(got - exact) <= np.asarray(t.budget.total) + slack)
+    assert max(t.budget.interp_worst) > 0  # measured, not assumed away
+
+
+def test_bilinear_matches_a_hand_interpolation_between_four_texels():
+    img = np.arange(12, dtype=float).reshape(3, 4, 1)
+    cols, rows = lut.Axis("mu", 4), lut.Axis("perceptual", 3, "ends")
+    # column texel coordinate 1.25 -> mu = (1.25 + 0.5) / 4; row 0.5 -> q = 0.25
+    v = lut.bilinear(img, cols, rows, (1.25 + 0.5) / 4, 0.25)
+    expected = 0.5 * (img[0, 1] * 0.75 + img[0, 2] * 0.25) + 0.5 * (
+        img[1, 1] * 0.75 + img[1, 2] * 0.25
+    )
+    np.testing.assert_allclose(v, expected)
+    np.testing.assert_allclose(lut.bilinear(img, cols, rows, 0.0, 0.0), img[0, 0])  # clamped
+
+
+# -------------------------------------------------------------------------------- files
+
+
+def test_exr_read_by_openexr_has_named_half_channels_and_the_meta(filament, tmp_path):
+    OpenEXR = pytest.importorskip("OpenEXR")
+    path = filament.save(tmp_path / "dfg.exr")
+    with OpenEXR.File(str(path)) as f:
+        chans = f.channels()
+        assert set(chans) == {"B", "A+B"}
+        for k, name in enumerate(("B", "A+B")):
+            px = chans[name].pixels
+            assert px.dtype == np.float16 and px.shape == (8, 8)
+            np.testing.assert_array_equal(px.astype(float), filament.decoded[..., k])
+        meta = json.loads(f.header()["brdf-rs:lut"])
+    assert meta["content_hash"] == filament.content_hash
+    assert "texel centres" in meta["columns"]
+
+
+def test_ktx2_header_fields_follow_the_specification(filament, tmp_path):
+    raw = filament.save(tmp_path / "dfg.ktx2").read_bytes()
+    assert raw[:12] == bytes(
+        [0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A]
+    )
+    fields = struct.unpack_from("<9I", raw, 12)
+    # vkFormat VK_FORMAT_R16G16_SFLOAT = 83, typeSize 2, 8 x 8, depth 0, layers 0,
+    # faces 1, levels 1, no supercompression.
+    assert fields == (83, 2, 8, 8, 0, 0, 1, 1, 0)
+    dfd_off, dfd_len, kvd_off, kvd_len, sgd_off, sgd_len = struct.unpack_from("<4I2Q", raw, 48)
+    assert (sgd_off, sgd_len) == (0, 0) and dfd_off == 80 + 24
+    level_off, level_len, level_unc = struct.unpack_from("<3Q", raw, 80)
+    assert level_off % 4 == 0 and level_len == level_unc == 8 * 8 * 2 * 2
+    assert level_off + level_len == len(raw)
+    # DFD: total size, then the basic block (KDF version 2), RGBSDA, BT.709, linear.
+    (total,) = struct.unpack_from("<I", raw, dfd_off)
+    assert total == dfd_len == 4 + 24 + 2 * 16
+    _, version, block_size = struct.unpack_from("<IHH", raw, dfd_off + 4)
+    assert (version, block_size) == (2, 24 + 32)
+    assert tuple(raw[dfd_off + 12 : dfd_off + 16]) == (1, 1, 1, 0)
+    assert raw[dfd_off + 20] == 4  # bytesPlane0
+    for ch in range(2):
+        off = dfd_off + 28 + 16 * ch
+        bit_offset, bit_length, channel_type = struct.unpack_from("<HBB", raw, off)
+        assert (bit_offset, bit_length, channel_type) == (16 * ch, 15, ch | 0x80 | 0x40)
+    keys = []
+    pos = kvd_off
+    while pos < kvd_off + kvd_len:
+        (n,) = struct.unpack_from("<I", raw, pos)
+        keys.append(raw[pos + 4 : pos + 4 + n].split(b"\0")[0])
+        pos += 4 + n + (-n) % 4
+    assert keys == sorted(keys) and b"KTXorientation" in keys and b"brdf-rs:lut" in keys
+    texels = np.frombuffer(raw, "<f2", 128, level_off).reshape(8, 8, 2)
+    np.testing.assert_array_equal(texels.astype(float), filament.decoded)
+
+
+def test_dds_header_fields_follow_the_specification(tmp_path):
+    t = lut.build(small("ue5", 4), interp_limit=4)
+    raw = t.save(tmp_path / "e.dds").read_bytes()
+    assert raw[:4] == b"DDS "
+    size, flags, height, width, pitch = struct.unpack_from("<5I", raw, 4)
+    assert (size, height, width, pitch) == (124, 4, 4, 4 * 4)
+    assert flags & 0x100F == 0x100F  # CAPS | HEIGHT | WIDTH | PITCH | PIXELFORMAT
+    pf_size, pf_flags, fourcc = struct.unpack_from("<II4s", raw, 76)
+    assert (pf_size, pf_flags, fourcc) == (32, 0x4, b"DX10")
+    (caps,) = struct.unpack_from("<I", raw, 108)
+    assert caps == 0x1000
+    # DXGI_FORMAT_R16G16_UNORM = 35, D3D10_RESOURCE_DIMENSION_TEXTURE2D = 3, array size 1.
+    assert struct.unpack_from("<5I", raw, 128) == (35, 3, 0, 1, 0)
+    texels = np.frombuffer(raw, "<u2", 32, 148).reshape(4, 4, 2)
+    np.testing.assert_array_equal(texels / 65535, t.decoded)
+    assert raw[148 + 64 :].startswith(b"brdf-rs:lut\0")
+
+
+def test_png_offset_and_scale_recover_the_texels(filament, tmp_path):
+    png = pytest.importorskip("png")
+    PIL = pytest.importorskip("PIL.Image")
+    path = filament.save(tmp_path / "dfg.png")
+    width, height, rows, info = png.Reader(filename=str(path)).asDirect()
+    assert info["bitdepth"] == 16 and info["planes"] == 3
+    pixels = np.array([list(r) for r in rows], dtype=float).reshape(height, width, 3)
+    with PIL.open(path) as im:
+        meta = json.loads(im.text["brdf-rs:lut"])
+    p = meta["png"]
+    values = np.asarray(p["offset"]) + np.asarray(p["scale"]) * pixels[..., :2] / 65535
+    assert np.all(np.abs(values - filament.decoded) <= np.asarray(p["step"]) / 2 + 1e-12)
+    assert np.all(pixels[..., 2] == 0)
+
+
+def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_path):
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    filament.save(tmp_path / "dfg.h")
+    pts = [(0.01, 0.0), (0.3, 0.04), (0.77, 0.5), (0.999, 0.9), (0.5, 1.0)]
+    calls = "\n".join(
+        f'    filament_dfg_lookup({m}f, {a}f, o); printf("%.9g %.9g\\n", o[0], o[1]);'
+        for m, a in pts
+    )
+    (tmp_path / "main.c").write_text(
+        '#include <stdio.h>\n#include "dfg.h"\nint main(void) {\n    float o[2];\n'
+        + calls
+        + "\n    return 0;\n}\n"
+    )
+    exe = tmp_path / "main"
+    subprocess.run(
+        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(exe), str(tmp_path / "main.c"), "-lm"],
+        check=True,
+        cwd=tmp_path,
+    )
+    out = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
+    got = np.array([[float(x) for x in line.split()] for line in out.splitlines()])
+    mu, alpha = np.array(pts).T
+    np.testing.assert_allclose(got, filament.lookup(mu, alpha), atol=2e-6)
+
+
+@pytest.mark.parametrize("suffix", [".wgsl", ".glsl"])
+def test_shader_source_validates_with_naga(filament, tmp_path, suffix):
+    naga = shutil.which("naga")
+    if naga is None:
+        pytest.skip("naga (a WGSL/GLSL validator) is not installed")
+    path = filament.save(tmp_path / f"dfg{suffix}")
+    if suffix == ".wgsl":
+        subprocess.run([naga, str(path)], check=True, capture_output=True)
+        return
+    frag = tmp_path / "main.glsl"
+    frag.write_text(
+        "#version 450\n"
+        + path.read_text()
+        + "layout(location = 0) out vec4 o;\nvoid main() {\n"
+        + "    o = vec4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
+    )
+    subprocess.run(
+        [naga, "--input-kind", "glsl", "--shader-stage", "frag", str(frag)],
+        check=True,
+        capture_output=True,
+    )
+
+
+# --------------------------------------------------------------- provenance, verify, CLI
+
+
+def test_every_file_carries_the_hash_and_reads_back(filament, tmp_path):
+    for suffix in (".ktx2", ".dds", ".h", ".hlsl", ".wgsl"):
+        values, meta = lut.read(filament.save(tmp_path / f"t{suffix}"))
+        assert meta["content_hash"] == filament.content_hash
+        assert "brdf-rs lut" in meta["command"]
+        np.testing.assert_allclose(values, filament.decoded, atol=1e-9)
+    other = lut.build(small("filament", seed=1), interp_limit=4)
+    assert other.content_hash != filament.content_hash
+
+
+def test_verify_passes_a_fresh_file_and_fails_a_changed_texel(tmp_path):
+    path = tmp_path / "u.dds"
+    r = run_cli(
+        "lut",
+        "--preset",
+        "ue5",
+        "--columns",
+        "mu:centres:4",
+        "--rows",
+        "perceptual:centres:4",
+        "--samples",
+        "64",
+        "--interp-limit",
+        "4",
+        "-o",
+        str(path),
+        "--json",
+    )
+    assert json.loads(r.stdout)["output"] == str(path.resolve())
+    r = run_cli("lut", "--verify", str(path), "--json")
+    assert json.loads(r.stdout)["ok"]
+    raw = bytearray(path.read_bytes())
+    raw[148] ^= 0xFF  # the first texel's low byte
+    path.write_bytes(bytes(raw))
+    r = run_cli("lut", "--verify", str(path), "--json", code=1)
+    assert not json.loads(r.stdout)["ok"]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--preset", "unreal4"], "--preset: unknown 'unreal4'"),
+        (["--preset", "ue5", "--format", "RGBA8"], "format: unknown 'RGBA8'"),
+        (["--preset", "ue5", "-o", "x.tga"], "path: unknown LUT file type '.tga'"),
+        (["--preset", "ue5", "-o", "x.exr"], "format: .exr holds half or float"),
+        (
+            ["--kind", "dfg", "--columns", "mu:centres:1", "--rows", "alpha:ends:4"],
+            "--columns: axis size",
+        ),
+        (["--kind", "dfg", "--columns", "mu:centres:8"], "missing --rows"),
+        (["--preset", "filament", "--channels", "B"], "format: R16G16_SFLOAT holds 2 channel(s)"),
+        (
+            ["--kind", "dfg", "--columns", "mu:centres:4", "--rows", "alpha:ends:4"],
+            "rows: alpha = 0.0",
+        ),
+    ],
+)
+def test_bad_options_are_refused_before_any_work(args, message, tmp_path):
+    err = run_cli("lut", *args, cwd=tmp_path, code=2).stderr
+    assert message in err and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_single_channel_unorm_energy_table(tmp_path):
+    spec = lut.LutSpec(
+        "energy",
+        "ggx",
+        lut.Axis("mu", 4),
+        lut.Axis("perceptual", 4),
+        "R16_UNORM",
+        channels=("E",),
+        samples=64,
+    )
+    t = lut.build(spec, interp_limit=4)
+    raw = t.save(tmp_path / "e.ktx2").read_bytes()
+    assert struct.unpack_from("<2I", raw, 12) == (70, 2)  # VK_FORMAT_R16_UNORM
+    assert t.decoded.shape == (4, 4, 1)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(pytest.main([__file__, "-x", "-q"]))
