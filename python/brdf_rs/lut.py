@@ -452,8 +452,10 @@ def _presets() -> dict[str, Preset]:
             ".ktx2",
             "Filament's DFG: 128 x 128 RG16F, x = n.v, y = perceptual roughness, R = B"
             " (integral of V*Fc), G = A + B (integral of V)",
-            "Filament libs/ibl/src/CubemapIBL.cpp (CubemapIBL::DFG, DFV_Multiscatter) and the"
-            " shader's textureLod(iblDFG, vec2(NoV, perceptualRoughness))",
+            "Filament libs/ibl/src/CubemapIBL.cpp (CubemapIBL::DFG, DFV_Multiscatter),"
+            " filament/src/details/DFG.h (DFG_LUT_SIZE 128; the engine's texture is RGB16F,"
+            " blue the cloth term) and the shaders' textureLod(iblDFG, vec2(NoV,"
+            " perceptualRoughness))",
         ),
         "ue5": Preset(
             LutSpec(
@@ -486,7 +488,8 @@ def _presets() -> dict[str, Preset]:
             " j/31, mu clamped to >= 1e-4, r to >= 3.1623e-4 (Cycles: 1e-4); E_avg(r) in the"
             " second channel",
             "Blender intern/cycles/app/cycles_precompute.cpp (precompute_terms ggx_E and"
-            " ggx_Eavg, data[y * nx + x])",
+            " ggx_Eavg, data[y * nx + x]) and kernel/util/lookup_table.h (x = saturate(x) *"
+            " (size - 1): samples at the ends)",
         ),
         "gltf": Preset(
             LutSpec(
@@ -501,9 +504,10 @@ def _presets() -> dict[str, Preset]:
             ".ktx2",
             "glTF Sample Viewer's GGX LUT: 1024 x 1024, x = n.v, y = perceptual roughness,"
             " R = scale A, G = bias B (specularColor * brdf.x + brdf.y)",
-            "glTF-Sample-Viewer ibl_sampler.js (lutResolution = 1024) and ibl.glsl"
-            " (texture(u_GGXLUT, vec2(NdotV, perceptualRoughness))); its texture format"
-            " is a render target's, not confirmed as RG16F",
+            "glTF-Sample-Viewer ibl_sampler.js (lutResolution = 1024), ibl_filtering.frag"
+            " LUT() (A += (1 - Fc) * V_pdf, B += Fc * V_pdf, V with roughness^4 = alpha^2)"
+            " and ibl.glsl (texture(u_GGXLUT, vec2(NdotV, perceptualRoughness))); its"
+            " texture format is a render target's, not confirmed as RG16F",
         ),
         "enterprise": Preset(
             LutSpec(
@@ -518,9 +522,10 @@ def _presets() -> dict[str, Preset]:
             ".exr",
             "Enterprise PBR's Kulla-Conty compensation inputs E(mu, alpha) and E_avg:"
             " 32 x 32 over mu and perceptual roughness",
-            "Dassault Systemes Enterprise PBR specification (multiple scattering after"
-            " Kulla and Conty 2017); the specification gives the formula, not a texture"
-            " layout: resolution and axes here are not confirmed",
+            "Dassault Systemes Enterprise PBR Shading Model specification (versions 2019x to"
+            " 2025x): the pages read describe the BSDF, with roughness the user parameter"
+            " (alpha = r^2); no table layout or resolution could be confirmed there, so"
+            " this layout is a choice, not the specification's",
         ),
     }
 
@@ -620,9 +625,12 @@ class Budget:
     ``interp_worst``: the largest difference between the bilinear lookup of the float64
     table and the integral evaluated at ``interp_points`` points between the texels
     (midpoints between neighbouring texels, and the range ends), itself estimated with
-    standard error up to ``interp_ref_stderr``. ``total`` = quant_worst + interp_worst +
-    3 * mc_max_stderr: the bound the lookup of the file meets against the exact
-    function (at 3 sigma)."""
+    standard error up to ``interp_ref_stderr``; ``interp_worst_at`` says where (``[mu,
+    roughness parameter]``), ``interp_worst_interior`` is the worst over the points
+    between the first and last texels of both axes (leaving out the margins a texel-centre
+    table clamps, where the lookup holds the edge texel's value). ``total`` = quant_worst
+    + interp_worst + 3 * mc_max_stderr: the bound the lookup of the file meets against
+    the exact function (at 3 sigma)."""
 
     channels: list[str]
     mc_max_stderr: list[float]
@@ -631,6 +639,8 @@ class Budget:
     interp_worst: list[float]
     interp_ref_stderr: list[float]
     interp_points: int
+    interp_worst_at: list[list[float]]
+    interp_worst_interior: list[float]
     total: list[float]
     confidence: str = "3 sigma of the Monte Carlo standard error (about 99.7 %)"
 
@@ -678,6 +688,19 @@ def _budget(
     else:
         looked = bilinear(image, spec.columns, spec.rows, rq, mq)
     ierr = np.abs(looked - ref).reshape(-1, ref.shape[-1])
+    mu_axis, r_axis = spec.mu_axis, spec.roughness_axis
+    inside = (
+        (mq >= mu_axis.positions()[0])
+        & (mq <= mu_axis.positions()[-1])
+        & (rq >= r_axis.positions()[0])
+        & (rq <= r_axis.positions()[-1])
+    ).reshape(-1)
+    interior = ierr[inside].max(axis=0) if inside.any() else np.zeros(ierr.shape[-1])
+    worst = ierr.argmax(axis=0)
+    where = [
+        [float(mu_axis.physical(mq.reshape(-1)[k])), float(r_axis.physical(rq.reshape(-1)[k]))]
+        for k in worst
+    ]
     mc = stderr.reshape(-1, stderr.shape[-1]).max(axis=0)
     qw = np.abs(flat).max(axis=0)
     iw = ierr.max(axis=0)
@@ -689,6 +712,8 @@ def _budget(
         interp_worst=iw.tolist(),
         interp_ref_stderr=ref_se.reshape(-1, ref_se.shape[-1]).max(axis=0).tolist(),
         interp_points=int(mq.size),
+        interp_worst_at=where,
+        interp_worst_interior=interior.tolist(),
         total=(qw + iw + 3 * mc).tolist(),
     )
 
