@@ -356,3 +356,49 @@ def test_single_channel_unorm_energy_table(tmp_path):
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(pytest.main([__file__, "-x", "-q"]))
+
+
+def test_meet_error_picks_the_first_size_and_format_whose_total_fits():
+    spec = lut.LutSpec(
+        "energy",
+        "ggx",
+        lut.Axis("mu", 4, "ends", 0.2, 1.0),
+        lut.Axis("perceptual", 4, "ends", 0.3, 1.0),
+        "R32G32_SFLOAT",
+        samples=1024,
+    )
+    choice = lut.meet_error(spec, 0.02, sizes=(2, 4, 8, 16), interp_limit=8)
+    assert choice.lut is not None
+    assert max(choice.lut.budget.total) <= 0.02
+    # everything tried before the answer missed the error; the answer is the last tried
+    assert all(total > 0.02 for _, _, total in choice.tried[:-1])
+    n, fmt, _ = choice.tried[-1]
+    assert (choice.lut.spec.columns.size, choice.lut.spec.format) == (n, fmt)
+    assert choice.lut.spec.columns.lo == 0.2  # the axes' ranges are kept
+    impossible = lut.meet_error(spec, 1e-7, sizes=(2, 4), interp_limit=4)
+    assert impossible.lut is None and len(impossible.tried) == 2 * 3
+
+
+def test_cli_max_error_says_when_it_cannot(tmp_path):
+    err = run_cli(
+        "lut",
+        "--kind",
+        "energy",
+        "--columns",
+        "mu:ends:4:0.2:1",
+        "--rows",
+        "perceptual:ends:4:0.3:1",
+        "--samples",
+        "16",
+        "--max-error",
+        "1e-9",
+        "--interp-limit",
+        "4",
+        "-o",
+        str(tmp_path / "e.h"),
+        code=1,
+    ).stderr
+    assert "no resolution up to 512" in err and "--max-error 1e-09" in err
+    assert not (tmp_path / "e.h").exists()
+    err = run_cli("lut", "--preset", "ue5", "--max-error", "-1", code=2).stderr
+    assert "--max-error: expected a positive number" in err

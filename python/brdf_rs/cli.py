@@ -762,8 +762,25 @@ def cmd_lut(args: argparse.Namespace) -> int:
     _check_location(str(out), "-o")
     if args.interp_limit < 2:
         raise UsageError(f"--interp-limit: expected at least 2, got {args.interp_limit}")
+    if args.max_error is not None and not (math.isfinite(args.max_error) and args.max_error > 0):
+        raise UsageError(f"--max-error: expected a positive number, got {args.max_error}")
     start = time.perf_counter()
-    table = lut.build(spec, interp_limit=args.interp_limit)
+    if args.max_error is not None:
+        choice = lut.meet_error(spec, args.max_error, interp_limit=args.interp_limit)
+        if choice.lut is None:
+            best = min(choice.tried, key=lambda t: t[2])
+            print(
+                f"brdf-rs lut: no resolution up to {choice.tried[-1][0]} and format meets"
+                f" --max-error {args.max_error:g}: the best is {best[2]:.3g} ({best[0]} x"
+                f" {best[0]} {best[1]}); raise --samples, change the axes (e.g. sqrt_mu,"
+                " ends) or accept a larger error",
+                file=sys.stderr,
+            )
+            return EXIT_FAILURE
+        table = choice.lut
+        spec = table.spec
+    else:
+        table = lut.build(spec, interp_limit=args.interp_limit)
     seconds = time.perf_counter() - start
     saved = _Saved(out, table.save)
     summary: dict[str, Any] = {
@@ -1321,6 +1338,13 @@ def _add_lut_command(sub: Any) -> None:
         type=int,
         default=64,
         help="points per axis checked between texels for the interpolation error",
+    )
+    p.add_argument(
+        "--max-error",
+        type=float,
+        default=None,
+        help="pick the smallest square resolution and format whose error budget total is at"
+        " most this (exit 1 when none up to 512 is)",
     )
     p.add_argument("-o", "--output", default=None, help="out.exr | .ktx2 | .dds | .png | .h | ...")
     p.add_argument("--verify", default=None, metavar="FILE", help="rebuild FILE and compare")

@@ -46,6 +46,7 @@ __all__ = [
     "Lut",
     "LutSpec",
     "build",
+    "meet_error",
     "parse_axis",
     "preset",
     "read",
@@ -790,6 +791,59 @@ def build(
     stored, decoded = quantize(image, spec.format)
     budget = _budget(spec, image, stderr, decoded, interp_limit, progress)
     return Lut(spec, image, stderr, stored, decoded, budget)
+
+
+@dataclasses.dataclass(frozen=True)
+class ErrorChoice:
+    """:func:`meet_error`'s answer: ``lut`` the cheapest table meeting the error (None
+    when none does), and every candidate tried: ``(size, format, worst total)``."""
+
+    lut: Lut | None
+    tried: list[tuple[int, str, float]]
+    max_error: float
+
+
+def meet_error(
+    spec: LutSpec,
+    max_error: float,
+    *,
+    sizes: Sequence[int] = (16, 32, 64, 128, 256, 512),
+    interp_limit: int = 64,
+) -> ErrorChoice:
+    """The smallest square resolution (both axes ``size`` texels, their quantities,
+    placements and ranges kept) and, at it, the smallest pixel format of the spec's
+    channel count whose budget total (quantization + interpolation + 3 standard errors,
+    worst channel) is at most ``max_error``. Sizes are tried in order; the Monte Carlo
+    part is the spec's ``samples``' (raise them when it alone exceeds the error)."""
+    if not (isinstance(max_error, (int, float)) and math.isfinite(max_error) and max_error > 0):
+        raise ValueError(f"max_error: expected a positive number, got {max_error!r}")
+    sizes = [int(n) for n in sizes]
+    if not sizes or any(n < 2 for n in sizes):
+        raise ValueError(f"sizes: expected sizes of at least 2 texels, got {sizes}")
+    nc = len(spec.channel_names)
+    formats = sorted(
+        (f for f in FORMATS.values() if f.channels == nc), key=lambda f: (f.bits, f.encoding)
+    )
+    tried: list[tuple[int, str, float]] = []
+    for n in sizes:
+        trial = dataclasses.replace(
+            spec,
+            columns=dataclasses.replace(spec.columns, size=n),
+            rows=dataclasses.replace(spec.rows, size=n),
+            format=formats[-1].name,
+        )
+        table = build(trial, interp_limit=interp_limit)
+        rest = np.asarray(table.budget.interp_worst) + 3 * np.asarray(table.budget.mc_max_stderr)
+        for f in formats:
+            _, decoded = quantize(table.image, f.name)
+            quant = np.abs(decoded - table.image).reshape(-1, nc).max(axis=0)
+            total = float(np.max(quant + rest))
+            tried.append((n, f.name, total))
+            if total <= max_error:
+                return ErrorChoice(
+                    build(dataclasses.replace(trial, format=f.name)), tried, max_error
+                )
+    return ErrorChoice(None, tried, max_error)
 
 
 def read(path: str | Path) -> tuple[np.ndarray, dict[str, Any]]:
