@@ -704,13 +704,14 @@ def _lut_spec(args: argparse.Namespace) -> Any:
         if args.preset not in lut.PRESETS:
             raise UsageError(f"--preset: unknown {args.preset!r}; use {', '.join(lut.PRESETS)}")
         return dataclasses.replace(lut.PRESETS[args.preset].spec, **changes)
-    missing = [f"--{k}" for k in ("kind", "columns", "rows") if k not in changes]
+    missing = [f"--{k}" for k in ("kind", "model", "columns", "rows") if k not in changes]
     if missing:
         raise UsageError(
             f"give --preset ({', '.join(lut.PRESETS)}) or describe the table: missing"
             f" {', '.join(missing)}"
         )
-    changes.setdefault("model", "ggx")
+    if "model" not in changes:
+        raise UsageError("--model: give the model (brdf-rs models lists them) or a --preset")
     return lut.LutSpec(**changes)
 
 
@@ -758,7 +759,10 @@ def cmd_lut(args: argparse.Namespace) -> int:
     if args.preset is not None:
         default = f"{args.preset}{lut.PRESETS[args.preset].container}"
     out = Path(args.output or default)
-    _lutfiles.check(spec.format, out)
+    try:
+        _lutfiles.check(spec.format, out)
+    except ValueError as exc:
+        raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
     _check_location(str(out), "-o")
     if args.interp_limit < 2:
         raise UsageError(f"--interp-limit: expected at least 2, got {args.interp_limit}")
@@ -780,7 +784,13 @@ def cmd_lut(args: argparse.Namespace) -> int:
         table = choice.lut
         spec = table.spec
     else:
-        table = lut.build(spec, interp_limit=args.interp_limit)
+        progress = _PassProgress(lut.passes(spec, args.interp_limit), args.quiet or args.json)
+        completed = False
+        try:
+            table = lut.build(spec, interp_limit=args.interp_limit, progress=progress)
+            completed = True
+        finally:
+            progress.close(completed)
     seconds = time.perf_counter() - start
     saved = _Saved(out, table.save)
     summary: dict[str, Any] = {
@@ -1320,7 +1330,7 @@ def _add_lut_command(sub: Any) -> None:
     )
     p.add_argument("--preset", default=None, help=f"one of {', '.join(lut.PRESETS)}")
     p.add_argument("--kind", default=None, help=f"what the table holds: {', '.join(lut.KINDS)}")
-    p.add_argument("--model", default=None, help="the model (default: the preset's, else ggx)")
+    p.add_argument("--model", default=None, help="the model (default: the preset's)")
     axis_help = (
         "QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]], QUANTITY one of "
         + ", ".join(lut.QUANTITIES)
@@ -1349,7 +1359,7 @@ def _add_lut_command(sub: Any) -> None:
     p.add_argument("-o", "--output", default=None, help="out.exr | .ktx2 | .dds | .png | .h | ...")
     p.add_argument("--verify", default=None, metavar="FILE", help="rebuild FILE and compare")
     p.add_argument("--list", action="store_true", help="list the presets and their sources")
-    _add_reporting(p, quiet_help=None)
+    _add_reporting(p)
     p.set_defaults(run=cmd_lut)
 
 

@@ -48,6 +48,7 @@ __all__ = [
     "build",
     "meet_error",
     "parse_axis",
+    "passes",
     "preset",
     "read",
     "verify",
@@ -663,6 +664,29 @@ def _check_points(axis: Axis, limit: int) -> np.ndarray:
     return np.unique(np.maximum(pts, axis.floor))
 
 
+def _check_grid(spec: LutSpec, interp_limit: int) -> tuple[np.ndarray, np.ndarray]:
+    """The mu and roughness quantities the interpolation error is checked at. ``mu = 0``
+    exactly is 0 by convention (no light above the horizon): its end is checked at 1e-4,
+    the limit engines clamp n.v to. A roughness the model refuses (alpha = 0) is not
+    checked."""
+    mu_pts = np.unique(np.maximum(_check_points(spec.mu_axis, interp_limit), 1e-4))
+    r_pts = _check_points(spec.roughness_axis, interp_limit)
+    phys = spec.roughness_axis.physical(r_pts)
+    r_pts = r_pts[[_spec.admits(spec.model, spec.param, float(x)) for x in phys]]
+    return mu_pts, r_pts
+
+
+def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
+    """The cells of each integration run :func:`build` makes, in order (what a progress
+    callback counts: ``progress(cells_done, samples_done)`` restarts at 0 with each)."""
+    mu_pts, r_pts = _check_grid(spec, interp_limit)
+    runs = []
+    for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
+        # dfg: F0 = 1 then F0 = 0; energy: E on the grid, then 32 Gauss-Legendre mu's.
+        runs += [m * r, m * r] if spec.kind != "energy" else [m * r, 32 * r]
+    return runs
+
+
 def _budget(
     spec: LutSpec,
     image: np.ndarray,
@@ -673,13 +697,7 @@ def _budget(
 ) -> Budget:
     diff = decoded - image
     flat = diff.reshape(-1, diff.shape[-1])
-    # mu = 0 exactly is 0 by convention (no light above the horizon): its end is
-    # checked at 1e-4, the limit an engine clamps n.v to. A roughness the model refuses
-    # (alpha = 0) is not checked.
-    mu_pts = np.unique(np.maximum(_check_points(spec.mu_axis, interp_limit), 1e-4))
-    r_pts = _check_points(spec.roughness_axis, interp_limit)
-    phys = spec.roughness_axis.physical(r_pts)
-    r_pts = r_pts[[_spec.admits(spec.model, spec.param, float(x)) for x in phys]]
+    mu_pts, r_pts = _check_grid(spec, interp_limit)
     ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress)
     keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
     ref, ref_se = ref[..., keep], ref_se[..., keep]
