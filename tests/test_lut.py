@@ -417,3 +417,62 @@ def test_cli_max_error_says_when_it_cannot(tmp_path):
     assert not (tmp_path / "e.h").exists()
     err = run_cli("lut", "--preset", "ue5", "--max-error", "-1", code=2).stderr
     assert "--max-error: expected a positive number" in err
+
+
+def test_polynomial_fit_is_the_least_squares_one_and_its_errors_are_measured(filament):
+    scipy_linalg = pytest.importorskip("scipy.linalg")
+    f = lut.fit(filament, 3)
+    s = filament.spec
+    x, y = np.meshgrid(s.columns.fractions(), s.rows.fractions())
+    # an independent least-squares fit: full 2-D Vandermonde, degree > 3 columns dropped
+    v = np.polynomial.polynomial.polyvander2d(x.ravel(), y.ravel(), [3, 3])
+    keep = [i + j <= 3 for i in range(4) for j in range(4)]
+    for c in range(2):
+        coef, *_ = scipy_linalg.lstsq(v[:, keep], filament.image[..., c].ravel())
+        mine = f(
+            s.mu_axis.physical(s.mu_axis.positions())[None, :],
+            s.roughness_axis.physical(s.roughness_axis.positions())[:, None],
+        )
+        np.testing.assert_allclose(mine[..., c].ravel(), v[:, keep] @ coef, atol=1e-9)
+        assert f.worst_texels[c] == pytest.approx(
+            np.abs(v[:, keep] @ coef - filament.image[..., c].ravel()).max(), abs=1e-9
+        )
+    assert all(w > 0 for w in f.worst_between)
+    with pytest.raises(ValueError, match="degree: expected an integer from 1 to 12"):
+        lut.fit(filament, 0)
+
+
+def test_fit_as_c_code_evaluates_the_fit(filament, tmp_path):
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    f = lut.fit(filament, 4)
+    f.save(tmp_path / "fit.h")
+    pts = [(0.05, 0.01), (0.4, 0.3), (0.9, 0.8)]
+    calls = "\n".join(
+        f'    filament_dfg_fit({m}f, {a}f, o); printf("%.9g %.9g\\n", o[0], o[1]);' for m, a in pts
+    )
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "fit.h"\nint main(void) {\n    float o[2];\n'
+        + calls
+        + "\n    return 0;\n}\n"
+    )
+    subprocess.run(
+        [
+            cc,
+            "-std=c99",
+            "-Wall",
+            "-Werror",
+            "-o",
+            str(tmp_path / "m"),
+            str(tmp_path / "m.c"),
+            "-lm",
+        ],
+        check=True,
+    )
+    out = subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True).stdout
+    got = np.array([[float(v) for v in line.split()] for line in out.splitlines()])
+    mu, alpha = np.array(pts).T
+    np.testing.assert_allclose(got, f(mu, alpha), atol=1e-5)
+    with pytest.raises(ValueError, match="not a table"):
+        lut.read(tmp_path / "fit.h")

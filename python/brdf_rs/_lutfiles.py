@@ -333,6 +333,10 @@ _DATA_RE = re.compile(r"BEGIN DATA(.*?)END DATA", re.DOTALL)
 def _read_source(text: str) -> tuple[np.ndarray, dict[str, Any]]:
     m = _META_RE.search(text)
     d = _DATA_RE.search(text)
+    if m is None and "brdf-rs:lut-fit" in text:
+        raise ValueError(
+            "a polynomial fit, not a table: its header records the command that rebuilds it"
+        )
     if m is None or d is None:
         raise ValueError("no brdf-rs:lut metadata or data block")
     meta = json.loads(m.group(1))

@@ -763,6 +763,13 @@ def cmd_lut(args: argparse.Namespace) -> int:
         _lutfiles.check(spec.format, out)
     except ValueError as exc:
         raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
+    if args.fit is not None:
+        if out.suffix.lower() not in (".h", ".glsl", ".hlsl", ".wgsl"):
+            raise UsageError(f"-o {out}: a --fit is source code: .h, .glsl, .hlsl or .wgsl")
+        if not 1 <= args.fit <= 12:
+            raise UsageError(f"--fit: expected a degree from 1 to 12, got {args.fit}")
+        if args.max_error is not None:
+            raise UsageError("--fit and --max-error: give one or the other")
     _check_location(str(out), "-o")
     if args.interp_limit < 2:
         raise UsageError(f"--interp-limit: expected at least 2, got {args.interp_limit}")
@@ -792,6 +799,29 @@ def cmd_lut(args: argparse.Namespace) -> int:
         finally:
             progress.close(completed)
     seconds = time.perf_counter() - start
+    if args.fit is not None:
+        fitted = lut.fit(table, args.fit)
+        saved = _Saved(out, fitted.save)
+        fit_summary = {
+            "output": saved.output,
+            "degree": args.fit,
+            "table_content_hash": table.content_hash,
+            "worst_texels": fitted.worst_texels,
+            "rms_texels": fitted.rms_texels,
+            "worst_between": fitted.worst_between,
+            "between_stderr": fitted.between_stderr,
+            "seconds": seconds,
+        }
+        if args.json:
+            _print_json(fit_summary)
+        else:
+            print(f"degree-{args.fit} fit of the {spec.kind} table of {spec.model}: {saved.where}")
+            for k, c in enumerate(spec.channel_names):
+                print(
+                    f"  {c}: worst {fitted.worst_texels[k]:.2g} against the texels,"
+                    f" {fitted.worst_between[k]:.2g} against integrals between them"
+                )
+        return 0
     saved = _Saved(out, table.save)
     summary: dict[str, Any] = {
         "output": saved.output,
@@ -1355,6 +1385,13 @@ def _add_lut_command(sub: Any) -> None:
         default=None,
         help="pick the smallest square resolution and format whose error budget total is at"
         " most this (exit 1 when none up to 512 is)",
+    )
+    p.add_argument(
+        "--fit",
+        type=int,
+        default=None,
+        metavar="DEGREE",
+        help="write a polynomial fit of this total degree as source code instead of the table",
     )
     p.add_argument("-o", "--output", default=None, help="out.exr | .ktx2 | .dds | .png | .h | ...")
     p.add_argument("--verify", default=None, metavar="FILE", help="rebuild FILE and compare")

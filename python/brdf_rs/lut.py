@@ -46,6 +46,7 @@ __all__ = [
     "Lut",
     "LutSpec",
     "build",
+    "fit",
     "meet_error",
     "parse_axis",
     "passes",
@@ -694,7 +695,7 @@ def _budget(
     decoded: np.ndarray,
     interp_limit: int,
     progress: Any = None,
-) -> Budget:
+) -> tuple[Budget, Checks]:
     diff = decoded - image
     flat = diff.reshape(-1, diff.shape[-1])
     mu_pts, r_pts = _check_grid(spec, interp_limit)
@@ -723,7 +724,7 @@ def _budget(
     mc = stderr.reshape(-1, stderr.shape[-1]).max(axis=0)
     qw = np.abs(flat).max(axis=0)
     iw = ierr.max(axis=0)
-    return Budget(
+    budget = Budget(
         channels=list(spec.channel_names),
         mc_max_stderr=mc.tolist(),
         quant_worst=qw.tolist(),
@@ -735,6 +736,19 @@ def _budget(
         interp_worst_interior=interior.tolist(),
         total=(qw + iw + 3 * mc).tolist(),
     )
+    return budget, Checks(mq, rq, ref, ref_se)
+
+
+@dataclasses.dataclass(frozen=True)
+class Checks:
+    """The integrals the interpolation error was measured against: at axis quantities
+    ``mu_q`` x ``roughness_q`` (2-D, mu first), ``value`` and ``stderr`` (kept channels
+    last), integrated with an independent seed."""
+
+    mu_q: np.ndarray
+    roughness_q: np.ndarray
+    value: np.ndarray
+    stderr: np.ndarray
 
 
 # --------------------------------------------------------------------------------- Lut
@@ -752,6 +766,7 @@ class Lut:
     stored: np.ndarray
     decoded: np.ndarray
     budget: Budget
+    checks: Checks | None = dataclasses.field(default=None, repr=False, compare=False)
 
     @property
     def content_hash(self) -> str:
@@ -807,8 +822,8 @@ def build(
     )
     image, stderr = _to_image(spec, value), _to_image(spec, se)
     stored, decoded = quantize(image, spec.format)
-    budget = _budget(spec, image, stderr, decoded, interp_limit, progress)
-    return Lut(spec, image, stderr, stored, decoded, budget)
+    budget, checks = _budget(spec, image, stderr, decoded, interp_limit, progress)
+    return Lut(spec, image, stderr, stored, decoded, budget, checks)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -862,6 +877,18 @@ def meet_error(
                     build(dataclasses.replace(trial, format=f.name)), tried, max_error
                 )
     return ErrorChoice(None, tried, max_error)
+
+
+def fit(table: Lut, degree: int = 6) -> Any:
+    """A polynomial fit of ``table``'s channels, of total ``degree`` in its two axis
+    fractions, with its error measured against the texels and against the integrals
+    between them (a ``Fit``: call it, or ``.save("fit.glsl")`` for shader code; see
+    docs/luts.md)."""
+    from . import _lutfit
+
+    if not isinstance(table, Lut):
+        raise TypeError(f"table: expected a Lut (lut.build's), got {type(table).__name__}")
+    return _lutfit.fit(table, degree)
 
 
 def read(path: str | Path) -> tuple[np.ndarray, dict[str, Any]]:
