@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 from brdf_rs import __version__, lut
 
+FIT_DEGREE = 6
 OUT = Path(__file__).resolve().parent / "results" / "lut_budgets.md"
 
 
@@ -73,8 +74,17 @@ def main() -> int:
             _, decoded = lut.quantize(table.image, fmt.name)
             err = np.abs(decoded - table.image).reshape(-1, nc).max(axis=0)
             lines.append(f"- {fmt.name}: " + ", ".join(f"{v:.2e}" for v in err))
+        fitted = lut.fit(table, FIT_DEGREE)
+        lines += [
+            "",
+            f"Degree-{FIT_DEGREE} polynomial fit (`--fit {FIT_DEGREE}`), worst against the"
+            " texels / against the integrals between them:",
+            "",
+        ]
+        for k, c in enumerate(b.channels):
+            lines.append(f"- {c}: {fitted.worst_texels[k]:.2e} / {fitted.worst_between[k]:.2e}")
         lines.append("")
-        print("\n".join(lines[-(12 + nc) :]), flush=True)
+        print("\n".join(lines[-(17 + 2 * nc) :]), flush=True)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text("\n".join(lines))
     print(f"wrote {args.out}")

@@ -27,12 +27,15 @@ import math
 import shlex
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import _spec
 from ._brdf_rs import __version__
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ._lutfit import Fit
 
 __all__ = [
     "CONTAINERS",
@@ -879,7 +882,7 @@ def meet_error(
     return ErrorChoice(None, tried, max_error)
 
 
-def fit(table: Lut, degree: int = 6) -> Any:
+def fit(table: Lut, degree: int = 6) -> Fit:
     """A polynomial fit of ``table``'s channels, of total ``degree`` in its two axis
     fractions, with its error measured against the texels and against the integrals
     between them (a ``Fit``: call it, or ``.save("fit.glsl")`` for shader code; see
