@@ -476,3 +476,22 @@ def test_fit_as_c_code_evaluates_the_fit(filament, tmp_path):
     np.testing.assert_allclose(got, f(mu, alpha), atol=1e-5)
     with pytest.raises(ValueError, match="not a table"):
         lut.read(tmp_path / "fit.h")
+
+
+def test_filament_cloth_preset_adds_the_sheen_albedo_as_a_third_channel(tmp_path):
+    spec = small("filament_cloth", 4)
+    assert lut.preset("filament_cloth").format == "R16G16B16_SFLOAT"
+    t = lut.build(spec, interp_limit=4)
+    mu = (np.arange(4) + 0.5) / 4
+    r = (np.arange(4) + 0.5) / 4
+    # dfg_table's cloth cells are albedo_table's cells for the sheen model: same bits.
+    cloth = brdf_rs.albedo_table(
+        spec.sheen, {"mu": mu, "alpha": r**2}, kd=0, ks=1, samples=spec.samples
+    )
+    np.testing.assert_allclose(t.image[..., 2], cloth.value[..., 0].T, atol=1e-15)
+    raw = t.save(tmp_path / "c.ktx2").read_bytes()
+    assert struct.unpack_from("<2I", raw, 12) == (90, 2)  # VK_FORMAT_R16G16B16_SFLOAT
+    with pytest.raises(ValueError, match="DXGI has no R16G16B16_SFLOAT"):
+        t.save(tmp_path / "c.dds")
+    with pytest.raises(ValueError, match="the cloth channel needs a sheen model"):
+        lut.preset("filament", format="R16G16B16_SFLOAT", channels=None)

@@ -134,7 +134,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
             + f"\n    uv[0] = {col_in}_t;\n    uv[1] = {row_in}_t;\n}}\n\n#endif\n"
         )
     if lang in ("glsl", "hlsl"):
-        vec = {1: "float", 2: "vec2" if lang == "glsl" else "float2"}[nc]
+        vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
         v2 = "vec2" if lang == "glsl" else "float2"
         decl = (
             f"const float {name}_data[{total}] = float[{total}](\n{block});\n"
@@ -151,7 +151,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
                 f"    float r{k} = (a{k} * (1.0{f} - fx) + b{k} * fx) * (1.0{f} - fy)"
                 f" + (d{k} * (1.0{f} - fx) + e{k} * fx) * fy;"
             )
-        result = "r0" if nc == 1 else f"{vec}(r0, r1)"
+        result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
         return (
             head
             + decl
@@ -165,7 +165,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
             + f"\n    return {v2}({col_in}_t, {row_in}_t);\n}}\n"
         )
     # WGSL
-    vec = {1: "f32", 2: "vec2<f32>"}[nc]
+    vec = "f32" if nc == 1 else f"vec{nc}<f32>"
     interp_w = [
         f"let x0 = min(u32({col_in}_x), {w - 2}u);",
         f"let y0 = min(u32({row_in}_x), {h - 2}u);",
@@ -182,7 +182,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
             f"    let r{k} = (a{k} * (1.0 - fx) + b{k} * fx) * (1.0 - fy)"
             f" + (d{k} * (1.0 - fx) + e{k} * fx) * fy;"
         )
-    result = "r0" if nc == 1 else f"{vec}(r0, r1)"
+    result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
     return (
         head
         + f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n"

@@ -41,6 +41,11 @@ def check(fmt_name: str, path: Path) -> str:
     suffix = path.suffix.lower()
     if suffix not in CONTAINERS:
         raise ValueError(f"path: unknown LUT file type {suffix!r}; use {', '.join(CONTAINERS)}")
+    if suffix == ".dds" and FORMATS[fmt_name].dxgi == 0:
+        raise ValueError(
+            f"format: DXGI has no {fmt_name} format, so .dds cannot hold it (use .ktx2 or"
+            " .exr, or a 32-bit float format)"
+        )
     if suffix == ".exr" and FORMATS[fmt_name].encoding != "sfloat":
         raise ValueError(
             f"format: .exr holds half or float channels; {fmt_name} is not one (use"

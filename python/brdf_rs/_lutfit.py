@@ -189,15 +189,15 @@ def source(result: Fit, suffix: str) -> str:
             + f"    {body}\n    {outs}\n}}\n\n#endif\n"
         )
     if lang == "wgsl":
-        ret = "f32" if nc == 1 else "vec2<f32>"
-        value = "v0" if nc == 1 else "vec2<f32>(v0, v1)"
+        ret = "f32" if nc == 1 else f"vec{nc}<f32>"
+        value = "v0" if nc == 1 else f"{ret}({', '.join(names)})"
         return (
             text
             + f"fn {name}(mu: f32, roughness: f32) -> {ret} {{\n    {body}\n"
             + f"    return {value};\n}}\n"
         )
-    vec = "float" if nc == 1 else ("vec2" if lang == "glsl" else "float2")
-    value = "v0" if nc == 1 else f"{vec}(v0, v1)"
+    vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
+    value = "v0" if nc == 1 else f"{vec}({', '.join(names)})"
     return (
         text + f"{vec} {name}(float mu, float roughness) {{\n    {body}\n    return {value};\n}}\n"
     )

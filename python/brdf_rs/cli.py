@@ -690,7 +690,7 @@ def _lut_spec(args: argparse.Namespace) -> Any:
     from . import lut
 
     changes: dict[str, Any] = {}
-    for key in ("kind", "model", "format", "samples", "seed", "name"):
+    for key in ("kind", "model", "format", "samples", "seed", "name", "sheen"):
         if getattr(args, key) is not None:
             changes[key] = getattr(args, key)
     for key in ("columns", "rows"):
@@ -1370,6 +1370,12 @@ def _add_lut_command(sub: Any) -> None:
     p.add_argument("--rows", default=None, help="the texture's y axis (row 0 first): " + axis_help)
     p.add_argument("--format", default=None, help=f"pixel format: {', '.join(lut.FORMATS)}")
     p.add_argument("--channels", default=None, help="channels kept, comma-separated (e.g. E)")
+    p.add_argument(
+        "--sheen",
+        default=None,
+        metavar="MODEL",
+        help="the sheen model of a DFG table's cloth channel (e.g. the filament_cloth preset's)",
+    )
     p.add_argument("--samples", type=int, default=None, help="samples per texel")
     p.add_argument("--seed", type=int, default=None, help=SEED_HELP)
     p.add_argument("--name", default=None, help="identifier in source code outputs")

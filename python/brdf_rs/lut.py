@@ -76,8 +76,8 @@ PLACEMENTS = ("centres", "ends")
 
 #: What a table holds, and its channels.
 KINDS: dict[str, tuple[str, ...]] = {
-    "dfg": ("A", "B"),
-    "dfg_multiscatter": ("B", "A+B"),
+    "dfg": ("A", "B", "cloth"),
+    "dfg_multiscatter": ("B", "A+B", "cloth"),
     "energy": ("E", "E_avg"),
 }
 _CHANNEL_TEXT = {
@@ -86,6 +86,9 @@ _CHANNEL_TEXT = {
     "A+B": "A + B = integral of V (the directional albedo with F = 1)",
     "E": "E(mu, roughness): directional albedo with F = 1 (single scattering)",
     "E_avg": "E_avg(roughness) = 2 * integral of E(mu) mu dmu (constant along the mu axis)",
+    "cloth": "the sheen model's directional albedo with unit colour (integral of D*V*(n.l))"
+    " at the table's roughness parameter value, or the sheen model's smallest where the"
+    " table's is below it",
 }
 
 
@@ -118,6 +121,9 @@ FORMATS: dict[str, PixelFormat] = {
         PixelFormat("R16G16_UNORM", 2, 16, "unorm", 77, 35),
         PixelFormat("R16G16_SFLOAT", 2, 16, "sfloat", 83, 34),
         PixelFormat("R32G32_SFLOAT", 2, 32, "sfloat", 103, 16),
+        # DXGI has no three-channel 16-bit format (0: none).
+        PixelFormat("R16G16B16_SFLOAT", 3, 16, "sfloat", 90, 0),
+        PixelFormat("R32G32B32_SFLOAT", 3, 32, "sfloat", 106, 6),
     )
 }
 
@@ -278,6 +284,7 @@ class LutSpec:
     samples: int = 1024
     seed: int = 0
     name: str = "brdf_lut"
+    sheen: str | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -310,6 +317,16 @@ class LutSpec:
                 f"channels: {', '.join(chosen) or 'none'} for a {self.kind} table; choose"
                 f" distinct ones of {', '.join(KINDS[self.kind])}"
             )
+        if ("cloth" in chosen) != (self.sheen is not None):
+            raise ValueError(
+                "sheen: the cloth channel needs a sheen model (sheen=..., --sheen) and a sheen"
+                " model needs the cloth channel"
+                + (f"; the channels are {', '.join(chosen)}" if self.sheen is not None else "")
+            )
+        if self.sheen is not None:
+            if not isinstance(self.sheen, str):
+                raise ValueError(f"sheen: expected a model name, got {self.sheen!r}")
+            _sheen(self)
         if len(chosen) != fmt.channels:
             raise ValueError(
                 f"format: {self.format} holds {fmt.channels} channel(s) but the table has"
@@ -367,6 +384,7 @@ class LutSpec:
             "samples": self.samples,
             "seed": self.seed,
             "name": self.name,
+            "sheen": self.sheen,
             "estimator": _ESTIMATOR[self.kind],
             "brdf_rs": __version__,
         }
@@ -398,6 +416,7 @@ class LutSpec:
             str(self.seed),
             "--name",
             self.name,
+            *(["--sheen", self.sheen] if self.sheen is not None else []),
             "-o",
             output,
         ]
@@ -415,6 +434,7 @@ class LutSpec:
             samples=int(recipe["samples"]),
             seed=int(recipe["seed"]),
             name=recipe["name"],
+            sheen=recipe.get("sheen"),
         )
 
 
@@ -462,6 +482,24 @@ def _presets() -> dict[str, Preset]:
             " filament/src/details/DFG.h (DFG_LUT_SIZE 128; the engine's texture is RGB16F,"
             " blue the cloth term) and the shaders' textureLod(iblDFG, vec2(NoV,"
             " perceptualRoughness))",
+        ),
+        "filament_cloth": Preset(
+            LutSpec(
+                "dfg_multiscatter",
+                "ggx",
+                Axis("mu", 128, "centres"),
+                Axis("perceptual", 128, "centres"),
+                "R16G16B16_SFLOAT",
+                name="filament_dfg_cloth",
+                sheen="charlie_sheen_neubelt",
+            ),
+            ".ktx2",
+            "Filament's engine DFG texture: 128 x 128 RGB16F, the filament preset's R and G"
+            " plus B = the cloth term (Charlie distribution, Neubelt's visibility) at alpha ="
+            " r^2",
+            "Filament filament/src/details/DFG.cpp (RGB16F, DFG_LUT_SIZE x DFG_LUT_SIZE x 3)"
+            " and libs/ibl/src/CubemapIBL.cpp (CubemapIBL::DFG with cloth: DFV_Charlie_Uniform"
+            " at linear_roughness = coord^2)",
         ),
         "ue5": Preset(
             LutSpec(
@@ -536,10 +574,6 @@ def _presets() -> dict[str, Preset]:
     }
 
 
-#: The presets by name (see docs/luts.md).
-PRESETS: dict[str, Preset] = _presets()
-
-
 def preset(name: str, **changes: Any) -> LutSpec:
     """The :class:`LutSpec` of a preset, with fields replaced by ``changes`` (e.g.
     ``samples=64``)."""
@@ -571,11 +605,40 @@ def _integrate(
     t = _albedo.dfg_table(spec.model, mu, rough, samples=spec.samples, seed=seed, **extra)
     a, b = t.value[..., 0], t.value[..., 1]
     se_a, se_b = t.stderr[..., 0], t.stderr[..., 1]
+    cloth, se_cloth = np.zeros_like(a), np.zeros_like(a)
+    if spec.sheen is not None:
+        # The cloth channel is the sheen model's albedo at the same parameter value, held
+        # at the sheen model's smallest value below it (its cells are dfg_table's).
+        weights, low = _sheen(spec)
+        axes = {"mu": mu, spec.param: np.maximum(rough, low)}
+        c = _albedo.albedo_table(spec.sheen, axes, samples=spec.samples, seed=seed, **weights)
+        cloth, se_cloth = c.value[..., 0], c.stderr[..., 0]
     if spec.kind == "dfg":
-        return np.stack([a, b], -1), np.stack([se_a, se_b], -1)
+        return np.stack([a, b, cloth], -1), np.stack([se_a, se_b, se_cloth], -1)
     # A + B is the F0 = 1 integral: its stderr is the one dfg_table folded into A's.
     se_one = np.sqrt(np.maximum(se_a**2 - se_b**2, 0.0))
-    return np.stack([b, a + b], -1), np.stack([se_b, se_one], -1)
+    return np.stack([b, a + b, cloth], -1), np.stack([se_b, se_one, se_cloth], -1)
+
+
+def _sheen(spec: LutSpec) -> tuple[dict[str, Any], float]:
+    """The cloth channel's weights (the sheen model's ``ks`` = 1, its other weights 0) and
+    the smallest value of the roughness parameter the sheen model takes."""
+    from . import _albedo
+
+    assert spec.sheen is not None
+    specs = _spec.specs()
+    if spec.sheen not in specs:
+        raise ValueError(f"sheen: unknown model {spec.sheen!r} (brdf_rs.models() lists them)")
+    param = next((p for p in specs[spec.sheen]["params"] if p["name"] == spec.param), None)
+    if param is None:
+        raise ValueError(
+            f"sheen: {spec.sheen} has no {spec.param}, the table's roughness parameter"
+        )
+    low = float(param["min"])
+    if param["min_open"]:
+        low = float(np.nextafter(low, np.inf))
+    weights = _albedo._sheen_weights(spec.sheen, spec.model, spec.param, np.array([low]))
+    return weights, low
 
 
 def _to_image(spec: LutSpec, a: np.ndarray) -> np.ndarray:
@@ -939,3 +1002,7 @@ def verify(path: str | Path, *, interp_limit: int = 8) -> Verification:
     else:
         tol = np.zeros(nc)
     return Verification(bool(np.all(diff <= tol)), hash_ok, diff.tolist(), tol.tolist())
+
+
+#: The presets by name (see docs/luts.md).
+PRESETS: dict[str, Preset] = _presets()
