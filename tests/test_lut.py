@@ -495,3 +495,83 @@ def test_filament_cloth_preset_adds_the_sheen_albedo_as_a_third_channel(tmp_path
         t.save(tmp_path / "c.dds")
     with pytest.raises(ValueError, match="the cloth channel needs a sheen model"):
         lut.preset("filament", format="R16G16B16_SFLOAT", channels=None)
+
+
+def test_every_axis_quantity_lands_on_its_texels_in_python_and_in_c(tmp_path):
+    spec = lut.LutSpec(
+        "dfg",
+        "ggx",
+        lut.Axis("alpha", 5, "ends", 0.05, 0.9),
+        lut.Axis("sqrt_mu", 6, "centres", 0.1, 1.0),
+        "R32G32_SFLOAT",
+        samples=64,
+        name="q",
+    )
+    t = lut.build(spec, interp_limit=4)
+    alpha = 0.05 + 0.85 * np.arange(5) / 4  # ends: k / (n - 1)
+    mu = (0.1 + 0.9 * (np.arange(6) + 0.5) / 6) ** 2  # centres of sqrt(mu)
+    np.testing.assert_allclose(t.lookup(mu[:, None], alpha[None, :]), t.decoded, atol=1e-12)
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    t.save(tmp_path / "q.h")
+    calls = "\n".join(
+        f'    q_lookup({float(m)!r}f, {float(a)!r}f, o); printf("%.9g %.9g\\n", o[0], o[1]);'
+        for m in mu
+        for a in alpha
+    )
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "q.h"\nint main(void) {\n    float o[2];\n'
+        + calls
+        + "\n    return 0;\n}\n"
+    )
+    subprocess.run(
+        [
+            cc,
+            "-std=c99",
+            "-Wall",
+            "-Werror",
+            "-o",
+            str(tmp_path / "m"),
+            str(tmp_path / "m.c"),
+            "-lm",
+        ],
+        check=True,
+    )
+    out = subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True).stdout
+    got = np.array([[float(v) for v in line.split()] for line in out.splitlines()])
+    np.testing.assert_allclose(got.reshape(6, 5, 2), t.decoded, atol=2e-6)
+
+
+def test_cli_lists_presets_and_writes_a_fit(tmp_path):
+    listed = json.loads(run_cli("lut", "--list", "--json").stdout)
+    assert set(listed) == set(lut.PRESETS)
+    assert all(row["source"] and "brdf-rs lut" in row["command"] for row in listed.values())
+    out = json.loads(
+        run_cli(
+            "lut",
+            "--preset",
+            "ue5",
+            "--columns",
+            "mu:centres:8",
+            "--rows",
+            "perceptual:centres:8",
+            "--samples",
+            "64",
+            "--interp-limit",
+            "4",
+            "--fit",
+            "3",
+            "-o",
+            str(tmp_path / "f.wgsl"),
+            "--json",
+        ).stdout
+    )
+    assert out["degree"] == 3 and len(out["worst_texels"]) == 2
+    assert (
+        "fn ue5_ggx_spec_energy_fit(mu: f32, roughness: f32)" in (tmp_path / "f.wgsl").read_text()
+    )
+    err = run_cli(
+        "lut", "--preset", "ue5", "--fit", "3", "-o", str(tmp_path / "f.dds"), code=2
+    ).stderr
+    assert "a --fit is source code" in err
