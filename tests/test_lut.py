@@ -227,7 +227,7 @@ def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_pat
     if cc is None:
         pytest.skip("no C compiler")
     filament.save(tmp_path / "dfg.h")
-    pts = [(0.01, 0.0), (0.3, 0.04), (0.77, 0.5), (0.999, 0.9), (0.5, 1.0)]
+    pts = [(0.01, 0.001), (0.3, 0.04), (0.77, 0.5), (0.999, 0.9), (0.5, 1.0)]
     calls = "\n".join(
         f'    filament_dfg_lookup({m}f, {a}f, o); printf("%.9g %.9g\\n", o[0], o[1]);'
         for m, a in pts
@@ -247,6 +247,12 @@ def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_pat
     got = np.array([[float(x) for x in line.split()] for line in out.splitlines()])
     mu, alpha = np.array(pts).T
     np.testing.assert_allclose(got, filament.lookup(mu, alpha), atol=2e-6)
+    # and against the integrals themselves, within the budget the file states
+    one = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=1, samples=1 << 14, seed=5)
+    zero = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=0, samples=1 << 14, seed=5)
+    exact = np.stack([zero.value[:, 0], one.value[:, 0]], -1)  # B, A + B
+    slack = 3 * np.stack([zero.stderr[:, 0], one.stderr[:, 0]], -1)
+    assert np.all(np.abs(got - exact) <= np.asarray(filament.budget.total) + slack)
 
 
 @pytest.mark.parametrize("suffix", [".wgsl", ".glsl"])
