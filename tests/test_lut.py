@@ -391,8 +391,17 @@ def test_meet_error_picks_the_first_size_and_format_whose_total_fits():
     assert max(choice.lut.budget.total) <= 0.02
     # everything tried before the answer missed the error; the answer is the last tried
     assert all(total > 0.02 for _, _, total in choice.tried[:-1])
-    n, fmt, _ = choice.tried[-1]
+    n, fmt, total = choice.tried[-1]
     assert (choice.lut.spec.columns.size, choice.lut.spec.format) == (n, fmt)
+    assert max(choice.lut.budget.total) == total
+    # the answer's budget is the one compared: measured at the same interp_limit's points
+    # (fewer than the 15 midpoints of a 16-texel axis), not rebuilt with the default
+    coarse = lut.meet_error(spec, 0.05, sizes=(16,), interp_limit=4)
+    assert coarse.lut is not None
+    assert max(coarse.lut.budget.total) == coarse.tried[-1][2] <= 0.05
+    trial = lut.build(coarse.lut.spec, interp_limit=4)
+    assert coarse.lut.budget == trial.budget
+    np.testing.assert_array_equal(coarse.lut.stored, trial.stored)
     assert choice.lut.spec.columns.lo == 0.2  # the axes' ranges are kept
     impossible = lut.meet_error(spec, 1e-7, sizes=(2, 4), interp_limit=4)
     assert impossible.lut is None and len(impossible.tried) == 2 * 3

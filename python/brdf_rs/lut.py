@@ -800,7 +800,7 @@ def _budget(
         interp_points=int(mq.size),
         interp_worst_at=where,
         interp_worst_interior=interior.tolist(),
-        total=(qw + iw + 3 * mc).tolist(),
+        total=_total(qw, iw, mc).tolist(),
     )
     return budget, Checks(mq, rq, ref, ref_se)
 
@@ -932,17 +932,37 @@ def meet_error(
             format=formats[-1].name,
         )
         table = build(trial, interp_limit=interp_limit)
-        rest = np.asarray(table.budget.interp_worst) + 3 * np.asarray(table.budget.mc_max_stderr)
         for f in formats:
-            _, decoded = quantize(table.image, f.name)
-            quant = np.abs(decoded - table.image).reshape(-1, nc).max(axis=0)
-            total = float(np.max(quant + rest))
+            # The trial's integrals in this format: the budget measured once, with the same
+            # check points, so the answer's total is the one compared here.
+            candidate = _requantize(table, f.name)
+            total = float(max(candidate.budget.total))
             tried.append((n, f.name, total))
             if total <= max_error:
-                return ErrorChoice(
-                    build(dataclasses.replace(trial, format=f.name)), tried, max_error
-                )
+                return ErrorChoice(candidate, tried, max_error)
     return ErrorChoice(None, tried, max_error)
+
+
+def _requantize(table: Lut, fmt: str) -> Lut:
+    """``table``'s integrals stored in pixel format ``fmt`` (same channel count): the
+    quantization part of the budget remeasured, the rest kept."""
+    spec = dataclasses.replace(table.spec, format=fmt)
+    stored, decoded = quantize(table.image, fmt)
+    flat = (decoded - table.image).reshape(-1, table.image.shape[-1])
+    qw = np.abs(flat).max(axis=0)
+    b = table.budget
+    budget = dataclasses.replace(
+        b,
+        quant_worst=qw.tolist(),
+        quant_rms=np.sqrt(np.mean(flat**2, axis=0)).tolist(),
+        total=_total(qw, np.asarray(b.interp_worst), np.asarray(b.mc_max_stderr)).tolist(),
+    )
+    return Lut(spec, table.image, table.stderr, stored, decoded, budget, table.checks)
+
+
+def _total(quant: np.ndarray, interp: np.ndarray, mc: np.ndarray) -> np.ndarray:
+    """The budget's total per channel (see :class:`Budget`)."""
+    return np.asarray(quant + interp + 3 * mc)
 
 
 def fit(table: Lut, degree: int = 6) -> Fit:
