@@ -8,6 +8,7 @@ compiled and run; the error budget checked against fresh integrals at off-grid p
 from __future__ import annotations
 
 import json
+import math
 import shutil
 import struct
 import subprocess
@@ -253,6 +254,54 @@ def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_pat
     exact = np.stack([zero.value[:, 0], one.value[:, 0]], -1)  # B, A + B
     slack = 3 * np.stack([zero.stderr[:, 0], one.stderr[:, 0]], -1)
     assert np.all(np.abs(got - exact) <= np.asarray(filament.budget.total) + slack)
+
+
+def test_whole_number_axis_bounds_write_the_same_files_as_floats_and_compile(tmp_path):
+    def spec(lo, hi, floor):
+        return lut.LutSpec(
+            "dfg",
+            "ggx",
+            lut.Axis("mu", 4, "centres", lo, hi),
+            lut.Axis("perceptual", 4, "centres", lo, hi, floor),
+            "R32G32_SFLOAT",
+            samples=16,
+            name="w",
+        )
+
+    whole, real = spec(0, 1, 0), spec(0.0, 1.0, 0.0)
+    assert whole == real and whole.content_hash() == real.content_hash()
+    assert isinstance(whole.columns.lo, float) and isinstance(whole.rows.hi, float)
+    a, b = lut.build(spec(0, 1, 0), interp_limit=4), lut.build(real, interp_limit=4)
+    (tmp_path / "f").mkdir()
+    for suffix in (".h", ".glsl", ".hlsl", ".wgsl"):
+        written = a.save(tmp_path / f"i{suffix}").read_bytes()
+        assert written == b.save(tmp_path / "f" / f"i{suffix}").read_bytes()
+    lut.fit(a, 2).save(tmp_path / "fit.h")
+    assert (tmp_path / "fit.h").read_text() == lut.fit(b, 2).save(
+        tmp_path / "f" / "fit.h"
+    ).read_text()
+    code = (tmp_path / "i.h").read_text()
+    assert "(mu_q - 0.0f) / 1.0f" in code and " 0f" not in code and "(0f" not in code
+    for bad, field in (("0", "lo"), (math.nan, "hi"), (None, "floor")):
+        args = {"lo": 0.0, "hi": 1.0, "floor": 0.0, field: bad}
+        with pytest.raises(ValueError, match=f"axis {field}: expected a"):
+            lut.Axis("mu", 4, "centres", **args)
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    (tmp_path / "m.c").write_text(
+        '#include <stdio.h>\n#include "i.h"\n#include "fit.h"\nint main(void) {\n'
+        "    float o[2], p[2];\n    w_lookup(0.5f, 0.25f, o);\n    w_fit(0.5f, 0.25f, p);\n"
+        '    printf("%.9g %.9g\\n", o[0], p[0]);\n    return 0;\n}\n'
+    )
+    subprocess.run(
+        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "m"), "m.c", "-lm"],
+        check=True,
+        cwd=tmp_path,
+    )
+    out = subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True)
+    got = [float(v) for v in out.stdout.split()]
+    assert got[0] == pytest.approx(float(a.lookup(0.5, 0.25)[0]), abs=2e-6)
 
 
 @pytest.mark.parametrize("suffix", [".wgsl", ".glsl"])

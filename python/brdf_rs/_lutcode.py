@@ -20,6 +20,15 @@ def _literal(v: float, suffix: str) -> str:
     return f"{v:.9e}{suffix}"
 
 
+def float_literal(v: float, suffix: str) -> str:
+    """``v`` exactly (its shortest repr) as a float literal valid in C, GLSL, HLSL and
+    WGSL: always with a decimal point or an exponent, so ``0`` is ``0.0``."""
+    text = repr(float(v))
+    if not any(c in text for c in ".eE"):
+        text += ".0"
+    return text + suffix
+
+
 def _comment(lut: Lut, meta: dict[str, Any], prefix: str) -> str:
     s = lut.spec
     b = lut.budget
@@ -70,11 +79,12 @@ def _axis_code(axis: Axis, var: str, lang: str) -> list[str]:
     square = axis.quantity in ("sqrt_mu", "perceptual")
     q = f"{sqrt}({fmax}({var}, 0.0{f}))" if square else var
     n = axis.size
-    span = axis.hi - axis.lo
+    lo = float_literal(axis.lo, f)
+    span = float_literal(axis.hi - axis.lo, f)
     if axis.placement == "centres":
-        x = f"({var}_q - {axis.lo!r}{f}) / {span!r}{f} * {n}.0{f} - 0.5{f}"
+        x = f"({var}_q - {lo}) / {span} * {n}.0{f} - 0.5{f}"
     else:
-        x = f"({var}_q - {axis.lo!r}{f}) / {span!r}{f} * {n - 1}.0{f}"
+        x = f"({var}_q - {lo}) / {span} * {n - 1}.0{f}"
     return [
         f"{let} {var}_q = {q};",
         f"{var_kw} {var}_x = {x};",

@@ -134,8 +134,11 @@ def _axis_lines(axis: Axis, var: str, out: str, lang: str) -> list[str]:
     fmax = "fmaxf" if lang == "c" else "max"
     fmin = "fminf" if lang == "c" else "min"
     q = f"{sqrt}({fmax}({var}, 0.0{f}))" if axis.quantity in ("sqrt_mu", "perceptual") else var
-    span = axis.hi - axis.lo
-    return [f"{let} {out} = {fmin}({fmax}(({q} - {axis.lo!r}{f}) / {span!r}{f}, 0.0{f}), 1.0{f});"]
+    from ._lutcode import float_literal
+
+    lo = float_literal(axis.lo, f)
+    span = float_literal(axis.hi - axis.lo, f)
+    return [f"{let} {out} = {fmin}({fmax}(({q} - {lo}) / {span}, 0.0{f}), 1.0{f});"]
 
 
 def source(result: Fit, suffix: str) -> str:

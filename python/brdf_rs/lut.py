@@ -158,6 +158,16 @@ class Axis:
     floor: float = 0.0
 
     def __post_init__(self) -> None:
+        # Whole numbers are taken as floats: the recipe, its hash and the code's literals
+        # are then the same for 0 and 0.0.
+        for field in ("lo", "hi", "floor"):
+            value = getattr(self, field)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+                raise ValueError(f"axis {field}: expected a number, got {value!r}")
+            number = float(value)
+            if not math.isfinite(number):
+                raise ValueError(f"axis {field}: expected a finite number, got {value!r}")
+            object.__setattr__(self, field, number)
         if self.quantity not in QUANTITIES:
             raise ValueError(
                 f"axis quantity: unknown {self.quantity!r}; use {', '.join(QUANTITIES)}"
