@@ -124,6 +124,19 @@ def test_lookup_off_grid_is_within_the_budget_of_fresh_integrals():
     assert max(t.budget.interp_worst) > 0  # measured, not assumed away
 
 
+@pytest.mark.parametrize(("quantity", "floor"), [("mu", "0.0001"), ("sqrt_mu", "0.01")])
+def test_a_mu_axis_with_a_texel_at_mu_zero_needs_a_floor(quantity, floor):
+    with pytest.raises(ValueError, match=f"axis floor: {quantity} with texels at the range ends"):
+        lut.Axis(quantity, 8, "ends")
+    err = run_cli("lut", "--preset", "cycles", "--rows", f"{quantity}:ends:8", code=2).stderr
+    assert f"--rows: axis floor: {quantity} with texels" in err
+    assert f"e.g. {quantity}:ends:8:0:1.0:{floor}" in err
+    fixed = lut.parse_axis(f"{quantity}:ends:8:0:1.0:{floor}")
+    assert fixed.physical(fixed.positions())[0] == pytest.approx(1e-4)
+    lut.Axis(quantity, 8, "ends", 0.1)  # a range above mu = 0 needs none
+    lut.Axis(quantity, 8, "centres")  # nor do texel centres
+
+
 def test_bilinear_matches_a_hand_interpolation_between_four_texels():
     img = np.arange(12, dtype=float).reshape(3, 4, 1)
     cols, rows = lut.Axis("mu", 4), lut.Axis("perceptual", 3, "ends")

@@ -148,7 +148,9 @@ class Axis:
     """One axis of a LUT: ``size`` texels over ``[lo, hi]`` of ``quantity`` (see
     :data:`QUANTITIES`), placed at texel ``centres`` or at the range's ``ends``
     (:data:`PLACEMENTS`). The integral at a texel is evaluated at ``max(q, floor)`` (a
-    floor keeps e.g. roughness 0 out of a model's range, as Cycles clamps to 1e-4)."""
+    floor keeps e.g. roughness 0 out of a model's range, as Cycles clamps to 1e-4). A mu
+    axis with texels at the ``ends`` from ``lo = 0`` needs a floor: its first texel would
+    be at mu = 0, where the albedo is 0 by convention."""
 
     quantity: str
     size: int
@@ -186,6 +188,16 @@ class Axis:
             raise ValueError(f"axis range: {self.quantity} is at most 1, got hi = {self.hi}")
         if not (math.isfinite(self.floor) and 0 <= self.floor < self.hi):
             raise ValueError(f"axis floor: expected 0 <= floor < hi, got {self.floor}")
+        if self.role == "mu" and self.placement == "ends" and max(self.lo, self.floor) == 0:
+            # The albedo at exactly mu = 0 is 0 by convention, not its limit: a whole first
+            # row of zeros that the lookup would interpolate towards.
+            raise ValueError(
+                f"axis floor: {self.quantity} with texels at the range ends and lo = 0 puts"
+                " the first texel at mu = 0, where the albedo is 0 by convention; give a"
+                " floor (1e-4 for mu, 0.01 for sqrt_mu: mu = 1e-4, where engines clamp n.v),"
+                f" e.g. {self.quantity}:ends:{self.size}:0:{self.hi!r}:"
+                + ("0.0001" if self.quantity == "mu" else "0.01")
+            )
 
     @property
     def role(self) -> str:
