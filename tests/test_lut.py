@@ -137,6 +137,15 @@ def test_a_mu_axis_with_a_texel_at_mu_zero_needs_a_floor(quantity, floor):
     lut.Axis(quantity, 8, "centres")  # nor do texel centres
 
 
+@pytest.mark.parametrize("quantity", ["mu", "sqrt_mu"])
+def test_the_grazing_end_is_checked_at_mu_1e_4_on_either_mu_quantity(quantity):
+    spec = lut.LutSpec("dfg", "ggx", lut.Axis(quantity, 4), lut.Axis("perceptual", 4), samples=16)
+    t = lut.build(spec, interp_limit=4)
+    assert t.checks is not None
+    mu = spec.mu_axis.physical(t.checks.mu_q)
+    assert mu.min() == pytest.approx(1e-4, rel=1e-12)
+
+
 def test_bilinear_matches_a_hand_interpolation_between_four_texels():
     img = np.arange(12, dtype=float).reshape(3, 4, 1)
     cols, rows = lut.Axis("mu", 4), lut.Axis("perceptual", 3, "ends")

@@ -753,12 +753,18 @@ def _check_points(axis: Axis, limit: int) -> np.ndarray:
     return np.unique(np.maximum(pts, axis.floor))
 
 
+#: The smallest mu the interpolation error is checked at (engines clamp n.v to it).
+_GRAZING_MU = 1e-4
+
+
 def _check_grid(spec: LutSpec, interp_limit: int) -> tuple[np.ndarray, np.ndarray]:
     """The mu and roughness quantities the interpolation error is checked at. ``mu = 0``
     exactly is 0 by convention (no light above the horizon): its end is checked at 1e-4,
     the limit engines clamp n.v to. A roughness the model refuses (alpha = 0) is not
     checked."""
-    mu_pts = np.unique(np.maximum(_check_points(spec.mu_axis, interp_limit), 1e-4))
+    # Clamped in physical units: on a sqrt_mu axis mu = 1e-4 is the quantity 0.01.
+    grazing = float(spec.mu_axis.quantity_of(_GRAZING_MU))
+    mu_pts = np.unique(np.maximum(_check_points(spec.mu_axis, interp_limit), grazing))
     r_pts = _check_points(spec.roughness_axis, interp_limit)
     phys = spec.roughness_axis.physical(r_pts)
     r_pts = r_pts[[_spec.admits(spec.model, spec.param, float(x)) for x in phys]]
