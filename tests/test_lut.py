@@ -129,6 +129,11 @@ def test_lookup_off_grid_is_within_the_budget_of_fresh_integrals():
     assert np.all(interior < 0.5 * np.asarray(b.total))
     assert np.all(np.abs(got - exact) <= interior + slack)
     assert max(b.interp_worst) > 0  # measured, not assumed away
+    # the total counts the reference integrals' noise too, and says it is per point
+    parts = [np.asarray(v) for v in (b.quant_worst, b.interp_worst, b.interp_ref_stderr)]
+    expected = parts[0] + parts[1] + 3 * parts[2] + 3 * np.asarray(b.mc_max_stderr)
+    np.testing.assert_allclose(b.total, expected, rtol=1e-15)
+    assert "per point" in b.confidence and "not a bound over the whole table" in b.confidence
 
 
 @pytest.mark.parametrize(("quantity", "floor"), [("mu", "0.0001"), ("sqrt_mu", "0.01")])

@@ -51,7 +51,8 @@ def _comment(lut: Lut, meta: dict[str, Any], prefix: str) -> str:
             f"Error budget {c}: Monte Carlo stderr <= {b.mc_max_stderr[k]:.3g}, quantization"
             f" worst {b.quant_worst[k]:.3g} (RMS {b.quant_rms[k]:.3g}), bilinear"
             f" interpolation worst {b.interp_worst[k]:.3g} ({b.interp_points} points between"
-            f" texels), total {b.total[k]:.3g} ({b.confidence})."
+            f" texels, against integrals of stderr <= {b.interp_ref_stderr[k]:.3g}), total"
+            f" {b.total[k]:.3g} ({b.confidence})."
         )
     lines.append(f"Content hash: {meta['content_hash']}.")
     lines.append(f"Rebuild: {meta['command']}")

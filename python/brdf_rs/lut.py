@@ -714,14 +714,21 @@ class Budget:
     normal). ``quant_worst`` / ``quant_rms``: the exact largest and RMS difference
     between the stored (quantized, decoded) texels and the float64 integrals.
     ``interp_worst``: the largest difference between the bilinear lookup of the float64
-    table and the integral evaluated at ``interp_points`` points between the texels
-    (midpoints between neighbouring texels, and the range ends), itself estimated with
-    standard error up to ``interp_ref_stderr``; ``interp_worst_at`` says where (``[mu,
-    roughness parameter]``), ``interp_worst_interior`` is the worst over the points
-    between the first and last texels of both axes (leaving out the margins a texel-centre
-    table clamps, where the lookup holds the edge texel's value). ``total`` = quant_worst
-    + interp_worst + 3 * mc_max_stderr: the bound the lookup of the file meets against
-    the exact function (at 3 sigma)."""
+    table and a fresh Monte Carlo integral (an independent seed) at ``interp_points``
+    points between the texels (midpoints between neighbouring texels, and the range
+    ends); it holds the texels' and the reference's Monte Carlo noise as well as the
+    interpolation error. The reference's standard error is up to ``interp_ref_stderr``.
+    ``interp_worst_at`` says where (``[mu, roughness parameter]``),
+    ``interp_worst_interior`` is the worst over the points between the first and last
+    texels of both axes (leaving out the margins a texel-centre table clamps, where the
+    lookup holds the edge texel's value).
+
+    ``total`` = quant_worst + interp_worst + 3 * interp_ref_stderr + 3 * mc_max_stderr:
+    an estimate, at 3 sigma per point, of how far the file's lookup is from the exact
+    function at the points checked and near them. It is not a guarantee over the whole
+    table: the interpolation error is measured at finitely many points, and at 3 sigma
+    per point about 0.3 % of points may exceed it by chance when the errors are normal.
+    """
 
     channels: list[str]
     mc_max_stderr: list[float]
@@ -733,7 +740,11 @@ class Budget:
     interp_worst_at: list[list[float]]
     interp_worst_interior: list[float]
     total: list[float]
-    confidence: str = "3 sigma of the Monte Carlo standard error (about 99.7 %)"
+    confidence: str = (
+        "an estimate per point checked, at 3 sigma of the texels' and the reference"
+        " integrals' Monte Carlo standard errors (about 99.7 % per point), not a bound"
+        " over the whole table"
+    )
 
     def to_json(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -818,17 +829,18 @@ def _budget(
     mc = stderr.reshape(-1, stderr.shape[-1]).max(axis=0)
     qw = np.abs(flat).max(axis=0)
     iw = ierr.max(axis=0)
+    rse = ref_se.reshape(-1, ref_se.shape[-1]).max(axis=0)
     budget = Budget(
         channels=list(spec.channel_names),
         mc_max_stderr=mc.tolist(),
         quant_worst=qw.tolist(),
         quant_rms=np.sqrt(np.mean(flat**2, axis=0)).tolist(),
         interp_worst=iw.tolist(),
-        interp_ref_stderr=ref_se.reshape(-1, ref_se.shape[-1]).max(axis=0).tolist(),
+        interp_ref_stderr=rse.tolist(),
         interp_points=int(mq.size),
         interp_worst_at=where,
         interp_worst_interior=interior.tolist(),
-        total=_total(qw, iw, mc).tolist(),
+        total=_total(qw, iw, rse, mc).tolist(),
     )
     return budget, Checks(mq, rq, ref, ref_se)
 
@@ -939,9 +951,10 @@ def meet_error(
 ) -> ErrorChoice:
     """The smallest square resolution (both axes ``size`` texels, their quantities,
     placements and ranges kept) and, at it, the smallest pixel format of the spec's
-    channel count whose budget total (quantization + interpolation + 3 standard errors,
-    worst channel) is at most ``max_error``. Sizes are tried in order; the Monte Carlo
-    part is the spec's ``samples``' (raise them when it alone exceeds the error)."""
+    channel count whose budget total (quantization + interpolation + 3 standard errors of
+    the reference and of the texels, worst channel) is at most ``max_error``. Sizes are
+    tried in order; the Monte Carlo part is the spec's ``samples``' (raise them when it
+    alone exceeds the error)."""
     if not (isinstance(max_error, (int, float)) and math.isfinite(max_error) and max_error > 0):
         raise ValueError(f"max_error: expected a positive number, got {max_error!r}")
     sizes = [int(n) for n in sizes]
@@ -983,14 +996,22 @@ def _requantize(table: Lut, fmt: str) -> Lut:
         b,
         quant_worst=qw.tolist(),
         quant_rms=np.sqrt(np.mean(flat**2, axis=0)).tolist(),
-        total=_total(qw, np.asarray(b.interp_worst), np.asarray(b.mc_max_stderr)).tolist(),
+        total=_total(
+            qw,
+            np.asarray(b.interp_worst),
+            np.asarray(b.interp_ref_stderr),
+            np.asarray(b.mc_max_stderr),
+        ).tolist(),
     )
     return Lut(spec, table.image, table.stderr, stored, decoded, budget, table.checks)
 
 
-def _total(quant: np.ndarray, interp: np.ndarray, mc: np.ndarray) -> np.ndarray:
-    """The budget's total per channel (see :class:`Budget`)."""
-    return np.asarray(quant + interp + 3 * mc)
+def _total(
+    quant: np.ndarray, interp: np.ndarray, ref_stderr: np.ndarray, mc: np.ndarray
+) -> np.ndarray:
+    """The budget's total per channel (see :class:`Budget`): the interpolation error
+    measured against a reference known to ``ref_stderr``, so 3 of those are added."""
+    return np.asarray(quant + interp + 3 * ref_stderr + 3 * mc)
 
 
 def fit(table: Lut, degree: int = 6) -> Fit:
