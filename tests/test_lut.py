@@ -7,6 +7,8 @@ compiled and run; the error budget checked against fresh integrals at off-grid p
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
 import json
 import math
 import shutil
@@ -416,6 +418,48 @@ def test_verify_passes_a_fresh_file_and_fails_a_changed_texel(tmp_path):
     path.write_bytes(bytes(raw))
     r = run_cli("lut", "--verify", str(path), "--json", code=1)
     assert not json.loads(r.stdout)["ok"]
+
+
+def _as_if_written_by(path, version, rehash=True):
+    """Rewrites the library version a file records (and its content hash with it, as
+    that version would have written them)."""
+    from brdf_rs import _png
+
+    _, meta = lut.read(path)
+    old = json.dumps(meta, sort_keys=True)
+    meta["recipe"]["brdf_rs"] = version
+    if rehash:
+        canonical = json.dumps(meta["recipe"], sort_keys=True, separators=(",", ":"))
+        meta["content_hash"] = hashlib.sha256(canonical.encode()).hexdigest()
+        assert meta["content_hash"] == lut.recipe_hash(meta["recipe"])
+    if path.suffix == ".png":
+        pixels, text = _png.read(path)
+        text["brdf-rs:lut"] = json.dumps(meta, sort_keys=True)
+        _png.write(path, pixels, text)
+    else:
+        text = path.read_text()
+        assert old in text
+        path.write_text(text.replace(old, json.dumps(meta, sort_keys=True)))
+
+
+@pytest.mark.parametrize("suffix", [".png", ".h"])
+def test_verify_a_file_from_another_library_version(tmp_path, suffix):
+    pytest.importorskip("png")
+    spec = lut.preset("ue5", samples=64)
+    spec = dataclasses.replace(
+        spec, columns=lut.Axis("mu", 4), rows=lut.Axis("perceptual", 4), format="R32G32_SFLOAT"
+    )
+    path = lut.build(spec, interp_limit=4).save(tmp_path / f"t{suffix}")
+    _as_if_written_by(path, "0.0.1")
+    result = lut.verify(path)
+    assert result.hash_ok and result.ok
+    assert result.versions == ("0.0.1", brdf_rs.__version__)
+    if suffix == ".png":  # float32 texels: the PNG's half step is what the tolerance needs
+        step = np.asarray(lut.read(path)[1]["png"]["step"]) / 2
+        assert np.all(np.asarray(result.tolerance) >= step)
+    # a version rewritten without its hash is caught
+    _as_if_written_by(path, "0.0.2", rehash=False)
+    assert not lut.verify(path).hash_ok
 
 
 @pytest.mark.parametrize(

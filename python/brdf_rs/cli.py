@@ -744,6 +744,7 @@ def cmd_lut(args: argparse.Namespace) -> int:
             "hash_ok": result.hash_ok,
             "max_difference": result.max_difference,
             "tolerance": result.tolerance,
+            "versions": list(result.versions),
         }
         if args.json:
             _print_json(checked)
@@ -751,8 +752,16 @@ def cmd_lut(args: argparse.Namespace) -> int:
             verdict = "matches" if result.ok and result.hash_ok else "DOES NOT match"
             print(f"{path}: {verdict} its rebuilt table")
             print(f"  largest difference {result.max_difference}, tolerance {result.tolerance}")
+            if result.versions[0] != result.versions[1]:
+                print(
+                    f"  written by brdf-rs {result.versions[0]}, rebuilt by"
+                    f" {result.versions[1]}: compared within the statistical tolerance"
+                )
             if not result.hash_ok:
-                print("  the recorded content hash is not the recipe's")
+                print(
+                    "  the recorded content hash is not the recorded recipe's, or the recipe"
+                    " is not the rebuild's"
+                )
         return 0 if result.ok and result.hash_ok else EXIT_FAILURE
     spec = _lut_spec(args)
     default = "lut.ktx2"

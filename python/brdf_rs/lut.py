@@ -55,6 +55,7 @@ __all__ = [
     "passes",
     "preset",
     "read",
+    "recipe_hash",
     "verify",
 ]
 
@@ -412,8 +413,7 @@ class LutSpec:
         }
 
     def content_hash(self) -> str:
-        text = json.dumps(self.recipe(), sort_keys=True, separators=(",", ":"))
-        return hashlib.sha256(text.encode()).hexdigest()
+        return recipe_hash(self.recipe())
 
     def command(self, output: str = "OUT") -> str:
         """The command line that rebuilds this table into ``output``."""
@@ -458,6 +458,13 @@ class LutSpec:
             name=recipe["name"],
             sheen=recipe.get("sheen"),
         )
+
+
+def recipe_hash(recipe: Mapping[str, Any]) -> str:
+    """The SHA-256 of a recipe (:meth:`LutSpec.recipe`, or one a file records) as
+    canonical JSON: a file's ``content_hash``."""
+    text = json.dumps(recipe, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 _ESTIMATOR = {
@@ -1037,40 +1044,51 @@ def read(path: str | Path) -> tuple[np.ndarray, dict[str, Any]]:
 @dataclasses.dataclass(frozen=True)
 class Verification:
     """:func:`verify`'s answer: whether the file's texels are within ``tolerance`` (per
-    channel) of the rebuilt table's, the largest difference, and whether the recipe's
-    hash matches the file's."""
+    channel) of the rebuilt table's, the largest difference, and whether the recorded
+    content hash is the recorded recipe's and that recipe is the rebuild's (every field
+    but the library version). ``versions``: the file's library version and this one's."""
 
     ok: bool
     hash_ok: bool
     max_difference: list[float]
     tolerance: list[float]
+    versions: tuple[str, str] = ("", "")
 
 
 def verify(path: str | Path, *, interp_limit: int = 8) -> Verification:
-    """Rebuilds the table a file records (its recipe) and compares. Built by this version
-    of the library, the rebuild has the same bits: every texel must then match exactly
-    (to the decimal literals' rounding in source code, to half a step in a PNG). Built by
-    another version, each texel must be within the quantization error plus 6 Monte Carlo
-    standard errors of the rebuilt one. The recorded hash must be the recipe's."""
+    """Rebuilds the table a file records (its recipe) and compares. The recorded content
+    hash must be the SHA-256 of the recorded recipe, and the recipe must be the rebuilt
+    spec's in every field but the library version. Built by this version of the library,
+    the rebuild has the same bits: every texel must then match exactly (to the decimal
+    literals' rounding in source code, to half a step in a PNG). Built by another
+    version, each texel must be within the quantization error plus 6 Monte Carlo
+    standard errors of the rebuilt one, plus the same literal rounding or PNG step."""
     values, meta = read(path)
     recipe = meta["recipe"]
     spec = LutSpec.from_recipe(recipe)
-    hash_ok = spec.content_hash() == meta.get("content_hash") and recipe == spec.recipe()
+    rebuilt = spec.recipe()
+    same_fields = {k: v for k, v in recipe.items() if k != "brdf_rs"} == {
+        k: v for k, v in rebuilt.items() if k != "brdf_rs"
+    }
+    hash_ok = recipe_hash(recipe) == meta.get("content_hash") and same_fields
+    versions = (str(recipe.get("brdf_rs")), __version__)
     lut = build(spec, interp_limit=interp_limit)
     if values.shape != lut.decoded.shape:
-        return Verification(False, hash_ok, [math.inf], [0.0])
+        return Verification(False, hash_ok, [math.inf], [0.0], versions)
     diff = np.abs(values - lut.decoded).reshape(-1, values.shape[-1]).max(axis=0)
     nc = values.shape[-1]
-    if recipe.get("brdf_rs") != __version__:
-        quant = np.asarray(lut.budget.quant_worst)
-        tol = quant + 6 * np.asarray(lut.budget.mc_max_stderr) + 1e-12
-    elif "png" in meta:
-        tol = np.asarray(meta["png"]["step"]) / 2 + 1e-12
+    # What the container adds to the format's decoded texels.
+    if "png" in meta:
+        container = np.asarray(meta["png"]["step"], dtype=np.float64) / 2
     elif Path(path).suffix.lower() in (".h", ".glsl", ".hlsl", ".wgsl"):
-        tol = np.full(nc, 1e-9)
+        container = np.full(nc, 1e-9)
     else:
-        tol = np.zeros(nc)
-    return Verification(bool(np.all(diff <= tol)), hash_ok, diff.tolist(), tol.tolist())
+        container = np.zeros(nc)
+    tol = container + (1e-12 if container.any() else 0.0)
+    if versions[0] != versions[1]:
+        quant = np.asarray(lut.budget.quant_worst)
+        tol = tol + quant + 6 * np.asarray(lut.budget.mc_max_stderr) + 1e-12
+    return Verification(bool(np.all(diff <= tol)), hash_ok, diff.tolist(), tol.tolist(), versions)
 
 
 #: The presets by name (see docs/luts.md).
