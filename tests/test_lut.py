@@ -180,14 +180,18 @@ def test_exr_read_by_openexr_has_named_half_channels_and_the_meta(filament, tmp_
     path = filament.save(tmp_path / "dfg.exr")
     with OpenEXR.File(str(path)) as f:
         chans = f.channels()
-        assert set(chans) == {"B", "A+B"}
-        for k, name in enumerate(("B", "A+B")):
+        # red and green, as a reader shows them: not A (alpha) and B (blue)
+        assert set(chans) == {"R", "G"}
+        for k, name in enumerate(("R", "G")):
             px = chans[name].pixels
             assert px.dtype == np.float16 and px.shape == (8, 8)
             np.testing.assert_array_equal(px.astype(float), filament.decoded[..., k])
+        assert f.header()["brdf-rs:channels"] == "R = B, G = A+B"
         meta = json.loads(f.header()["brdf-rs:lut"])
     assert meta["content_hash"] == filament.content_hash
     assert "texel centres" in meta["columns"]
+    values, _ = lut.read(path)
+    np.testing.assert_array_equal(values, filament.decoded)
 
 
 def test_ktx2_header_fields_follow_the_specification(filament, tmp_path):

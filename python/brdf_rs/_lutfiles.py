@@ -83,6 +83,17 @@ def _meta_text(meta: dict[str, Any]) -> str:
 
 # -------------------------------------------------------------------------------- EXR
 
+#: The EXR channel of each table channel, in order: R, G, B (readers take A as alpha and
+#: B as blue, so the table's own names, e.g. ``A`` and ``B``, would be misread). What
+#: each holds is in the ``brdf-rs:channels`` attribute and the metadata's ``channels``.
+EXR_CHANNELS = ("R", "G", "B")
+EXR_CHANNELS_KEY = "brdf-rs:channels"
+
+
+def exr_channel_text(names: tuple[str, ...]) -> str:
+    """``R = B, G = A+B``: which table channel each EXR channel holds."""
+    return ", ".join(f"{EXR_CHANNELS[k]} = {n}" for k, n in enumerate(names))
+
 
 def _save_exr(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
     try:
@@ -93,9 +104,10 @@ def _save_exr(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
         ) from None
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     header[META_KEY] = _meta_text(meta)
+    header[EXR_CHANNELS_KEY] = exr_channel_text(lut.spec.channel_names)
     channels = {
-        name: np.ascontiguousarray(lut.stored[..., k])
-        for k, name in enumerate(lut.spec.channel_names)
+        EXR_CHANNELS[k]: np.ascontiguousarray(lut.stored[..., k])
+        for k in range(len(lut.spec.channel_names))
     }
     with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, channels) as f:
         f.write(str(tmp))
@@ -108,7 +120,7 @@ def _read_exr(path: Path) -> tuple[np.ndarray, dict[str, Any]]:
         header = f.header()
         meta = json.loads(header[META_KEY])
         chans = f.channels()
-        names = meta["recipe"]["channels"]
+        names = EXR_CHANNELS[: len(meta["recipe"]["channels"])]
         values = np.stack([np.asarray(chans[n].pixels, dtype=np.float64) for n in names], -1)
     return values, meta
 

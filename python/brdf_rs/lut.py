@@ -130,7 +130,8 @@ FORMATS: dict[str, PixelFormat] = {
 
 #: File suffixes and what they hold.
 CONTAINERS = {
-    ".exr": "OpenEXR, half or float channels named after the table's channels",
+    ".exr": "OpenEXR, half or float channels R, G, B in the table's channel order (the"
+    " brdf-rs:channels attribute says which is which)",
     ".ktx2": "KTX 2.0 texture (one level, no supercompression)",
     ".dds": "DirectDraw Surface with the DX10 header",
     ".png": "16-bit PNG, value = offset + scale * pixel / 65535 per channel",
