@@ -504,6 +504,53 @@ def test_bad_options_are_refused_before_any_work(args, message, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_lookup_refuses_non_finite_inputs_naming_the_argument_and_index(filament):
+    with pytest.raises(ValueError, match=r"mu: expected a finite number, got nan"):
+        filament.lookup(math.nan, 0.5)
+    with pytest.raises(ValueError, match=r"roughness: expected finite numbers, got inf at index 2"):
+        filament.lookup(0.5, [0.1, 0.2, math.inf])
+    with pytest.raises(ValueError, match=r"mu: expected finite numbers, got nan at index \(1, 0\)"):
+        filament.lookup([[0.5], [math.nan]], 0.5)
+
+
+def test_spec_errors_name_the_argument_and_the_right_fix(tmp_path):
+    base = lut.preset("ue5", samples=16)
+    with pytest.raises(ValueError, match="name: expected a C identifier, got None"):
+        dataclasses.replace(base, name=None)
+    # both ends of the roughness axis are checked: ggx takes alpha up to 1e7
+    with pytest.raises(ValueError, match=r"rows: alpha = .* at the last texel .*; lower hi"):
+        dataclasses.replace(base, rows=lut.Axis("alpha", 4, "ends", 1.0, 2e7))
+    with pytest.raises(ValueError, match=r"rows: alpha = 0.0 at the first texel .*; raise lo"):
+        dataclasses.replace(base, rows=lut.Axis("alpha", 4, "ends", 0.0, 1.0))
+    # a shader's constant array is refused above 65536 values, before any work
+    big = dataclasses.replace(
+        base, columns=lut.Axis("mu", 256), rows=lut.Axis("perceptual", 256), samples=1
+    )
+    for suffix in (".glsl", ".wgsl"):
+        err = run_cli(
+            "lut",
+            "--preset",
+            "ue5",
+            "--columns",
+            "mu:centres:256",
+            "--rows",
+            "perceptual:centres:256",
+            "-o",
+            str(tmp_path / f"t{suffix}"),
+            code=2,
+        ).stderr
+        assert f"t{suffix}: a {suffix} table is a constant array, and 131072 values" in err
+        assert "Traceback" not in err
+    small_table = lut.build(
+        dataclasses.replace(base, columns=lut.Axis("mu", 4), rows=lut.Axis("perceptual", 4)),
+        interp_limit=2,
+    )
+    tiny = dataclasses.replace(small_table, spec=big, decoded=np.zeros((256, 256, 2)))
+    with pytest.raises(ValueError, match=r"path: a \.glsl table is a constant array"):
+        tiny.save(tmp_path / "t.glsl")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_single_channel_unorm_energy_table(tmp_path):
     spec = lut.LutSpec(
         "energy",

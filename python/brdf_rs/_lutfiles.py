@@ -33,14 +33,26 @@ KTX2_IDENTIFIER = b"\xabKTX 20\xbb\r\n\x1a\n"
 DDS_MAGIC = b"DDS "
 
 
-def check(fmt_name: str, path: Path) -> str:
-    """The container of ``path`` (its suffix), checked against the pixel format before
-    any work: raises ``ValueError`` naming the argument."""
+#: The most values a GLSL or WGSL table array may hold: shader compilers and drivers
+#: handle constant arrays far smaller than a texture (64K floats is already 256 KiB).
+SHADER_ARRAY_MAX = 65536
+
+
+def check(fmt_name: str, path: Path, values: int | None = None) -> str:
+    """The container of ``path`` (its suffix), checked against the pixel format and, for
+    GLSL and WGSL, against the array's number of ``values``, before any work: raises
+    ``ValueError`` naming the argument."""
     from .lut import CONTAINERS, FORMATS
 
     suffix = path.suffix.lower()
     if suffix not in CONTAINERS:
         raise ValueError(f"path: unknown LUT file type {suffix!r}; use {', '.join(CONTAINERS)}")
+    if suffix in (".glsl", ".wgsl") and values is not None and values > SHADER_ARRAY_MAX:
+        raise ValueError(
+            f"path: a {suffix} table is a constant array, and {values} values is more than"
+            f" {SHADER_ARRAY_MAX} (shader compilers cannot be relied on to take it); write a"
+            " texture (.ktx2, .dds, .exr, .png) or use smaller axes"
+        )
     if suffix == ".dds" and FORMATS[fmt_name].dxgi == 0:
         raise ValueError(
             f"format: DXGI has no {fmt_name} format, so .dds cannot hold it (use .ktx2 or"
@@ -57,7 +69,7 @@ def check(fmt_name: str, path: Path) -> str:
 def save(lut: Lut, path: Path) -> Path:
     from . import _lutcode
 
-    suffix = check(lut.spec.format, path)
+    suffix = check(lut.spec.format, path, lut.decoded.size)
     meta = lut.meta(path.name)
     if suffix == ".exr":
         _save_exr(lut, path, meta)

@@ -769,7 +769,8 @@ def cmd_lut(args: argparse.Namespace) -> int:
         default = f"{args.preset}{lut.PRESETS[args.preset].container}"
     out = Path(args.output or default)
     try:
-        _lutfiles.check(spec.format, out)
+        count = spec.columns.size * spec.rows.size * len(spec.channel_names)
+        _lutfiles.check(spec.format, out, None if args.fit is not None else count)
     except ValueError as exc:
         raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
     if args.fit is not None:

@@ -331,8 +331,6 @@ class LutSpec:
                 "axes: one axis must be mu (mu or sqrt_mu) and the other roughness (alpha or"
                 f" perceptual); got {self.columns.quantity} and {self.rows.quantity}"
             )
-        if self.kind == "energy" and self.param != "alpha":
-            raise ValueError(f"model: energy tables are over alpha; {self.model} has none")
         fmt = FORMATS[self.format]
         chosen = self.channel_names
         unknown = [c for c in chosen if c not in KINDS[self.kind]]
@@ -363,15 +361,20 @@ class LutSpec:
             raise ValueError(f"samples: expected 1 to 2^24 per texel, got {self.samples}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ValueError(f"seed: expected a non-negative integer, got {self.seed!r}")
-        if not (self.name.isidentifier() and self.name.isascii()):
+        if not (isinstance(self.name, str) and self.name.isidentifier() and self.name.isascii()):
             raise ValueError(f"name: expected a C identifier, got {self.name!r}")
         for label, axis in (("columns", self.columns), ("rows", self.rows)):
-            if axis.role == "roughness":
-                bottom = float(axis.physical(np.array(axis.positions()[0])))
-                if not _spec.admits(self.model, self.param, bottom):
+            if axis.role != "roughness":
+                continue
+            ends = axis.physical(axis.positions()[[0, -1]])
+            for which, value, fix in (
+                ("first", float(ends[0]), "raise lo or give a floor"),
+                ("last", float(ends[1]), "lower hi"),
+            ):
+                if not _spec.admits(self.model, self.param, value):
                     raise ValueError(
-                        f"{label}: {self.param} = {bottom!r} at the first texel is out of"
-                        f" range for {self.model}; raise lo or give a floor"
+                        f"{label}: {self.param} = {value!r} at the {which} texel is out of"
+                        f" range for {self.model}; {fix}"
                     )
 
     @property
@@ -889,6 +892,8 @@ class Lut:
     def lookup(self, mu: Any, roughness: Any) -> np.ndarray:
         """Bilinear lookup of the stored table at incidence cosines ``mu`` and values of
         the model's roughness parameter (``alpha``), as a GPU's filter reads it."""
+        for label, value in (("mu", mu), ("roughness", roughness)):
+            _check_finite(label, value)
         m = self.spec.mu_axis.quantity_of(mu)
         r = self.spec.roughness_axis.quantity_of(roughness)
         if self.spec.columns.role == "mu":
@@ -918,6 +923,21 @@ class Lut:
         from . import _lutfiles
 
         return _lutfiles.save(self, Path(path))
+
+
+def _check_finite(label: str, value: Any) -> None:
+    """Raises ``ValueError`` naming ``label`` and the first non-finite element."""
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{label}: expected numbers, got {value!r}") from None
+    bad = ~np.isfinite(a)
+    if bad.any():
+        if a.ndim == 0:
+            raise ValueError(f"{label}: expected a finite number, got {float(a)!r}")
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        at = index[0] if len(index) == 1 else index
+        raise ValueError(f"{label}: expected finite numbers, got {float(a[index])!r} at index {at}")
 
 
 def build(
