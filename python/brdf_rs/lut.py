@@ -544,8 +544,10 @@ def _presets() -> dict[str, Preset]:
                 name="ue5_ggx_spec_energy",
             ),
             ".dds",
-            "Unreal Engine 5's GGX specular energy table size and format: 32 x 32, two"
-            " 16-bit UNORM channels (PF_G16R16); channels here: split-sum A and B",
+            "Unreal Engine 5's GGX specular energy table size and format (32 x 32, two"
+            " 16-bit UNORM channels, PF_G16R16) in this library's layout: split-sum A and B"
+            " at texel centres; UE5's own channel meaning is unconfirmed, so not a drop-in"
+            " for the engine's table",
             "Unreal Engine Renderer/Private/ShadingEnergyConservation.cpp (table resolution"
             " 32, PF_G16R16 or PF_G32R32F); channel meaning and texel placement not confirmed",
         ),
