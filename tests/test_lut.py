@@ -704,6 +704,10 @@ def test_filament_cloth_preset_adds_the_sheen_albedo_as_a_third_channel(tmp_path
         t.save(tmp_path / "c.dds")
     with pytest.raises(ValueError, match="the cloth channel needs a sheen model"):
         lut.preset("filament", format="R16G16B16_SFLOAT", channels=None)
+    # the progress bar's passes count the cloth run too (each tiny run reports its end)
+    calls = []
+    lut.build(spec, interp_limit=4, progress=lambda done, _: calls.append(done))
+    assert calls == lut.passes(spec, 4) == [16, 16, 16, 30, 30, 30]
 
 
 def test_every_axis_quantity_lands_on_its_texels_in_python_and_in_c(tmp_path):

@@ -646,7 +646,9 @@ def _integrate(
         # at the sheen model's smallest value below it (its cells are dfg_table's).
         weights, low = _sheen(spec)
         axes = {"mu": mu, spec.param: np.maximum(rough, low)}
-        c = _albedo.albedo_table(spec.sheen, axes, samples=spec.samples, seed=seed, **weights)
+        c = _albedo.albedo_table(
+            spec.sheen, axes, samples=spec.samples, seed=seed, **weights, **extra
+        )
         cloth, se_cloth = c.value[..., 0], c.stderr[..., 0]
     if spec.kind == "dfg":
         return np.stack([a, b, cloth], -1), np.stack([se_a, se_b, se_cloth], -1)
@@ -801,8 +803,12 @@ def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     mu_pts, r_pts = _check_grid(spec, interp_limit)
     runs = []
     for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
-        # dfg: F0 = 1 then F0 = 0; energy: E on the grid, then 32 Gauss-Legendre mu's.
-        runs += [m * r, m * r] if spec.kind != "energy" else [m * r, 32 * r]
+        # dfg: F0 = 1, F0 = 0, then the cloth channel's sheen model when there is one;
+        # energy: E on the grid, then 32 Gauss-Legendre mu's.
+        if spec.kind == "energy":
+            runs += [m * r, 32 * r]
+        else:
+            runs += [m * r] * (3 if spec.sheen is not None else 2)
     return runs
 
 
