@@ -14,7 +14,6 @@ import math
 import shutil
 import struct
 import subprocess
-import sys
 
 import brdf_rs
 import numpy as np
@@ -29,8 +28,6 @@ def small(preset: str, n: int = 8, **changes):
     spec = lut.preset(preset, **SMALL, **changes)
     cols = lut.Axis(spec.columns.quantity, n, spec.columns.placement, floor=spec.columns.floor)
     rows = lut.Axis(spec.rows.quantity, n, spec.rows.placement, floor=spec.rows.floor)
-    import dataclasses
-
     return dataclasses.replace(spec, columns=cols, rows=rows)
 
 
@@ -565,10 +562,6 @@ def test_single_channel_unorm_energy_table(tmp_path):
     raw = t.save(tmp_path / "e.ktx2").read_bytes()
     assert struct.unpack_from("<2I", raw, 12) == (70, 2)  # VK_FORMAT_R16_UNORM
     assert t.decoded.shape == (4, 4, 1)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(pytest.main([__file__, "-x", "-q"]))
 
 
 def test_meet_error_picks_the_first_size_and_format_whose_total_fits():
