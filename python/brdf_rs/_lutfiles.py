@@ -108,21 +108,14 @@ def exr_channel_text(names: tuple[str, ...]) -> str:
 
 
 def _save_exr(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
-    try:
-        import OpenEXR
-    except ImportError:
-        raise ImportError(
-            "writing .exr needs the OpenEXR package: pip install brdf-rs[exr]"
-        ) from None
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    header[META_KEY] = _meta_text(meta)
-    header[EXR_CHANNELS_KEY] = exr_channel_text(lut.spec.channel_names)
-    channels = {
-        EXR_CHANNELS[k]: np.ascontiguousarray(lut.stored[..., k])
-        for k in range(len(lut.spec.channel_names))
+    from . import _exr
+
+    attributes = {
+        META_KEY: _meta_text(meta),
+        EXR_CHANNELS_KEY: exr_channel_text(lut.spec.channel_names),
     }
-    with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, channels) as f:
-        f.write(str(tmp))
+    channels = {EXR_CHANNELS[k]: lut.stored[..., k] for k in range(len(lut.spec.channel_names))}
+    _exr.write(path, channels, attributes)
 
 
 def _read_exr(path: Path) -> tuple[np.ndarray, dict[str, Any]]:
