@@ -853,7 +853,7 @@ def cmd_lut(args: argparse.Namespace) -> int:
         f"{spec.kind} LUT of {spec.model}, {spec.columns.size} x {spec.rows.size} {spec.format}:"
         f" {saved.where}, {seconds:.2f} s"
     )
-    print("  channel  MC stderr  quant worst  quant RMS  interp worst  total (3 sigma)")
+    print("  channel  MC stderr  quant worst  quant RMS  interp worst  total (3 sigma per point)")
     for k, c in enumerate(b.channels):
         print(
             f"  {c:<7}  {b.mc_max_stderr[k]:<9.2g}  {b.quant_worst[k]:<11.2g}"
