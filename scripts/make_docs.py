@@ -357,6 +357,8 @@ def index_page(specs: dict[str, dict[str, Any]], has_benchmarks: bool) -> str:
         " and how accurate it is.",
         "- [Albedo tables on Dask](dask.md): one table built by many processes or machines,"
         " with the same bits.",
+        "- [Engine LUTs](luts.md): split-sum DFG and Kulla-Conty tables in engines' layouts"
+        " (`brdf_rs.lut`, `brdf-rs lut`): presets, axes, formats, error budgets.",
         "- [Numerics](numerics.md): the stress test of every model against a 50-digit"
         " reference, and what it measured.",
     ]

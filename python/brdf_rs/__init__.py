@@ -6,7 +6,7 @@ without the cosine factor, family-B shading terms include the light's cosine. Se
 ``brdf_rs.models()`` and the docs for every model's formula and source.
 """
 
-from . import reference
+from . import lut, reference
 from ._albedo import (
     Albedo,
     Energy,
@@ -60,6 +60,7 @@ __all__ = [
     "example_scenes",
     "isa",
     "load_scene",
+    "lut",
     "models",
     "num_threads",
     "parse_scene",

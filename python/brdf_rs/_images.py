@@ -80,13 +80,9 @@ def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     if suffix == ".png":
         _png.write(path, _core.encode_srgb8(image))
     elif suffix == ".exr":
-        try:
-            import OpenEXR
-        except ImportError:
-            raise ImportError("writing .exr needs OpenEXR: pip install brdf-rs[exr]") from None
-        header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-        with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, {"RGB": image}) as f:
-            f.write(str(tmp))
+        from . import _exr
+
+        _exr.write(path, {"RGB": image})
     elif suffix == ".npy":
         with _atomic.atomic_write(path) as tmp, open(tmp, "wb") as f:
             np.save(f, image)

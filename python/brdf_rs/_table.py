@@ -296,23 +296,16 @@ def _save_npz(table: Table, path: Path, meta: dict[str, Any]) -> None:
 
 
 def _save_exr(table: Table, path: Path, meta: dict[str, Any]) -> None:
-    try:
-        import OpenEXR
-    except ImportError:
-        raise ImportError(
-            "writing .exr needs the OpenEXR package: pip install brdf-rs[exr]"
-        ) from None
+    from . import _exr
+
     value = table.value.astype(np.float32)
     if value.ndim == 2:
         value = value[None]
     if value.ndim != 3:
         raise ValueError(f"table: .exr holds 1-D or 2-D tables; this one has {value.ndim - 1} axes")
     stderr = table.stderr.astype(np.float32).reshape(value.shape)
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    header.update({f"brdf_rs_{k}": v for k, v in _flat_meta(meta).items()})
-    channels = {"RGB": np.ascontiguousarray(value), "stderr.RGB": np.ascontiguousarray(stderr)}
-    with _atomic.atomic_write(path) as tmp, OpenEXR.File(header, channels) as f:
-        f.write(str(tmp))
+    attributes = {f"brdf_rs_{k}": v for k, v in _flat_meta(meta).items()}
+    _exr.write(path, {"RGB": value, "stderr.RGB": stderr}, attributes)
 
 
 #: Text keys of a table's .png preview (read back by :meth:`TablePreview.load`).

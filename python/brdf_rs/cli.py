@@ -682,6 +682,187 @@ def cmd_energy(args: argparse.Namespace) -> int:
     return 0
 
 
+def _lut_spec(args: argparse.Namespace) -> Any:
+    """The ``lut`` command's :class:`~brdf_rs.lut.LutSpec`: a preset with the options
+    given replacing its fields, or an explicit description (checked before any work)."""
+    import dataclasses
+
+    from . import lut
+
+    changes: dict[str, Any] = {}
+    for key in ("kind", "model", "format", "samples", "seed", "name", "sheen"):
+        if getattr(args, key) is not None:
+            changes[key] = getattr(args, key)
+    for key in ("columns", "rows"):
+        if getattr(args, key) is not None:
+            changes[key] = lut.parse_axis(getattr(args, key), f"--{key}")
+    if args.channels is not None:
+        changes["channels"] = tuple(c.strip() for c in args.channels.split(",") if c.strip())
+    elif "kind" in changes or "format" in changes:
+        changes["channels"] = None
+    if args.preset is not None:
+        if args.preset not in lut.PRESETS:
+            raise UsageError(f"--preset: unknown {args.preset!r}; use {', '.join(lut.PRESETS)}")
+        return dataclasses.replace(lut.PRESETS[args.preset].spec, **changes)
+    missing = [f"--{k}" for k in ("kind", "model", "columns", "rows") if k not in changes]
+    if missing:
+        raise UsageError(
+            f"give --preset ({', '.join(lut.PRESETS)}) or describe the table: missing"
+            f" {', '.join(missing)}"
+        )
+    if "model" not in changes:
+        raise UsageError("--model: give the model (brdf-rs models lists them) or a --preset")
+    return lut.LutSpec(**changes)
+
+
+def cmd_lut(args: argparse.Namespace) -> int:
+    from . import _lutfiles, lut
+
+    if args.list:
+        rows = {
+            name: {
+                "summary": p.summary,
+                "source": p.source,
+                "command": p.spec.command(f"{name}{p.container}"),
+            }
+            for name, p in lut.PRESETS.items()
+        }
+        if args.json:
+            _print_json(rows)
+        else:
+            for name, row in rows.items():
+                print(f"{name}: {row['summary']}\n  source: {row['source']}")
+        return 0
+    if args.verify is not None:
+        path = Path(args.verify)
+        if not path.is_file():
+            raise UsageError(f"--verify {args.verify}: no such file")
+        result = lut.verify(path)
+        checked: dict[str, Any] = {
+            "file": str(path.resolve()),
+            "ok": result.ok,
+            "hash_ok": result.hash_ok,
+            "max_difference": result.max_difference,
+            "tolerance": result.tolerance,
+            "versions": list(result.versions),
+        }
+        if args.json:
+            _print_json(checked)
+        else:
+            verdict = "matches" if result.ok and result.hash_ok else "DOES NOT match"
+            print(f"{path}: {verdict} its rebuilt table")
+            print(f"  largest difference {result.max_difference}, tolerance {result.tolerance}")
+            if result.versions[0] != result.versions[1]:
+                print(
+                    f"  written by brdf-rs {result.versions[0]}, rebuilt by"
+                    f" {result.versions[1]}: compared within the statistical tolerance"
+                )
+            if not result.hash_ok:
+                print(
+                    "  the recorded content hash is not the recorded recipe's, or the recipe"
+                    " is not the rebuild's"
+                )
+        return 0 if result.ok and result.hash_ok else EXIT_FAILURE
+    spec = _lut_spec(args)
+    default = "lut.ktx2"
+    if args.preset is not None:
+        default = f"{args.preset}{lut.PRESETS[args.preset].container}"
+    out = Path(args.output or default)
+    try:
+        count = spec.columns.size * spec.rows.size * len(spec.channel_names)
+        _lutfiles.check(spec.format, out, None if args.fit is not None else count)
+    except ValueError as exc:
+        raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
+    if args.fit is not None:
+        if out.suffix.lower() not in (".h", ".glsl", ".hlsl", ".wgsl"):
+            raise UsageError(f"-o {out}: a --fit is source code: .h, .glsl, .hlsl or .wgsl")
+        if not 1 <= args.fit <= 12:
+            raise UsageError(f"--fit: expected a degree from 1 to 12, got {args.fit}")
+        if args.max_error is not None:
+            raise UsageError("--fit and --max-error: give one or the other")
+    _check_location(str(out), "-o")
+    if args.interp_limit < 2:
+        raise UsageError(f"--interp-limit: expected at least 2, got {args.interp_limit}")
+    if args.max_error is not None and not (math.isfinite(args.max_error) and args.max_error > 0):
+        raise UsageError(f"--max-error: expected a positive number, got {args.max_error}")
+    start = time.perf_counter()
+    if args.max_error is not None:
+        choice = lut.meet_error(spec, args.max_error, interp_limit=args.interp_limit)
+        if choice.lut is None:
+            best = min(choice.tried, key=lambda t: t[2])
+            print(
+                f"brdf-rs lut: no resolution up to {choice.tried[-1][0]} and format meets"
+                f" --max-error {args.max_error:g}: the best is {best[2]:.3g} ({best[0]} x"
+                f" {best[0]} {best[1]}); raise --samples, change the axes (e.g. sqrt_mu,"
+                " ends) or accept a larger error",
+                file=sys.stderr,
+            )
+            return EXIT_FAILURE
+        table = choice.lut
+        spec = table.spec
+    else:
+        progress = _PassProgress(lut.passes(spec, args.interp_limit), args.quiet or args.json)
+        completed = False
+        try:
+            table = lut.build(spec, interp_limit=args.interp_limit, progress=progress)
+            completed = True
+        finally:
+            progress.close(completed)
+    seconds = time.perf_counter() - start
+    if args.fit is not None:
+        fitted = lut.fit(table, args.fit)
+        saved = _Saved(out, fitted.save)
+        fit_summary = {
+            "output": saved.output,
+            "degree": args.fit,
+            "table_content_hash": table.content_hash,
+            "worst_texels": fitted.worst_texels,
+            "rms_texels": fitted.rms_texels,
+            "worst_between": fitted.worst_between,
+            "between_stderr": fitted.between_stderr,
+            "seconds": seconds,
+        }
+        if args.json:
+            _print_json(fit_summary)
+        else:
+            print(f"degree-{args.fit} fit of the {spec.kind} table of {spec.model}: {saved.where}")
+            for k, c in enumerate(spec.channel_names):
+                print(
+                    f"  {c}: worst {fitted.worst_texels[k]:.2g} against the texels,"
+                    f" {fitted.worst_between[k]:.2g} against integrals between them"
+                )
+        return 0
+    saved = _Saved(out, table.save)
+    summary: dict[str, Any] = {
+        "output": saved.output,
+        "replaced": saved.replaced,
+        "seconds": seconds,
+        "content_hash": table.content_hash,
+        "command": spec.command(out.name),
+        "width": spec.columns.size,
+        "height": spec.rows.size,
+        "format": spec.format,
+        "channels": list(spec.channel_names),
+        "budget": table.budget.to_json(),
+    }
+    if args.json:
+        _print_json(summary)
+        return 0
+    b = table.budget
+    print(
+        f"{spec.kind} LUT of {spec.model}, {spec.columns.size} x {spec.rows.size} {spec.format}:"
+        f" {saved.where}, {seconds:.2f} s"
+    )
+    print("  channel  MC stderr  quant worst  quant RMS  interp worst  total (3 sigma per point)")
+    for k, c in enumerate(b.channels):
+        print(
+            f"  {c:<7}  {b.mc_max_stderr[k]:<9.2g}  {b.quant_worst[k]:<11.2g}"
+            f"  {b.quant_rms[k]:<9.2g}  {b.interp_worst[k]:<12.2g}  {b.total[k]:.2g}"
+        )
+    print(f"  hash {table.content_hash}")
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     from . import _bench
 
@@ -1175,6 +1356,66 @@ def _add_energy_command(sub: Any) -> None:
     p.set_defaults(run=cmd_energy)
 
 
+def _add_lut_command(sub: Any) -> None:
+    from . import lut
+
+    p = sub.add_parser(
+        "lut",
+        help="bake an engine-ready LUT (split-sum DFG, Kulla-Conty E and E_avg) with its"
+        " error budget",
+        description="Bake a lookup table in an engine's layout, by preset or by explicit"
+        " description, into EXR, KTX2, DDS, 16-bit PNG or C/GLSL/HLSL/WGSL source (by the"
+        " suffix of -o). Every file records its recipe, content hash, rebuild command and"
+        " error budget; --verify FILE rebuilds it and compares.",
+    )
+    p.add_argument("--preset", default=None, help=f"one of {', '.join(lut.PRESETS)}")
+    p.add_argument("--kind", default=None, help=f"what the table holds: {', '.join(lut.KINDS)}")
+    p.add_argument("--model", default=None, help="the model (default: the preset's)")
+    axis_help = (
+        "QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]], QUANTITY one of "
+        + ", ".join(lut.QUANTITIES)
+        + "; PLACEMENT centres or ends"
+    )
+    p.add_argument("--columns", default=None, help="the texture's x axis: " + axis_help)
+    p.add_argument("--rows", default=None, help="the texture's y axis (row 0 first): " + axis_help)
+    p.add_argument("--format", default=None, help=f"pixel format: {', '.join(lut.FORMATS)}")
+    p.add_argument("--channels", default=None, help="channels kept, comma-separated (e.g. E)")
+    p.add_argument(
+        "--sheen",
+        default=None,
+        metavar="MODEL",
+        help="the sheen model of a DFG table's cloth channel (e.g. the filament_cloth preset's)",
+    )
+    p.add_argument("--samples", type=int, default=None, help="samples per texel")
+    p.add_argument("--seed", type=int, default=None, help=SEED_HELP)
+    p.add_argument("--name", default=None, help="identifier in source code outputs")
+    p.add_argument(
+        "--interp-limit",
+        type=int,
+        default=64,
+        help="points per axis checked between texels for the interpolation error",
+    )
+    p.add_argument(
+        "--max-error",
+        type=float,
+        default=None,
+        help="pick the smallest square resolution and format whose error budget total is at"
+        " most this (exit 1 when none up to 512 is)",
+    )
+    p.add_argument(
+        "--fit",
+        type=int,
+        default=None,
+        metavar="DEGREE",
+        help="write a polynomial fit of this total degree as source code instead of the table",
+    )
+    p.add_argument("-o", "--output", default=None, help="out.exr | .ktx2 | .dds | .png | .h | ...")
+    p.add_argument("--verify", default=None, metavar="FILE", help="rebuild FILE and compare")
+    p.add_argument("--list", action="store_true", help="list the presets and their sources")
+    _add_reporting(p)
+    p.set_defaults(run=cmd_lut)
+
+
 def _add_bench_command(sub: Any) -> None:
     p = sub.add_parser(
         "bench",
@@ -1272,6 +1513,7 @@ def build_parser() -> argparse.ArgumentParser:
         _add_tables_command,
         _add_dfg_command,
         _add_energy_command,
+        _add_lut_command,
         _add_bench_command,
         _add_plot_lobe_command,
         _add_stress_command,

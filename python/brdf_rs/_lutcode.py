@@ -1,0 +1,209 @@
+"""Source code for a LUT: a C/C++ header, GLSL, HLSL or WGSL with the table as an array
+(the format's decoded texels, as float literals), the grid convention and error budget in
+a comment, ``NAME_lookup(mu, roughness)`` sampling the array bilinearly with the table's
+texel mapping (clamp to the edge texels, as a GPU's sampler) and ``NAME_uv(mu,
+roughness)`` giving the texture coordinate at which a hardware bilinear filter reads the
+same value from a texture holding the table as stored (row 0 at v = 0)."""
+
+from __future__ import annotations
+
+import json
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .lut import Axis, Lut
+
+
+def _literal(v: float, suffix: str) -> str:
+    return f"{v:.9e}{suffix}"
+
+
+def float_literal(v: float, suffix: str) -> str:
+    """``v`` exactly (its shortest repr) as a float literal valid in C, GLSL, HLSL and
+    WGSL: always with a decimal point or an exponent, so ``0`` is ``0.0``."""
+    text = repr(float(v))
+    if not any(c in text for c in ".eE"):
+        text += ".0"
+    return text + suffix
+
+
+def _comment(lut: Lut, meta: dict[str, Any], prefix: str) -> str:
+    s = lut.spec
+    b = lut.budget
+    lines = [
+        f"{s.name}: {s.kind} lookup table of {s.model}, made by brdf-rs (do not edit).",
+        f"Layout: {s.rows.size} rows x {s.columns.size} columns x"
+        f" {len(s.channel_names)} channel(s), row-major, channels interleaved:"
+        " DATA[(row * WIDTH + column) * CHANNELS + channel].",
+        f"Columns: {s.columns.describe(s.param)}.",
+        f"Rows: {s.rows.describe(s.param)}.",
+    ]
+    for c in s.channel_names:
+        lines.append(f"Channel {c}: {meta['channels'][c]}.")
+    lines.append(
+        f"Values: {s.format} texels, decoded. lookup(mu, {s.param}) is bilinear between"
+        " texel samples and clamps to the edge texels."
+    )
+    for k, c in enumerate(b.channels):
+        lines.append(
+            f"Error budget {c}: Monte Carlo stderr <= {b.mc_max_stderr[k]:.3g}, quantization"
+            f" worst {b.quant_worst[k]:.3g} (RMS {b.quant_rms[k]:.3g}), bilinear"
+            f" interpolation worst {b.interp_worst[k]:.3g} ({b.interp_points} points between"
+            f" texels, against integrals of stderr <= {b.interp_ref_stderr[k]:.3g}), total"
+            f" {b.total[k]:.3g} ({b.confidence})."
+        )
+    lines.append(f"Content hash: {meta['content_hash']}.")
+    lines.append(f"Rebuild: {meta['command']}")
+    lines.append(f"Check: brdf-rs lut --verify {meta['recipe']['name']}.<suffix>")
+    text = "\n".join(f"{prefix} {line}" for line in lines)
+    return text + f"\n{prefix} brdf-rs:lut {json.dumps(meta, sort_keys=True)}\n"
+
+
+def _data(values: np.ndarray, suffix: str, per_line: int) -> str:
+    flat = [_literal(float(v), suffix) for v in values.reshape(-1)]
+    rows = [", ".join(flat[i : i + per_line]) for i in range(0, len(flat), per_line)]
+    return ",\n".join(f"    {r}" for r in rows)
+
+
+def _axis_code(axis: Axis, var: str, lang: str) -> list[str]:
+    """Statements turning the physical input ``var`` into ``{var}_x`` (the continuous
+    texel coordinate) and ``{var}_t`` (the texture coordinate in [0, 1])."""
+    f = "f" if lang in ("c", "hlsl") else ""
+    fl = "float" if lang != "wgsl" else "f32"
+    let = "let" if lang == "wgsl" else fl
+    var_kw = "var" if lang == "wgsl" else fl
+    sqrt = "sqrtf" if lang == "c" else "sqrt"
+    fmax = "fmaxf" if lang == "c" else "max"
+    fmin = "fminf" if lang == "c" else "min"
+    square = axis.quantity in ("sqrt_mu", "perceptual")
+    q = f"{sqrt}({fmax}({var}, 0.0{f}))" if square else var
+    n = axis.size
+    lo = float_literal(axis.lo, f)
+    span = float_literal(axis.hi - axis.lo, f)
+    if axis.placement == "centres":
+        x = f"({var}_q - {lo}) / {span} * {n}.0{f} - 0.5{f}"
+    else:
+        x = f"({var}_q - {lo}) / {span} * {n - 1}.0{f}"
+    return [
+        f"{let} {var}_q = {q};",
+        f"{var_kw} {var}_x = {x};",
+        f"{var}_x = {fmin}({fmax}({var}_x, 0.0{f}), {n - 1}.0{f});",
+        f"{let} {var}_t = ({var}_x + 0.5{f}) / {n}.0{f};",
+    ]
+
+
+def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
+    lang = {".h": "c", ".glsl": "glsl", ".hlsl": "hlsl", ".wgsl": "wgsl"}[suffix]
+    s = lut.spec
+    name = s.name
+    h, w, nc = lut.decoded.shape
+    total = h * w * nc
+    col_in = "mu" if s.columns.role == "mu" else "roughness"
+    row_in = "mu" if s.rows.role == "mu" else "roughness"
+    col_uv = _axis_code(s.columns, col_in, lang)
+    row_uv = _axis_code(s.rows, row_in, lang)
+    col_code, row_code = col_uv[:-1], row_uv[:-1]  # the lookups need no texture coordinate
+    f = "f" if lang in ("c", "hlsl") else ""
+    fsuffix = "f" if lang in ("c", "hlsl", "glsl") else ""
+    data = _data(lut.decoded, fsuffix, 6)
+    block = f"// BEGIN DATA\n{data}\n// END DATA\n"
+    head = _comment(lut, meta, "//")
+    upper = name.upper()
+    cast_int = {"c": "(int)", "hlsl": "(int)", "glsl": "int"}.get(lang, "")
+    cast_float = {"c": "(float)", "hlsl": "(float)", "glsl": "float"}.get(lang, "")
+    interp = [
+        f"int x0 = {cast_int}({col_in}_x); if (x0 > {w - 2}) x0 = {w - 2};",
+        f"int y0 = {cast_int}({row_in}_x); if (y0 > {h - 2}) y0 = {h - 2};",
+        f"float fx = {col_in}_x - {cast_float}(x0);",
+        f"float fy = {row_in}_x - {cast_float}(y0);",
+    ]
+    if lang == "c":
+        body = "\n    ".join(col_code + row_code + interp)
+        return (
+            head
+            + f"#ifndef {upper}_H\n#define {upper}_H\n#include <math.h>\n\n"
+            + f"#define {upper}_WIDTH {w}\n#define {upper}_HEIGHT {h}\n"
+            + f"#define {upper}_CHANNELS {nc}\n\n"
+            + f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
+            + f"/* Bilinear lookup at mu = cos(theta_v) and {s.param}; writes {nc} value(s). */\n"
+            + f"static inline void {name}_lookup(float mu, float roughness, float out[{nc}]) {{\n"
+            + f"    {body}\n"
+            + f"    for (int c = 0; c < {nc}; ++c) {{\n"
+            + f"        float a = {name}_data[(y0 * {w} + x0) * {nc} + c];\n"
+            + f"        float b = {name}_data[(y0 * {w} + x0 + 1) * {nc} + c];\n"
+            + f"        float d = {name}_data[((y0 + 1) * {w} + x0) * {nc} + c];\n"
+            + f"        float e = {name}_data[((y0 + 1) * {w} + x0 + 1) * {nc} + c];\n"
+            + "        out[c] = (a * (1.0f - fx) + b * fx) * (1.0f - fy)"
+            + " + (d * (1.0f - fx) + e * fx) * fy;\n"
+            + "    }\n}\n\n"
+            + "/* The texture coordinate (u, v) a hardware bilinear filter reads it at. */\n"
+            + f"static inline void {name}_uv(float mu, float roughness, float uv[2]) {{\n"
+            + "    "
+            + "\n    ".join(col_uv + row_uv)
+            + f"\n    uv[0] = {col_in}_t;\n    uv[1] = {row_in}_t;\n}}\n\n#endif\n"
+        )
+    if lang in ("glsl", "hlsl"):
+        vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
+        v2 = "vec2" if lang == "glsl" else "float2"
+        decl = (
+            f"const float {name}_data[{total}] = float[{total}](\n{block});\n"
+            if lang == "glsl"
+            else f"static const float {name}_data[{total}] = {{\n{block}}};\n"
+        )
+        fetch = []
+        for k in range(nc):
+            fetch.append(
+                f"float a{k} = {name}_data[(y0 * {w} + x0) * {nc} + {k}];\n"
+                f"    float b{k} = {name}_data[(y0 * {w} + x0 + 1) * {nc} + {k}];\n"
+                f"    float d{k} = {name}_data[((y0 + 1) * {w} + x0) * {nc} + {k}];\n"
+                f"    float e{k} = {name}_data[((y0 + 1) * {w} + x0 + 1) * {nc} + {k}];\n"
+                f"    float r{k} = (a{k} * (1.0{f} - fx) + b{k} * fx) * (1.0{f} - fy)"
+                f" + (d{k} * (1.0{f} - fx) + e{k} * fx) * fy;"
+            )
+        result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
+        return (
+            head
+            + decl
+            + f"\n// Bilinear lookup at mu = cos(theta_v) and {s.param}.\n"
+            + f"{vec} {name}_lookup(float mu, float roughness) {{\n    "
+            + "\n    ".join(col_code + row_code + interp + fetch)
+            + f"\n    return {result};\n}}\n\n"
+            + "// The texture coordinate a hardware bilinear filter reads the same value at.\n"
+            + f"{v2} {name}_uv(float mu, float roughness) {{\n    "
+            + "\n    ".join(col_uv + row_uv)
+            + f"\n    return {v2}({col_in}_t, {row_in}_t);\n}}\n"
+        )
+    # WGSL
+    vec = "f32" if nc == 1 else f"vec{nc}<f32>"
+    interp_w = [
+        f"let x0 = min(u32({col_in}_x), {w - 2}u);",
+        f"let y0 = min(u32({row_in}_x), {h - 2}u);",
+        f"let fx = {col_in}_x - f32(x0);",
+        f"let fy = {row_in}_x - f32(y0);",
+    ]
+    fetch = []
+    for k in range(nc):
+        fetch.append(
+            f"let a{k} = {name}_data[(y0 * {w}u + x0) * {nc}u + {k}u];\n"
+            f"    let b{k} = {name}_data[(y0 * {w}u + x0 + 1u) * {nc}u + {k}u];\n"
+            f"    let d{k} = {name}_data[((y0 + 1u) * {w}u + x0) * {nc}u + {k}u];\n"
+            f"    let e{k} = {name}_data[((y0 + 1u) * {w}u + x0 + 1u) * {nc}u + {k}u];\n"
+            f"    let r{k} = (a{k} * (1.0 - fx) + b{k} * fx) * (1.0 - fy)"
+            f" + (d{k} * (1.0 - fx) + e{k} * fx) * fy;"
+        )
+    result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
+    return (
+        head
+        + f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n"
+        + f"{block});\n\n"
+        + f"// Bilinear lookup at mu = cos(theta_v) and {s.param}.\n"
+        + f"fn {name}_lookup(mu: f32, roughness: f32) -> {vec} {{\n    "
+        + "\n    ".join(col_code + row_code + interp_w + fetch)
+        + f"\n    return {result};\n}}\n\n"
+        + "// The texture coordinate a hardware bilinear filter reads the same value at.\n"
+        + f"fn {name}_uv(mu: f32, roughness: f32) -> vec2<f32> {{\n    "
+        + "\n    ".join(col_uv + row_uv)
+        + f"\n    return vec2<f32>({col_in}_t, {row_in}_t);\n}}\n"
+    )

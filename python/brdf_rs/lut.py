@@ -1,0 +1,1124 @@
+"""Engine-ready lookup tables: split-sum DFG and Kulla-Conty E / E_avg, laid out as engines
+ship them, with an error budget and a provenance record in every file.
+
+A LUT is described by a :class:`LutSpec`: what it holds (``kind``: ``"dfg"``, the
+split-sum scale A and bias B; ``"dfg_multiscatter"``, Filament's ``∫V·Fc`` = B and ``∫V``
+= A + B; ``"energy"``, Kulla and Conty's E(mu) and E_avg), the model, two :class:`Axis`
+(the texture's columns and rows: which quantity, its range, how many texels and whether
+they sit at texel centres or at the ends of the range) and the pixel format. The
+presets (:data:`PRESETS`) reproduce engines' conventions; docs/luts.md says where each
+comes from.
+
+:func:`build` integrates the table with the library's own DFG and energy builders
+(:func:`brdf_rs.dfg_table`, :func:`brdf_rs.energy_compensation_table`) and computes its
+error budget (:class:`Budget`): the Monte Carlo standard errors, the exact error the
+pixel format's quantization introduces, and the error of bilinear interpolation measured
+against the integral itself at points between the texels. :meth:`Lut.save` writes EXR,
+KTX2, DDS, 16-bit PNG or source code (C/C++, GLSL, HLSL, WGSL); :func:`verify` rebuilds
+a file's table from the recipe it records and compares.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import shlex
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from . import _spec
+from ._brdf_rs import __version__
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ._lutfit import Fit
+
+__all__ = [
+    "CONTAINERS",
+    "FORMATS",
+    "KINDS",
+    "PLACEMENTS",
+    "PRESETS",
+    "QUANTITIES",
+    "Axis",
+    "Budget",
+    "Lut",
+    "LutSpec",
+    "build",
+    "fit",
+    "meet_error",
+    "parse_axis",
+    "passes",
+    "preset",
+    "read",
+    "recipe_hash",
+    "verify",
+]
+
+#: The axis quantities: the incidence cosine ``mu`` or its square root, the model's
+#: roughness parameter (``alpha`` for the microfacet models; ``brdf_rs.models()`` names
+#: it under ``dfg``) or its square root, the perceptual roughness ``r`` (``alpha = r²``).
+QUANTITIES = {
+    "mu": "mu = cos(theta_v), the texel coordinate is mu",
+    "sqrt_mu": "the texel coordinate is sqrt(mu), mu = cos(theta_v)",
+    "alpha": "the model's roughness parameter itself",
+    "perceptual": "perceptual roughness r, the model's roughness parameter = r^2",
+}
+_MU_QUANTITIES = ("mu", "sqrt_mu")
+
+#: Where a texel's sample sits: ``centres``: texel k of n at ``(k + 0.5)/n`` of the range
+#: (what a GPU's bilinear filter assumes); ``ends``: at ``k/(n − 1)`` (first and last
+#: texels on the range's ends).
+PLACEMENTS = ("centres", "ends")
+
+#: What a table holds, and its channels.
+KINDS: dict[str, tuple[str, ...]] = {
+    "dfg": ("A", "B", "cloth"),
+    "dfg_multiscatter": ("B", "A+B", "cloth"),
+    "energy": ("E", "E_avg"),
+}
+_CHANNEL_TEXT = {
+    "A": "split-sum scale A: R_spec = F0*A + B (Schlick F0, F90 = 1)",
+    "B": "split-sum bias B = integral of V*Fc, Fc = (1 - v.h)^5",
+    "A+B": "A + B = integral of V (the directional albedo with F = 1)",
+    "E": "E(mu, roughness): directional albedo with F = 1 (single scattering)",
+    "E_avg": "E_avg(roughness) = 2 * integral of E(mu) mu dmu (constant along the mu axis)",
+    "cloth": "the sheen model's directional albedo with unit colour (integral of D*V*(n.l))"
+    " at the table's roughness parameter value, or the sheen model's smallest where the"
+    " table's is below it",
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class PixelFormat:
+    """A texel format: its channels, bits, encoding and the container codes for it."""
+
+    name: str
+    channels: int
+    bits: int
+    encoding: str  # "sfloat" or "unorm"
+    vk: int  # VkFormat (KTX2)
+    dxgi: int  # DXGI_FORMAT (DDS)
+
+    @property
+    def dtype(self) -> np.dtype[Any]:
+        if self.encoding == "unorm":
+            return np.dtype("<u2")
+        return np.dtype("<f2") if self.bits == 16 else np.dtype("<f4")
+
+
+#: The pixel formats, by their Vulkan names (VkFormat and DXGI_FORMAT codes from the
+#: Vulkan and DXGI headers).
+FORMATS: dict[str, PixelFormat] = {
+    f.name: f
+    for f in (
+        PixelFormat("R16_UNORM", 1, 16, "unorm", 70, 56),
+        PixelFormat("R16_SFLOAT", 1, 16, "sfloat", 76, 54),
+        PixelFormat("R32_SFLOAT", 1, 32, "sfloat", 100, 41),
+        PixelFormat("R16G16_UNORM", 2, 16, "unorm", 77, 35),
+        PixelFormat("R16G16_SFLOAT", 2, 16, "sfloat", 83, 34),
+        PixelFormat("R32G32_SFLOAT", 2, 32, "sfloat", 103, 16),
+        # DXGI has no three-channel 16-bit format (0: none).
+        PixelFormat("R16G16B16_SFLOAT", 3, 16, "sfloat", 90, 0),
+        PixelFormat("R32G32B32_SFLOAT", 3, 32, "sfloat", 106, 6),
+    )
+}
+
+#: File suffixes and what they hold.
+CONTAINERS = {
+    ".exr": "OpenEXR, half or float channels R, G, B in the table's channel order (the"
+    " brdf-rs:channels attribute says which is which)",
+    ".ktx2": "KTX 2.0 texture (one level, no supercompression)",
+    ".dds": "DirectDraw Surface with the DX10 header",
+    ".png": "16-bit PNG, value = offset + scale * pixel / 65535 per channel",
+    ".h": "C/C++ header: the array and a bilinear lookup function",
+    ".glsl": "GLSL: the array and a bilinear lookup function",
+    ".hlsl": "HLSL: the array and a bilinear lookup function",
+    ".wgsl": "WGSL: the array and a bilinear lookup function",
+}
+
+
+# ------------------------------------------------------------------------------- axes
+
+
+@dataclasses.dataclass(frozen=True)
+class Axis:
+    """One axis of a LUT: ``size`` texels over ``[lo, hi]`` of ``quantity`` (see
+    :data:`QUANTITIES`), placed at texel ``centres`` or at the range's ``ends``
+    (:data:`PLACEMENTS`). The integral at a texel is evaluated at ``max(q, floor)`` (a
+    floor keeps e.g. roughness 0 out of a model's range, as Cycles clamps to 1e-4). A mu
+    axis with texels at the ``ends`` from ``lo = 0`` needs a floor: its first texel would
+    be at mu = 0, where the albedo is 0 by convention."""
+
+    quantity: str
+    size: int
+    placement: str = "centres"
+    lo: float = 0.0
+    hi: float = 1.0
+    floor: float = 0.0
+
+    def __post_init__(self) -> None:
+        # Whole numbers are taken as floats: the recipe, its hash and the code's literals
+        # are then the same for 0 and 0.0.
+        for field in ("lo", "hi", "floor"):
+            value = getattr(self, field)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+                raise ValueError(f"axis {field}: expected a number, got {value!r}")
+            number = float(value)
+            if not math.isfinite(number):
+                raise ValueError(f"axis {field}: expected a finite number, got {value!r}")
+            object.__setattr__(self, field, number)
+        if self.quantity not in QUANTITIES:
+            raise ValueError(
+                f"axis quantity: unknown {self.quantity!r}; use {', '.join(QUANTITIES)}"
+            )
+        if self.placement not in PLACEMENTS:
+            raise ValueError(
+                f"axis placement: unknown {self.placement!r}; use {', '.join(PLACEMENTS)}"
+            )
+        if isinstance(self.size, bool) or not isinstance(self.size, int) or self.size < 2:
+            raise ValueError(f"axis size: expected an integer >= 2, got {self.size!r}")
+        if self.size > 4096:
+            raise ValueError(f"axis size: {self.size} texels is more than 4096")
+        if not (math.isfinite(self.lo) and math.isfinite(self.hi) and 0 <= self.lo < self.hi):
+            raise ValueError(f"axis range: expected 0 <= lo < hi, got [{self.lo}, {self.hi}]")
+        if self.quantity in _MU_QUANTITIES and self.hi > 1:
+            raise ValueError(f"axis range: {self.quantity} is at most 1, got hi = {self.hi}")
+        if not (math.isfinite(self.floor) and 0 <= self.floor < self.hi):
+            raise ValueError(f"axis floor: expected 0 <= floor < hi, got {self.floor}")
+        if self.role == "mu" and self.placement == "ends" and max(self.lo, self.floor) == 0:
+            # The albedo at exactly mu = 0 is 0 by convention, not its limit: a whole first
+            # row of zeros that the lookup would interpolate towards.
+            raise ValueError(
+                f"axis floor: {self.quantity} with texels at the range ends and lo = 0 puts"
+                " the first texel at mu = 0, where the albedo is 0 by convention; give a"
+                " floor (1e-4 for mu, 0.01 for sqrt_mu: mu = 1e-4, where engines clamp n.v),"
+                f" e.g. {self.quantity}:ends:{self.size}:0:{self.hi!r}:"
+                + ("0.0001" if self.quantity == "mu" else "0.01")
+            )
+
+    @property
+    def role(self) -> str:
+        """``"mu"`` or ``"roughness"``."""
+        return "mu" if self.quantity in _MU_QUANTITIES else "roughness"
+
+    def fractions(self) -> np.ndarray:
+        """Where the texels sit, as fractions of ``[lo, hi]``."""
+        k = np.arange(self.size, dtype=np.float64)
+        if self.placement == "centres":
+            return (k + 0.5) / self.size
+        return k / (self.size - 1)
+
+    def positions(self) -> np.ndarray:
+        """The axis quantity at each texel."""
+        return self.lo + (self.hi - self.lo) * self.fractions()
+
+    def physical(self, q: np.ndarray) -> np.ndarray:
+        """``mu`` or the model's roughness parameter at quantity values ``q`` (floored)."""
+        q = np.maximum(np.asarray(q, dtype=np.float64), self.floor)
+        return q * q if self.quantity in ("sqrt_mu", "perceptual") else q
+
+    def quantity_of(self, x: Any) -> np.ndarray:
+        """The axis quantity of a physical value (``mu`` or the roughness parameter)."""
+        a = np.asarray(x, dtype=np.float64)
+        if self.quantity in ("sqrt_mu", "perceptual"):
+            return np.asarray(np.sqrt(np.maximum(a, 0)))
+        return a
+
+    def texel(self, q: Any) -> np.ndarray:
+        """The continuous texel coordinate of quantity ``q`` (0 = first texel's sample),
+        clamped to ``[0, size − 1]``: what a bilinear filter interpolates between."""
+        t = (np.asarray(q, dtype=np.float64) - self.lo) / (self.hi - self.lo)
+        x = t * self.size - 0.5 if self.placement == "centres" else t * (self.size - 1)
+        return np.clip(x, 0.0, self.size - 1.0)
+
+    def spec(self) -> str:
+        """The command line's text for this axis: ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]]``."""
+        text = f"{self.quantity}:{self.placement}:{self.size}"
+        if (self.lo, self.hi, self.floor) != (0.0, 1.0, 0.0):
+            text += f":{self.lo!r}:{self.hi!r}"
+            if self.floor:
+                text += f":{self.floor!r}"
+        return text
+
+    def describe(self, param: str) -> str:
+        """One line saying exactly what the axis is."""
+        what = {
+            "mu": "mu = cos(theta_v)",
+            "sqrt_mu": "sqrt(mu), mu = cos(theta_v)",
+            "alpha": f"{param} (the model's roughness parameter)",
+            "perceptual": f"perceptual roughness r with {param} = r^2",
+        }[self.quantity]
+        where = (
+            f"texel k at q = lo + (hi - lo) * (k + 0.5) / {self.size} (texel centres)"
+            if self.placement == "centres"
+            else f"texel k at q = lo + (hi - lo) * k / {self.size - 1} (range ends on the"
+            " first and last texels)"
+        )
+        floor = f", evaluated at max(q, {self.floor!r})" if self.floor else ""
+        return f"q = {what} over [{self.lo!r}, {self.hi!r}], {self.size} texels, {where}{floor}"
+
+    def to_json(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+
+def parse_axis(text: str, what: str = "axis") -> Axis:
+    """An :class:`Axis` from ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]]``, e.g.
+    ``mu:centres:128`` or ``perceptual:ends:32:0:1:1e-4``."""
+    parts = str(text).split(":")
+    if not 3 <= len(parts) <= 6 or len(parts) == 4:
+        raise ValueError(
+            f"{what}: expected QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]], e.g. mu:centres:128;"
+            f" got {text!r}"
+        )
+    try:
+        size = int(parts[2])
+        numbers = [float(p) for p in parts[3:]]
+    except ValueError:
+        raise ValueError(
+            f"{what}: SIZE must be an integer and LO, HI, FLOOR numbers; got {text!r}"
+        ) from None
+    lo, hi, floor = (numbers + [0.0, 1.0, 0.0][len(numbers) :])[:3] if numbers else (0.0, 1.0, 0.0)
+    try:
+        return Axis(parts[0], size, parts[1], lo, hi, floor)
+    except ValueError as exc:
+        raise ValueError(f"{what}: {exc}") from None
+
+
+# ------------------------------------------------------------------------------- specs
+
+
+@dataclasses.dataclass(frozen=True)
+class LutSpec:
+    """Everything that determines a LUT: what it holds, the model, the two axes (the
+    texture's ``columns``, its width, and ``rows``, its height: row 0 is the first row
+    stored), the pixel format, the channels kept (default: all of the kind's; a
+    one-channel format keeps the first unless told) and the estimator's settings."""
+
+    kind: str
+    model: str
+    columns: Axis
+    rows: Axis
+    format: str = "R16G16_SFLOAT"
+    channels: tuple[str, ...] | None = None
+    samples: int = 1024
+    seed: int = 0
+    name: str = "brdf_lut"
+    sheen: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"kind: unknown {self.kind!r}; use {', '.join(KINDS)}")
+        if self.format not in FORMATS:
+            raise ValueError(f"format: unknown {self.format!r}; use {', '.join(FORMATS)}")
+        specs = _spec.specs()
+        if self.kind == "energy":
+            known: Sequence[str] = _spec.with_energy_table()
+        else:
+            known = list(_spec.with_dfg())
+        if self.model not in known:
+            raise ValueError(
+                f"model: {self.model!r} has no {self.kind} table; use {', '.join(known)}"
+            )
+        if self.model in specs and specs[self.model]["dfg"] is None and self.kind != "energy":
+            raise ValueError(f"model: {self.model} has no split-sum table")
+        if {self.columns.role, self.rows.role} != {"mu", "roughness"}:
+            raise ValueError(
+                "axes: one axis must be mu (mu or sqrt_mu) and the other roughness (alpha or"
+                f" perceptual); got {self.columns.quantity} and {self.rows.quantity}"
+            )
+        fmt = FORMATS[self.format]
+        chosen = self.channel_names
+        unknown = [c for c in chosen if c not in KINDS[self.kind]]
+        if unknown or not chosen or len(set(chosen)) != len(chosen):
+            raise ValueError(
+                f"channels: {', '.join(chosen) or 'none'} for a {self.kind} table; choose"
+                f" distinct ones of {', '.join(KINDS[self.kind])}"
+            )
+        if ("cloth" in chosen) != (self.sheen is not None):
+            raise ValueError(
+                "sheen: the cloth channel needs a sheen model (sheen=..., --sheen) and a sheen"
+                " model needs the cloth channel"
+                + (f"; the channels are {', '.join(chosen)}" if self.sheen is not None else "")
+            )
+        if self.sheen is not None:
+            if not isinstance(self.sheen, str):
+                raise ValueError(f"sheen: expected a model name, got {self.sheen!r}")
+            _sheen(self)
+        if len(chosen) != fmt.channels:
+            raise ValueError(
+                f"format: {self.format} holds {fmt.channels} channel(s) but the table has"
+                f" {len(chosen)} ({', '.join(chosen)}); pick a {len(chosen)}-channel format"
+                " or choose channels"
+            )
+        if isinstance(self.samples, bool) or not isinstance(self.samples, int):
+            raise ValueError(f"samples: expected an integer, got {self.samples!r}")
+        if not 1 <= self.samples <= 1 << 24:
+            raise ValueError(f"samples: expected 1 to 2^24 per texel, got {self.samples}")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"seed: expected a non-negative integer, got {self.seed!r}")
+        if not (isinstance(self.name, str) and self.name.isidentifier() and self.name.isascii()):
+            raise ValueError(f"name: expected a C identifier, got {self.name!r}")
+        for label, axis in (("columns", self.columns), ("rows", self.rows)):
+            if axis.role != "roughness":
+                continue
+            ends = axis.physical(axis.positions()[[0, -1]])
+            for which, value, fix in (
+                ("first", float(ends[0]), "raise lo or give a floor"),
+                ("last", float(ends[1]), "lower hi"),
+            ):
+                if not _spec.admits(self.model, self.param, value):
+                    raise ValueError(
+                        f"{label}: {self.param} = {value!r} at the {which} texel is out of"
+                        f" range for {self.model}; {fix}"
+                    )
+
+    @property
+    def channel_names(self) -> tuple[str, ...]:
+        if self.channels is not None:
+            return tuple(self.channels)
+        return KINDS[self.kind][: FORMATS[self.format].channels]
+
+    @property
+    def param(self) -> str:
+        """The model's roughness parameter."""
+        if self.kind == "energy":
+            return "alpha"
+        return _spec.with_dfg()[self.model]["param"]
+
+    @property
+    def mu_axis(self) -> Axis:
+        return self.columns if self.columns.role == "mu" else self.rows
+
+    @property
+    def roughness_axis(self) -> Axis:
+        return self.columns if self.columns.role == "roughness" else self.rows
+
+    def recipe(self) -> dict[str, Any]:
+        """What made the table: hashed for its provenance."""
+        return {
+            "kind": self.kind,
+            "model": self.model,
+            "roughness_parameter": self.param,
+            "columns": self.columns.to_json(),
+            "rows": self.rows.to_json(),
+            "format": self.format,
+            "channels": list(self.channel_names),
+            "samples": self.samples,
+            "seed": self.seed,
+            "name": self.name,
+            "sheen": self.sheen,
+            "estimator": _ESTIMATOR[self.kind],
+            "brdf_rs": __version__,
+        }
+
+    def content_hash(self) -> str:
+        return recipe_hash(self.recipe())
+
+    def command(self, output: str = "OUT") -> str:
+        """The command line that rebuilds this table into ``output``."""
+        args = [
+            "brdf-rs",
+            "lut",
+            "--kind",
+            self.kind,
+            "--model",
+            self.model,
+            "--columns",
+            self.columns.spec(),
+            "--rows",
+            self.rows.spec(),
+            "--format",
+            self.format,
+            "--channels",
+            ",".join(self.channel_names),
+            "--samples",
+            str(self.samples),
+            "--seed",
+            str(self.seed),
+            "--name",
+            self.name,
+            *(["--sheen", self.sheen] if self.sheen is not None else []),
+            "-o",
+            output,
+        ]
+        return " ".join(shlex.quote(a) for a in args)
+
+    @classmethod
+    def from_recipe(cls, recipe: Mapping[str, Any]) -> LutSpec:
+        return cls(
+            kind=recipe["kind"],
+            model=recipe["model"],
+            columns=Axis(**recipe["columns"]),
+            rows=Axis(**recipe["rows"]),
+            format=recipe["format"],
+            channels=tuple(recipe["channels"]),
+            samples=int(recipe["samples"]),
+            seed=int(recipe["seed"]),
+            name=recipe["name"],
+            sheen=recipe.get("sheen"),
+        )
+
+
+def recipe_hash(recipe: Mapping[str, Any]) -> str:
+    """The SHA-256 of a recipe (:meth:`LutSpec.recipe`, or one a file records) as
+    canonical JSON: a file's ``content_hash``."""
+    text = json.dumps(recipe, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+_ESTIMATOR = {
+    "dfg": "brdf_rs.dfg_table: randomized QMC (Owen-scrambled Sobol), kd = 0, ks = 0 and 1",
+    "dfg_multiscatter": "brdf_rs.dfg_table: randomized QMC (Owen-scrambled Sobol), kd = 0,"
+    " ks = 0 and 1",
+    "energy": "brdf_rs.energy_compensation_table: randomized QMC (Owen-scrambled Sobol),"
+    " E_avg by 32-point Gauss-Legendre in mu",
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class Preset:
+    """An engine's convention: the spec it builds by default and where it comes from."""
+
+    spec: LutSpec
+    container: str
+    summary: str
+    source: str
+
+
+#: The perceptual roughness floor of the Cycles preset: the square root of 1e-7, the
+#: smallest alpha ggx takes (Cycles clamps r to 1e-4, alpha 1e-8; E differs by less than
+#: the Monte Carlo error there).
+_CYCLES_ROUGHNESS_FLOOR = 3.1623e-4
+
+
+def _presets() -> dict[str, Preset]:
+    r32_centres = Axis("perceptual", 32, "centres")
+    return {
+        "filament": Preset(
+            LutSpec(
+                "dfg_multiscatter",
+                "ggx",
+                Axis("mu", 128, "centres"),
+                Axis("perceptual", 128, "centres"),
+                "R16G16_SFLOAT",
+                name="filament_dfg",
+            ),
+            ".ktx2",
+            "Filament's DFG: 128 x 128 RG16F, x = n.v, y = perceptual roughness, R = B"
+            " (integral of V*Fc), G = A + B (integral of V)",
+            "Filament libs/ibl/src/CubemapIBL.cpp (CubemapIBL::DFG, DFV_Multiscatter),"
+            " filament/src/details/DFG.h (DFG_LUT_SIZE 128; the engine's texture is RGB16F,"
+            " blue the cloth term) and the shaders' textureLod(iblDFG, vec2(NoV,"
+            " perceptualRoughness))",
+        ),
+        "filament_cloth": Preset(
+            LutSpec(
+                "dfg_multiscatter",
+                "ggx",
+                Axis("mu", 128, "centres"),
+                Axis("perceptual", 128, "centres"),
+                "R16G16B16_SFLOAT",
+                name="filament_dfg_cloth",
+                sheen="charlie_sheen_neubelt",
+            ),
+            ".ktx2",
+            "Filament's engine DFG texture: 128 x 128 RGB16F, the filament preset's R and G"
+            " plus B = the cloth term (Charlie distribution, Neubelt's visibility) at alpha ="
+            " r^2",
+            "Filament filament/src/details/DFG.cpp (RGB16F, DFG_LUT_SIZE x DFG_LUT_SIZE x 3)"
+            " and libs/ibl/src/CubemapIBL.cpp (CubemapIBL::DFG with cloth: DFV_Charlie_Uniform"
+            " at linear_roughness = coord^2)",
+        ),
+        "ue5": Preset(
+            LutSpec(
+                "dfg",
+                "ggx",
+                Axis("mu", 32, "centres"),
+                r32_centres,
+                "R16G16_UNORM",
+                name="ue5_ggx_spec_energy",
+            ),
+            ".dds",
+            "Unreal Engine 5's GGX specular energy table size and format (32 x 32, two"
+            " 16-bit UNORM channels, PF_G16R16) in this library's layout: split-sum A and B"
+            " at texel centres; UE5's own channel meaning is unconfirmed, so not a drop-in"
+            " for the engine's table",
+            "Unreal Engine Renderer/Private/ShadingEnergyConservation.cpp (table resolution"
+            " 32, PF_G16R16 or PF_G32R32F); channel meaning and texel placement not confirmed",
+        ),
+        "cycles": Preset(
+            LutSpec(
+                "energy",
+                "ggx",
+                # Cycles floors r at 1e-4 (alpha 1e-8); ggx takes alpha >= 1e-7.
+                Axis("perceptual", 32, "ends", floor=_CYCLES_ROUGHNESS_FLOOR),
+                Axis("mu", 32, "ends", floor=1e-4),
+                "R32G32_SFLOAT",
+                samples=4096,
+                name="cycles_ggx_E",
+            ),
+            ".h",
+            "Blender Cycles' ggx_E: 32 x 32 floats, x = r = i/31 (alpha = r^2), y = mu ="
+            " j/31, mu clamped to >= 1e-4, r to >= 3.1623e-4 (Cycles: 1e-4); E_avg(r) in the"
+            " second channel",
+            "Blender intern/cycles/app/cycles_precompute.cpp (precompute_terms ggx_E and"
+            " ggx_Eavg, data[y * nx + x]) and kernel/util/lookup_table.h (x = saturate(x) *"
+            " (size - 1): samples at the ends)",
+        ),
+        "gltf": Preset(
+            LutSpec(
+                "dfg",
+                "ggx",
+                Axis("mu", 1024, "centres"),
+                Axis("perceptual", 1024, "centres"),
+                "R16G16_SFLOAT",
+                samples=256,
+                name="gltf_ggx_lut",
+            ),
+            ".ktx2",
+            "glTF Sample Viewer's GGX LUT: 1024 x 1024, x = n.v, y = perceptual roughness,"
+            " R = scale A, G = bias B (specularColor * brdf.x + brdf.y)",
+            "glTF-Sample-Viewer ibl_sampler.js (lutResolution = 1024), ibl_filtering.frag"
+            " LUT() (A += (1 - Fc) * V_pdf, B += Fc * V_pdf, V with roughness^4 = alpha^2)"
+            " and ibl.glsl (texture(u_GGXLUT, vec2(NdotV, perceptualRoughness))); its"
+            " texture format is a render target's, not confirmed as RG16F",
+        ),
+        "enterprise": Preset(
+            LutSpec(
+                "energy",
+                "ggx",
+                Axis("mu", 32, "centres"),
+                r32_centres,
+                "R16G16_SFLOAT",
+                samples=4096,
+                name="enterprise_pbr_E",
+            ),
+            ".exr",
+            "Enterprise PBR's Kulla-Conty compensation inputs E(mu, alpha) and E_avg:"
+            " 32 x 32 over mu and perceptual roughness",
+            "Dassault Systemes Enterprise PBR Shading Model specification (versions 2019x to"
+            " 2025x): the pages read describe the BSDF, with roughness the user parameter"
+            " (alpha = r^2); no table layout or resolution could be confirmed there, so"
+            " this layout is a choice, not the specification's",
+        ),
+    }
+
+
+def preset(name: str, **changes: Any) -> LutSpec:
+    """The :class:`LutSpec` of a preset, with fields replaced by ``changes`` (e.g.
+    ``samples=64``)."""
+    if name not in PRESETS:
+        raise ValueError(f"preset: unknown {name!r}; use {', '.join(PRESETS)}")
+    return dataclasses.replace(PRESETS[name].spec, **changes)
+
+
+# ------------------------------------------------------------------------------ values
+
+
+def _integrate(
+    spec: LutSpec, mu_q: np.ndarray, rough_q: np.ndarray, seed: int, progress: Any = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The kind's channels and standard errors at quantity values ``mu_q`` x ``rough_q``,
+    shape ``(len(mu_q), len(rough_q), channels)`` (every channel of the kind)."""
+    from . import _albedo
+
+    mu = spec.mu_axis.physical(mu_q)
+    rough = spec.roughness_axis.physical(rough_q)
+    extra: dict[str, Any] = {} if progress is None else {"progress": progress}
+    if spec.kind == "energy":
+        e = _albedo.energy_compensation_table(
+            spec.model, mu, rough, samples=spec.samples, tol=None, seed=seed, **extra
+        )
+        value = np.stack([e.e, np.broadcast_to(e.e_avg, e.e.shape)], axis=-1)
+        stderr = np.stack([e.stderr, np.broadcast_to(e.e_avg_stderr, e.e.shape)], axis=-1)
+        return value, stderr
+    t = _albedo.dfg_table(spec.model, mu, rough, samples=spec.samples, seed=seed, **extra)
+    a, b = t.value[..., 0], t.value[..., 1]
+    se_a, se_b = t.stderr[..., 0], t.stderr[..., 1]
+    cloth, se_cloth = np.zeros_like(a), np.zeros_like(a)
+    if spec.sheen is not None:
+        # The cloth channel is the sheen model's albedo at the same parameter value, held
+        # at the sheen model's smallest value below it (its cells are dfg_table's).
+        weights, low = _sheen(spec)
+        axes = {"mu": mu, spec.param: np.maximum(rough, low)}
+        c = _albedo.albedo_table(
+            spec.sheen, axes, samples=spec.samples, seed=seed, **weights, **extra
+        )
+        cloth, se_cloth = c.value[..., 0], c.stderr[..., 0]
+    if spec.kind == "dfg":
+        return np.stack([a, b, cloth], -1), np.stack([se_a, se_b, se_cloth], -1)
+    # A + B is the F0 = 1 integral: its stderr is the one dfg_table folded into A's.
+    se_one = np.sqrt(np.maximum(se_a**2 - se_b**2, 0.0))
+    return np.stack([b, a + b, cloth], -1), np.stack([se_b, se_one, se_cloth], -1)
+
+
+def _sheen(spec: LutSpec) -> tuple[dict[str, Any], float]:
+    """The cloth channel's weights (the sheen model's ``ks`` = 1, its other weights 0) and
+    the smallest value of the roughness parameter the sheen model takes."""
+    from . import _albedo
+
+    assert spec.sheen is not None
+    specs = _spec.specs()
+    if spec.sheen not in specs:
+        raise ValueError(f"sheen: unknown model {spec.sheen!r} (brdf_rs.models() lists them)")
+    param = next((p for p in specs[spec.sheen]["params"] if p["name"] == spec.param), None)
+    if param is None:
+        raise ValueError(
+            f"sheen: {spec.sheen} has no {spec.param}, the table's roughness parameter"
+        )
+    low = float(param["min"])
+    if param["min_open"]:
+        low = float(np.nextafter(low, np.inf))
+    weights = _albedo._sheen_weights(spec.sheen, spec.model, spec.param, np.array([low]))
+    return weights, low
+
+
+def _to_image(spec: LutSpec, a: np.ndarray) -> np.ndarray:
+    """``(mu, roughness, channels)`` to the image's ``(rows, columns, channels)``, kept
+    channels only."""
+    if spec.rows.role != "mu":
+        a = np.swapaxes(a, 0, 1)
+    keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
+    return np.ascontiguousarray(a[..., keep])
+
+
+def quantize(values: np.ndarray, fmt: str) -> tuple[np.ndarray, np.ndarray]:
+    """The stored texels of ``values`` in format ``fmt`` and what they decode to
+    (float64): UNORM is ``round(clip(v, 0, 1) * 65535)``, SFLOAT the nearest half or
+    float."""
+    f = FORMATS[fmt]
+    v = np.asarray(values, dtype=np.float64)
+    if f.encoding == "unorm":
+        stored = np.round(np.clip(v, 0.0, 1.0) * 65535.0).astype(f.dtype)
+        return stored, stored.astype(np.float64) / 65535.0
+    with np.errstate(over="ignore"):
+        stored = v.astype(f.dtype)
+    return stored, stored.astype(np.float64)
+
+
+def bilinear(image: np.ndarray, columns: Axis, rows: Axis, col_q: Any, row_q: Any) -> np.ndarray:
+    """Bilinear lookup of ``image`` (rows, columns, channels) at axis quantities, with the
+    axes' texel mapping and clamping to the edge texels (a GPU's clamp-to-edge)."""
+    x = columns.texel(col_q)
+    y = rows.texel(row_q)
+    x, y = np.broadcast_arrays(x, y)
+    x0 = np.minimum(np.floor(x).astype(np.intp), columns.size - 2)
+    y0 = np.minimum(np.floor(y).astype(np.intp), rows.size - 2)
+    fx = (x - x0)[..., None]
+    fy = (y - y0)[..., None]
+    img = np.asarray(image, dtype=np.float64)
+    top = img[y0, x0] * (1 - fx) + img[y0, x0 + 1] * fx
+    bottom = img[y0 + 1, x0] * (1 - fx) + img[y0 + 1, x0 + 1] * fx
+    return np.asarray(top * (1 - fy) + bottom * fy)
+
+
+# ------------------------------------------------------------------------------ budget
+
+
+@dataclasses.dataclass(frozen=True)
+class Budget:
+    """A LUT's error budget, per channel (lists in the channels' order).
+
+    ``mc_max_stderr``: the largest Monte Carlo standard error of a texel (one sigma;
+    about 99.7 % of texels are within 3 of them of the exact integral when the errors are
+    normal). ``quant_worst`` / ``quant_rms``: the exact largest and RMS difference
+    between the stored (quantized, decoded) texels and the float64 integrals.
+    ``interp_worst``: the largest difference between the bilinear lookup of the float64
+    table and a fresh Monte Carlo integral (an independent seed) at ``interp_points``
+    points between the texels (midpoints between neighbouring texels, and the range
+    ends); it holds the texels' and the reference's Monte Carlo noise as well as the
+    interpolation error. The reference's standard error is up to ``interp_ref_stderr``.
+    ``interp_worst_at`` says where (``[mu, roughness parameter]``),
+    ``interp_worst_interior`` is the worst over the points between the first and last
+    texels of both axes (leaving out the margins a texel-centre table clamps, where the
+    lookup holds the edge texel's value).
+
+    ``total`` = quant_worst + interp_worst + 3 * interp_ref_stderr + 3 * mc_max_stderr:
+    an estimate, at 3 sigma per point, of how far the file's lookup is from the exact
+    function at the points checked and near them. It is not a guarantee over the whole
+    table: the interpolation error is measured at finitely many points, and at 3 sigma
+    per point about 0.3 % of points may exceed it by chance when the errors are normal.
+    """
+
+    channels: list[str]
+    mc_max_stderr: list[float]
+    quant_worst: list[float]
+    quant_rms: list[float]
+    interp_worst: list[float]
+    interp_ref_stderr: list[float]
+    interp_points: int
+    interp_worst_at: list[list[float]]
+    interp_worst_interior: list[float]
+    total: list[float]
+    confidence: str = (
+        "an estimate per point checked, at 3 sigma of the texels' and the reference"
+        " integrals' Monte Carlo standard errors (about 99.7 % per point), not a bound"
+        " over the whole table"
+    )
+
+    def to_json(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+
+def _check_points(axis: Axis, limit: int) -> np.ndarray:
+    """Axis quantities between the texels: midpoints of neighbouring samples, plus the
+    range's ends (for centres: the clamped margins). At most about ``limit``."""
+    p = axis.positions()
+    if axis.placement == "centres":
+        p = np.concatenate([[axis.lo], p, [axis.hi]])
+    mids = 0.5 * (p[:-1] + p[1:])
+    if mids.size > limit:
+        idx = np.unique(np.round(np.linspace(0, mids.size - 1, limit)).astype(np.intp))
+        mids = mids[idx]
+    pts = np.concatenate([mids, [axis.lo, axis.hi]]) if axis.placement == "centres" else mids
+    return np.unique(np.maximum(pts, axis.floor))
+
+
+#: The smallest mu the interpolation error is checked at (engines clamp n.v to it).
+_GRAZING_MU = 1e-4
+
+
+def _check_grid(spec: LutSpec, interp_limit: int) -> tuple[np.ndarray, np.ndarray]:
+    """The mu and roughness quantities the interpolation error is checked at. ``mu = 0``
+    exactly is 0 by convention (no light above the horizon): its end is checked at 1e-4,
+    the limit engines clamp n.v to. A roughness the model refuses (alpha = 0) is not
+    checked."""
+    # Clamped in physical units: on a sqrt_mu axis mu = 1e-4 is the quantity 0.01.
+    grazing = float(spec.mu_axis.quantity_of(_GRAZING_MU))
+    mu_pts = np.unique(np.maximum(_check_points(spec.mu_axis, interp_limit), grazing))
+    r_pts = _check_points(spec.roughness_axis, interp_limit)
+    phys = spec.roughness_axis.physical(r_pts)
+    r_pts = r_pts[[_spec.admits(spec.model, spec.param, float(x)) for x in phys]]
+    return mu_pts, r_pts
+
+
+def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
+    """The cells of each integration run :func:`build` makes, in order (what a progress
+    callback counts: ``progress(cells_done, samples_done)`` restarts at 0 with each)."""
+    mu_pts, r_pts = _check_grid(spec, interp_limit)
+    runs = []
+    for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
+        # dfg: F0 = 1, F0 = 0, then the cloth channel's sheen model when there is one;
+        # energy: E on the grid, then 32 Gauss-Legendre mu's.
+        if spec.kind == "energy":
+            runs += [m * r, 32 * r]
+        else:
+            runs += [m * r] * (3 if spec.sheen is not None else 2)
+    return runs
+
+
+def _budget(
+    spec: LutSpec,
+    image: np.ndarray,
+    stderr: np.ndarray,
+    decoded: np.ndarray,
+    interp_limit: int,
+    progress: Any = None,
+) -> tuple[Budget, Checks]:
+    diff = decoded - image
+    flat = diff.reshape(-1, diff.shape[-1])
+    mu_pts, r_pts = _check_grid(spec, interp_limit)
+    ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress)
+    keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
+    ref, ref_se = ref[..., keep], ref_se[..., keep]
+    mq, rq = np.meshgrid(mu_pts, r_pts, indexing="ij")
+    if spec.columns.role == "mu":
+        looked = bilinear(image, spec.columns, spec.rows, mq, rq)
+    else:
+        looked = bilinear(image, spec.columns, spec.rows, rq, mq)
+    ierr = np.abs(looked - ref).reshape(-1, ref.shape[-1])
+    mu_axis, r_axis = spec.mu_axis, spec.roughness_axis
+    inside = (
+        (mq >= mu_axis.positions()[0])
+        & (mq <= mu_axis.positions()[-1])
+        & (rq >= r_axis.positions()[0])
+        & (rq <= r_axis.positions()[-1])
+    ).reshape(-1)
+    interior = ierr[inside].max(axis=0) if inside.any() else np.zeros(ierr.shape[-1])
+    worst = ierr.argmax(axis=0)
+    where = [
+        [float(mu_axis.physical(mq.reshape(-1)[k])), float(r_axis.physical(rq.reshape(-1)[k]))]
+        for k in worst
+    ]
+    mc = stderr.reshape(-1, stderr.shape[-1]).max(axis=0)
+    qw = np.abs(flat).max(axis=0)
+    iw = ierr.max(axis=0)
+    rse = ref_se.reshape(-1, ref_se.shape[-1]).max(axis=0)
+    budget = Budget(
+        channels=list(spec.channel_names),
+        mc_max_stderr=mc.tolist(),
+        quant_worst=qw.tolist(),
+        quant_rms=np.sqrt(np.mean(flat**2, axis=0)).tolist(),
+        interp_worst=iw.tolist(),
+        interp_ref_stderr=rse.tolist(),
+        interp_points=int(mq.size),
+        interp_worst_at=where,
+        interp_worst_interior=interior.tolist(),
+        total=_total(qw, iw, rse, mc).tolist(),
+    )
+    return budget, Checks(mq, rq, ref, ref_se)
+
+
+@dataclasses.dataclass(frozen=True)
+class Checks:
+    """The integrals the interpolation error was measured against: at axis quantities
+    ``mu_q`` x ``roughness_q`` (2-D, mu first), ``value`` and ``stderr`` (kept channels
+    last), integrated with an independent seed."""
+
+    mu_q: np.ndarray
+    roughness_q: np.ndarray
+    value: np.ndarray
+    stderr: np.ndarray
+
+
+# --------------------------------------------------------------------------------- Lut
+
+
+@dataclasses.dataclass(frozen=True)
+class Lut:
+    """A built LUT: ``image`` the float64 integrals (rows, columns, channels),
+    ``stderr`` their standard errors, ``stored`` the texels in the spec's format and
+    ``decoded`` what they decode to; ``budget`` its error budget."""
+
+    spec: LutSpec
+    image: np.ndarray
+    stderr: np.ndarray
+    stored: np.ndarray
+    decoded: np.ndarray
+    budget: Budget
+    checks: Checks | None = dataclasses.field(default=None, repr=False, compare=False)
+
+    @property
+    def content_hash(self) -> str:
+        return self.spec.content_hash()
+
+    def lookup(self, mu: Any, roughness: Any) -> np.ndarray:
+        """Bilinear lookup of the stored table at incidence cosines ``mu`` and values of
+        the model's roughness parameter (``alpha``), as a GPU's filter reads it."""
+        for label, value in (("mu", mu), ("roughness", roughness)):
+            _check_finite(label, value)
+        m = self.spec.mu_axis.quantity_of(mu)
+        r = self.spec.roughness_axis.quantity_of(roughness)
+        if self.spec.columns.role == "mu":
+            return bilinear(self.decoded, self.spec.columns, self.spec.rows, m, r)
+        return bilinear(self.decoded, self.spec.columns, self.spec.rows, r, m)
+
+    def meta(self, output: str = "OUT") -> dict[str, Any]:
+        """The metadata every file carries."""
+        s = self.spec
+        return {
+            "brdf_rs_lut": 1,
+            "content_hash": self.content_hash,
+            "command": s.command(output),
+            "recipe": s.recipe(),
+            "width": s.columns.size,
+            "height": s.rows.size,
+            "layout": "row-major, row 0 first (the top of an image; texture coordinate"
+            " v = 0 in GL, Vulkan and D3D when uploaded as stored), channels interleaved",
+            "columns": s.columns.describe(s.param),
+            "rows": s.rows.describe(s.param),
+            "channels": {c: _CHANNEL_TEXT[c] for c in s.channel_names},
+            "budget": self.budget.to_json(),
+        }
+
+    def save(self, path: str | Path) -> Path:
+        """Writes the LUT by the suffix of ``path`` (:data:`CONTAINERS`), atomically."""
+        from . import _lutfiles
+
+        return _lutfiles.save(self, Path(path))
+
+
+def _check_finite(label: str, value: Any) -> None:
+    """Raises ``ValueError`` naming ``label`` and the first non-finite element."""
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{label}: expected numbers, got {value!r}") from None
+    bad = ~np.isfinite(a)
+    if bad.any():
+        if a.ndim == 0:
+            raise ValueError(f"{label}: expected a finite number, got {float(a)!r}")
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        at = index[0] if len(index) == 1 else index
+        raise ValueError(f"{label}: expected finite numbers, got {float(a[index])!r} at index {at}")
+
+
+def build(
+    spec: LutSpec, *, interp_limit: int = 64, progress: Callable[[int, int], None] | None = None
+) -> Lut:
+    """Integrates the table ``spec`` describes and measures its error budget.
+
+    ``interp_limit`` caps the points checked along each axis for the interpolation error
+    (midpoints between texels, spread over the axis when there are more)."""
+    if not isinstance(spec, LutSpec):
+        raise TypeError(f"spec: expected a LutSpec, got {type(spec).__name__}")
+    if isinstance(interp_limit, bool) or not isinstance(interp_limit, int) or interp_limit < 2:
+        raise ValueError(f"interp_limit: expected an integer >= 2, got {interp_limit!r}")
+    value, se = _integrate(
+        spec, spec.mu_axis.positions(), spec.roughness_axis.positions(), spec.seed, progress
+    )
+    image, stderr = _to_image(spec, value), _to_image(spec, se)
+    stored, decoded = quantize(image, spec.format)
+    budget, checks = _budget(spec, image, stderr, decoded, interp_limit, progress)
+    return Lut(spec, image, stderr, stored, decoded, budget, checks)
+
+
+@dataclasses.dataclass(frozen=True)
+class ErrorChoice:
+    """:func:`meet_error`'s answer: ``lut`` the cheapest table meeting the error (None
+    when none does), and every candidate tried: ``(size, format, worst total)``."""
+
+    lut: Lut | None
+    tried: list[tuple[int, str, float]]
+    max_error: float
+
+
+def meet_error(
+    spec: LutSpec,
+    max_error: float,
+    *,
+    sizes: Sequence[int] = (16, 32, 64, 128, 256, 512),
+    interp_limit: int = 64,
+) -> ErrorChoice:
+    """The smallest square resolution (both axes ``size`` texels, their quantities,
+    placements and ranges kept) and, at it, the smallest pixel format of the spec's
+    channel count whose budget total (quantization + interpolation + 3 standard errors of
+    the reference and of the texels, worst channel) is at most ``max_error``. Sizes are
+    tried in order; the Monte Carlo part is the spec's ``samples``' (raise them when it
+    alone exceeds the error)."""
+    if not (isinstance(max_error, (int, float)) and math.isfinite(max_error) and max_error > 0):
+        raise ValueError(f"max_error: expected a positive number, got {max_error!r}")
+    sizes = [int(n) for n in sizes]
+    if not sizes or any(n < 2 for n in sizes):
+        raise ValueError(f"sizes: expected sizes of at least 2 texels, got {sizes}")
+    nc = len(spec.channel_names)
+    formats = sorted(
+        (f for f in FORMATS.values() if f.channels == nc), key=lambda f: (f.bits, f.encoding)
+    )
+    tried: list[tuple[int, str, float]] = []
+    for n in sizes:
+        trial = dataclasses.replace(
+            spec,
+            columns=dataclasses.replace(spec.columns, size=n),
+            rows=dataclasses.replace(spec.rows, size=n),
+            format=formats[-1].name,
+        )
+        table = build(trial, interp_limit=interp_limit)
+        for f in formats:
+            # The trial's integrals in this format: the budget measured once, with the same
+            # check points, so the answer's total is the one compared here.
+            candidate = _requantize(table, f.name)
+            total = float(max(candidate.budget.total))
+            tried.append((n, f.name, total))
+            if total <= max_error:
+                return ErrorChoice(candidate, tried, max_error)
+    return ErrorChoice(None, tried, max_error)
+
+
+def _requantize(table: Lut, fmt: str) -> Lut:
+    """``table``'s integrals stored in pixel format ``fmt`` (same channel count): the
+    quantization part of the budget remeasured, the rest kept."""
+    spec = dataclasses.replace(table.spec, format=fmt)
+    stored, decoded = quantize(table.image, fmt)
+    flat = (decoded - table.image).reshape(-1, table.image.shape[-1])
+    qw = np.abs(flat).max(axis=0)
+    b = table.budget
+    budget = dataclasses.replace(
+        b,
+        quant_worst=qw.tolist(),
+        quant_rms=np.sqrt(np.mean(flat**2, axis=0)).tolist(),
+        total=_total(
+            qw,
+            np.asarray(b.interp_worst),
+            np.asarray(b.interp_ref_stderr),
+            np.asarray(b.mc_max_stderr),
+        ).tolist(),
+    )
+    return Lut(spec, table.image, table.stderr, stored, decoded, budget, table.checks)
+
+
+def _total(
+    quant: np.ndarray, interp: np.ndarray, ref_stderr: np.ndarray, mc: np.ndarray
+) -> np.ndarray:
+    """The budget's total per channel (see :class:`Budget`): the interpolation error
+    measured against a reference known to ``ref_stderr``, so 3 of those are added."""
+    return np.asarray(quant + interp + 3 * ref_stderr + 3 * mc)
+
+
+def fit(table: Lut, degree: int = 6) -> Fit:
+    """A polynomial fit of ``table``'s channels, of total ``degree`` in its two axis
+    fractions, with its error measured against the texels and against the integrals
+    between them (a ``Fit``: call it, or ``.save("fit.glsl")`` for shader code; see
+    docs/luts.md)."""
+    from . import _lutfit
+
+    if not isinstance(table, Lut):
+        raise TypeError(f"table: expected a Lut (lut.build's), got {type(table).__name__}")
+    return _lutfit.fit(table, degree)
+
+
+def read(path: str | Path) -> tuple[np.ndarray, dict[str, Any]]:
+    """The decoded texels (float64, rows x columns x channels) and metadata of a file
+    :meth:`Lut.save` wrote."""
+    from . import _lutfiles
+
+    return _lutfiles.read(Path(path))
+
+
+@dataclasses.dataclass(frozen=True)
+class Verification:
+    """:func:`verify`'s answer: whether the file's texels are within ``tolerance`` (per
+    channel) of the rebuilt table's, the largest difference, and whether the recorded
+    content hash is the recorded recipe's and that recipe is the rebuild's (every field
+    but the library version). ``versions``: the file's library version and this one's."""
+
+    ok: bool
+    hash_ok: bool
+    max_difference: list[float]
+    tolerance: list[float]
+    versions: tuple[str, str] = ("", "")
+
+
+def verify(path: str | Path, *, interp_limit: int = 8) -> Verification:
+    """Rebuilds the table a file records (its recipe) and compares. The recorded content
+    hash must be the SHA-256 of the recorded recipe, and the recipe must be the rebuilt
+    spec's in every field but the library version. Built by this version of the library,
+    the rebuild has the same bits: every texel must then match exactly (to the decimal
+    literals' rounding in source code, to half a step in a PNG). Built by another
+    version, each texel must be within the quantization error plus 6 Monte Carlo
+    standard errors of the rebuilt one, plus the same literal rounding or PNG step."""
+    values, meta = read(path)
+    recipe = meta["recipe"]
+    spec = LutSpec.from_recipe(recipe)
+    rebuilt = spec.recipe()
+    same_fields = {k: v for k, v in recipe.items() if k != "brdf_rs"} == {
+        k: v for k, v in rebuilt.items() if k != "brdf_rs"
+    }
+    hash_ok = recipe_hash(recipe) == meta.get("content_hash") and same_fields
+    versions = (str(recipe.get("brdf_rs")), __version__)
+    lut = build(spec, interp_limit=interp_limit)
+    if values.shape != lut.decoded.shape:
+        return Verification(False, hash_ok, [math.inf], [0.0], versions)
+    diff = np.abs(values - lut.decoded).reshape(-1, values.shape[-1]).max(axis=0)
+    nc = values.shape[-1]
+    # What the container adds to the format's decoded texels.
+    if "png" in meta:
+        container = np.asarray(meta["png"]["step"], dtype=np.float64) / 2
+    elif Path(path).suffix.lower() in (".h", ".glsl", ".hlsl", ".wgsl"):
+        container = np.full(nc, 1e-9)
+    else:
+        container = np.zeros(nc)
+    tol = container + (1e-12 if container.any() else 0.0)
+    if versions[0] != versions[1]:
+        quant = np.asarray(lut.budget.quant_worst)
+        tol = tol + quant + 6 * np.asarray(lut.budget.mc_max_stderr) + 1e-12
+    return Verification(bool(np.all(diff <= tol)), hash_ok, diff.tolist(), tol.tolist(), versions)
+
+
+#: The presets by name (see docs/luts.md).
+PRESETS: dict[str, Preset] = _presets()
