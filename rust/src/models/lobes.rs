@@ -51,15 +51,21 @@ pub trait PowerLobeModel: 'static {
     /// Reads the parameters with the model's constant factors ([`DiffuseSpecular::read`]).
     fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F>;
     /// Returns the lobe for a unit `ks` at `d`, given `mu_i = n·wi`; 0 where it is
-    /// undefined (the half vector of opposite directions).
-    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F;
+    /// undefined (the half vector of opposite directions). By default the plain power
+    /// [`plain_power_lobe`] of [`PowerLobeModel::lobe_base`]: a model whose lobe is not
+    /// that ([`PowerLobeModel::PLAIN_POWER`] false) writes its own.
+    #[inline(always)]
+    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
+        plain_power_lobe::<F, P>(Self::lobe_base(pp, d, mu_i), pp.p)
+    }
     /// Whether the lobe is the plain power `base^p` of [`PowerLobeModel::lobe_base`]'s
     /// cosine (flushed, [`Cosine::powf`]), 0 where that is undefined: then the model's
-    /// kernel evaluates a block in three passes ([`Kernel::SPLIT_POWER`]).
+    /// kernel evaluates a block in three passes ([`Kernel::SPLIT_POWER`]), and keeps
+    /// the default [`PowerLobeModel::lobe`].
     const PLAIN_POWER: bool = false;
     /// For a [`PowerLobeModel::PLAIN_POWER`] lobe: the cosine raised to `p` and whether
-    /// the lobe is defined; [`PowerLobeModel::lobe`] must be exactly
-    /// [`plain_power_lobe`] of it. A placeholder for the other lobes.
+    /// the lobe is defined. A placeholder for the other lobes, which write their own
+    /// [`PowerLobeModel::lobe`].
     #[inline(always)]
     fn lobe_base<F: Real>(
         _pp: &DiffuseSpecular<F>,

@@ -3,13 +3,13 @@
 //! `f = kd + ks·cos_th^p`, `cos_th = n·h`; `kd` without `1/π` (the Summary's convention).
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine, plain_power_lobe};
+use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, ParamSource};
 use crate::math::geometry::Cosine;
-use crate::math::{PowUnit, Real};
+use crate::math::Real;
 
 /// The modified Blinn-Phong kernel.
 pub struct ModifiedBlinnPhong;
@@ -31,11 +31,6 @@ impl PowerLobeModel for ModifiedBlinnPhong {
     #[inline(always)]
     fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
         DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
-    }
-
-    #[inline(always)]
-    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
-        plain_power_lobe::<F, P>(Self::lobe_base(pp, d, mu_i), pp.p)
     }
 
     const PLAIN_POWER: bool = true;

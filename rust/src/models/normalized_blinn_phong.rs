@@ -5,13 +5,13 @@
 //! normal incidence is `(p+8)(p+2^(−p/2))/((p+2)(p+4))`, slightly above 1.
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine, plain_power_lobe};
+use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine};
 use super::spec::{DiffuseTerm, ExactFactor, ExactNormalization, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, ParamSource};
 use crate::math::geometry::Cosine;
-use crate::math::{PowUnit, Real};
+use crate::math::Real;
 
 /// The normalized Blinn-Phong kernel.
 pub struct NormalizedBlinnPhong;
@@ -39,11 +39,6 @@ impl PowerLobeModel for NormalizedBlinnPhong {
     fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
         let eighth = F::from_f64(0.125);
         DiffuseSpecular::read(p, F::FRAC_1_PI, |e| (e * eighth + F::ONE) * F::FRAC_1_PI)
-    }
-
-    #[inline(always)]
-    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
-        plain_power_lobe::<F, P>(Self::lobe_base(pp, d, mu_i), pp.p)
     }
 
     const PLAIN_POWER: bool = true;

@@ -4,13 +4,13 @@
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine, plain_power_lobe};
+use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
 pub use super::lobes::{KD, KS, P, SLOTS};
 use super::{Directions, ParamSource};
 use crate::math::geometry::Cosine;
-use crate::math::{PowUnit, Real};
+use crate::math::Real;
 
 /// The normalized Phong kernel.
 pub struct NormalizedPhong;
@@ -32,11 +32,6 @@ impl PowerLobeModel for NormalizedPhong {
     #[inline(always)]
     fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
         DiffuseSpecular::read(p, F::FRAC_1_PI, |e| (e + F::TWO) * F::HALF * F::FRAC_1_PI)
-    }
-
-    #[inline(always)]
-    fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
-        plain_power_lobe::<F, P>(Self::lobe_base(pp, d, mu_i), pp.p)
     }
 
     const PLAIN_POWER: bool = true;
