@@ -277,6 +277,26 @@ pub fn smith_quotient<F: Real>(x: F, mu_i: F, mu_o: F, l_i: F, l_o: F) -> F {
     x / (F::from_f64(4.0) * inner) / m
 }
 
+/// Divides the rounded unit vectors' length errors `e = |w|² − 1` ([`Real::length_error`])
+/// out of a microfacet lobe `D·G2/(4 mu_i mu_o)` written first-order homogeneous in the
+/// lengths of `n`, `wi`, `wo` and `h`, of degrees −6, −1, −1 and −4: the value computed
+/// from the rounded vectors carries the factor `1 − (3e_n + (e_i + e_o)/2 + 2e_h)`.
+/// Identity where lengths are not tracked (`f32`).
+#[inline(always)]
+pub fn microfacet_length_correction<F: Real>(spec: F, e_n: F, e_i: F, e_o: F, h: F::V3) -> F {
+    if !F::EXACT_LENGTHS {
+        return spec;
+    }
+    let e_h = F::length_error(h);
+    let k = F::from_f64(3.0) * e_n + F::HALF * (e_i + e_o) + F::TWO * e_h;
+    // An infinite lobe (both cosines 1e-300) stays infinite: inf·k would be NaN.
+    if spec < F::INFINITY {
+        spec + spec * k
+    } else {
+        spec
+    }
+}
+
 /// Zeroes an RGB value unless both directions are above the surface (family A).
 #[inline(always)]
 pub fn above_both<F: Real>(mu_i: F, mu_o: F, rgb: [F; 3]) -> [F; 3] {

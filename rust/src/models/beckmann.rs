@@ -15,6 +15,7 @@ use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
+    microfacet_length_correction,
     Cosine, above_both, clamped_cosine, half_vector_exact, schlick_rgb, schlick_weight, smith_quotient, weighted,
 };
 use crate::math::{PowUnit, Real, Vector3, max};
@@ -154,18 +155,7 @@ pub fn lobe<F: Real>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, b
     let l_o = mu_lambda(mu_o, d.n.cross(d.wo).length_squared(), alpha);
     // D is 0 far from the peak, where G2/(4 mu_i mu_o) alone may be infinite.
     let spec = smith_quotient(F::flush_subnormal(ndf), mu_i, mu_o, l_i, l_o);
-    let spec = if F::EXACT_LENGTHS {
-        let e_h = F::length_error(hv.h);
-        let k = F::from_f64(3.0) * e_n + F::HALF * (e_i + e_o) + F::TWO * e_h;
-        // An infinite lobe (both cosines 1e-300) stays infinite: inf·k would be NaN.
-        if spec < F::INFINITY {
-            spec + spec * k
-        } else {
-            spec
-        }
-    } else {
-        spec
-    };
+    let spec = microfacet_length_correction(spec, e_n, e_i, e_o, hv.h);
     (spec, hv.cos_b, hv.defined)
 }
 

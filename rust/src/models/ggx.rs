@@ -16,6 +16,7 @@ use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
+    microfacet_length_correction,
     Cosine, above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted,
 };
 use crate::math::{PowUnit, Real, Vector3, max, min};
@@ -110,18 +111,7 @@ pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, Cosine<F>,
     let pp = p_i * p_o;
     let q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i;
     let spec = ndf * pp / (F::from_f64(4.0) * q) / m;
-    let spec = if F::EXACT_LENGTHS {
-        let e_h = F::length_error(hv.h);
-        let k = F::from_f64(3.0) * e_n + F::HALF * (e_i + e_o) + F::TWO * e_h;
-        // An infinite lobe (both cosines 1e-300) stays infinite: inf·k would be NaN.
-        if spec < F::INFINITY {
-            spec + spec * k
-        } else {
-            spec
-        }
-    } else {
-        spec
-    };
+    let spec = microfacet_length_correction(spec, e_n, e_i, e_o, hv.h);
     (spec, hv.cos_b, hv.defined)
 }
 
