@@ -12,7 +12,7 @@ from typing import Any, TypeAlias, final
 import numpy as np
 import numpy.typing as npt
 
-from ._spec import ModelSpec
+from ._spec import ModelSpec, ToolDefaults
 
 __all__ = [
     "DEFAULT_REPLICATES",
@@ -42,6 +42,7 @@ __all__ = [
     "set_num_threads",
     "shade_gbuffer",
     "tonemap_inplace",
+    "tool_defaults",
 ]
 
 __version__: str
@@ -108,6 +109,7 @@ class PreparedModel:
 
 def check_params(model: str, params: dict[str, _F64]) -> None: ...
 def models() -> list[ModelSpec]: ...
+def tool_defaults() -> ToolDefaults: ...
 def param_admits(model: str, param: str, value: float) -> bool: ...
 def albedo(
     model: str,

@@ -220,7 +220,7 @@ def _term(where: Where, value: Any, *, family: str, slot: str | None) -> dict[st
     specs = _spec.specs()
     if not isinstance(value, Mapping):
         raise where.expected("a table with model = ... and the model's parameters", value)
-    model = _required(where, value, "model", 'a model name, e.g. model = "lambert"')
+    model = _required(where, value, "model", f'a model name, e.g. model = "{next(iter(specs))}"')
     if model not in specs:
         close = difflib.get_close_matches(str(model), list(specs), n=1, cutoff=0.6)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
