@@ -16,8 +16,11 @@ from ._spec import ModelSpec, ToolDefaults
 
 __all__ = [
     "DEFAULT_REPLICATES",
+    "MAX_IMAGE_SIDE",
+    "PARALLEL_TANGENT_EPSILONS",
     "SAMPLERS",
     "SEQUENCES",
+    "TONEMAPS",
     "PreparedModel",
     "__version__",
     "albedo",
@@ -49,6 +52,9 @@ __version__: str
 DEFAULT_REPLICATES: int
 SAMPLERS: list[str]
 SEQUENCES: list[str]
+TONEMAPS: list[str]
+MAX_IMAGE_SIDE: int
+PARALLEL_TANGENT_EPSILONS: float
 
 _F64: TypeAlias = npt.NDArray[np.float64]
 _F32: TypeAlias = npt.NDArray[np.float32]

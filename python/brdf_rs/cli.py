@@ -277,8 +277,10 @@ def _resolution(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(
             f"expected WIDTHxHEIGHT, e.g. 640x480, got {text!r}"
         ) from None
-    if not (1 <= w <= 32768 and 1 <= h <= 32768):
-        raise argparse.ArgumentTypeError(f"expected sizes from 1 to 32768, got {text!r}")
+    from ._scene_schema import MAX_SIDE
+
+    if not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+        raise argparse.ArgumentTypeError(f"expected sizes from 1 to {MAX_SIDE}, got {text!r}")
     return w, h
 
 

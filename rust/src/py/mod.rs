@@ -637,6 +637,15 @@ mod brdf_rs_ext {
     const DEFAULT_REPLICATES: u32 = crate::integrate::DEFAULT_REPLICATES;
 
     #[pymodule_export]
+    const TONEMAPS: [&str; 4] = crate::scene::ToneMap::NAMES;
+
+    #[pymodule_export]
+    const MAX_IMAGE_SIDE: usize = crate::scene::camera::MAX_SIDE;
+
+    #[pymodule_export]
+    const PARALLEL_TANGENT_EPSILONS: f64 = crate::math::geometry::PARALLEL_TANGENT_EPSILONS;
+
+    #[pymodule_export]
     use super::scene::{
         encode_srgb8, render_scene, scene_counters, shade_gbuffer, tonemap_inplace,
     };
