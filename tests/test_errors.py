@@ -400,6 +400,57 @@ def test_the_core_refuses_what_float32_cannot_hold_when_called_directly():
             core.render_scene(scene, "both")
 
 
+#: Values a caller of the core may put anywhere in a scene's plain structure.
+ODD_VALUES = [
+    None, True, "x", -1, 0, 3, 2**70, float("nan"), float("inf"), -1e300, [], [1.0],
+    [float("nan")] * 3, [1e300] * 3, [-1.0] * 3, [0.0] * 3, [2**70] * 3, {}, {"x": 1},
+]  # fmt: skip
+
+
+def _core_scene_variants(base):
+    """Every key of ``base``'s plain structure, in turn removed or set to each odd value."""
+
+    def walk(node, path):
+        keys = range(len(node)) if isinstance(node, list) else list(node)
+        for key in keys:
+            yield node, key, (*path, key)
+            if isinstance(node[key], (dict, list)):
+                yield from walk(node[key], (*path, key))
+
+    for node, key, path in list(walk(base, ())):
+        original = node[key]
+        for value in [*ODD_VALUES, "remove"]:
+            if value == "remove" and isinstance(node, dict):
+                del node[key]
+            else:
+                node[key] = np.asarray(value) if path[-2:-1] == ("params",) else value
+            yield path, value
+            node[key] = original
+
+
+def test_the_core_converts_a_scene_without_ever_panicking():
+    """The core's scene binding converts what the schema checked; given anything else it
+    raises a TypeError or ValueError naming the problem, never a panic (the renderer's
+    types hold their invariants)."""
+    base = brdf_rs.parse_scene(_scene()).to_core()
+    base["camera"]["resolution"] = [3, 2]
+    refused = 0
+    for path, value in _core_scene_variants(base):
+        try:
+            image, _ = core.render_scene(base, "both")
+        except (TypeError, ValueError):
+            refused += 1
+        else:
+            assert image.shape[2] == 3, (path, value)
+    assert refused > 100
+    # Models in the wrong place: the renderer checks their families.
+    brdf, shading = base["materials"]
+    for swapped in ({"brdf": shading["diffuse"]}, {"diffuse": brdf["brdf"], "specular": None}):
+        scene = {**base, "materials": [swapped, shading]}
+        with pytest.raises(ValueError, match=r"is a family-. model; expected family"):
+            core.render_scene(scene, "both")
+
+
 def test_scene_tables_checks_its_numbers_first(tmp_path):
     scene = _scene()
     with pytest.raises(ValueError, match=r"^mu_count: expected an integer from 1 to 1048576"):

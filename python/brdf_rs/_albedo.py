@@ -350,7 +350,7 @@ def _sheen_weights(sheen: Any, model: str, rough: str, r: np.ndarray) -> dict[st
     specs = _spec.specs()
     if not isinstance(sheen, str):
         raise TypeError(
-            f"sheen: expected a model name (a string such as 'charlie_sheen_neubelt') or None,"
+            "sheen: expected a model name (a string; brdf_rs.models() lists them) or None,"
             f" got {type(sheen).__name__} {_arrays.show(sheen)}"
         )
     if sheen not in specs:

@@ -76,8 +76,8 @@ def model_name(model: Any) -> str:
     """Checks that ``model`` is a model name (a string; the core checks that it exists)."""
     if not isinstance(model, str):
         raise TypeError(
-            f"model: expected a model name (a string such as 'ggx'; brdf_rs.models() lists"
-            f" them), got {type(model).__name__} {show(model)}"
+            "model: expected a model name (a string; brdf_rs.models() lists them), got"
+            f" {type(model).__name__} {show(model)}"
         )
     return model
 

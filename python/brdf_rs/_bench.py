@@ -5,10 +5,13 @@ Two measurements a user can run anywhere the wheel installs, in a few seconds:
 - **eval throughput**: million evaluations per second of a few models on ``n`` random
   direction pairs, float64 and float32 (NumPy arrays in, written into a preallocated
   array with ``out=``), the best of ``repeat`` timed calls after a warm-up.
-- **albedo table**: ``normalized_phong`` (kd = 0, ks = 1) over mu × p to a standard-error
-  tolerance, timed, with a correctness check: at mu = 1 its albedo is exactly 1
-  (docs/models.md), so the largest ``|R − 1|`` is reported against the stated standard error;
-  the check passes when it is within ``CHECK_STDERRS`` standard errors.
+- **albedo table**: the spec's self-checking model (``normalized_phong``, kd = 0, ks = 1)
+  over mu × its parameter (``p``) to a standard-error tolerance, timed, with a correctness
+  check: at mu = 1 its albedo is exactly 1 (docs/models.md), so the largest ``|R − 1|`` is
+  reported against the stated standard error; the check passes when it is within
+  ``CHECK_STDERRS`` standard errors.
+
+The models come from the spec's tool defaults (``brdf_rs._spec.tool_defaults``).
 
 The full benchmarks (every model, NumPy baselines, convergence against a quadrature)
 live in the repository's ``benches/``.
@@ -27,15 +30,12 @@ import numpy as np
 
 from . import _albedo, _api, _spec
 
-__all__ = ["CHECK_STDERRS", "DEFAULT_MODELS", "run"]
+__all__ = ["CHECK_STDERRS", "run"]
 
 #: The albedo check passes when every ``|R(1) − 1|`` is within this many standard errors.
 #: The errors are Student-t with 15 degrees of freedom (docs/error_bars.md):
 #: P(|z| > 5) ≈ 1.6e-4 per cell, 0.25% for any of 16 cells by chance.
 CHECK_STDERRS = 5.0
-
-#: One model per family of kernels: constant, Phong lobe, microfacet, rough diffuse.
-DEFAULT_MODELS = ("lambert", "normalized_phong", "torrance_sparrow", "ggx", "oren_nayar")
 
 
 def cpu_model() -> str:
@@ -99,12 +99,14 @@ def eval_throughput(
 
 
 def albedo_table_benchmark(size: int, tol: float, seed: int = 0) -> dict[str, Any]:
-    """Builds a ``size`` × ``size`` normalized_phong table to ``tol``; times and checks it."""
+    """Builds a ``size`` × ``size`` table of the spec's self-checking model to ``tol``;
+    times and checks it."""
+    check = _spec.tool_defaults()["albedo_check"]
     mu = np.arange(1, size + 1) / size  # includes mu = 1, where R = 1 exactly
-    p = np.geomspace(1.0, 1e4, size)
+    shape = np.geomspace(check["lo"], check["hi"], size)
     start = time.perf_counter()
     table = _albedo.albedo_table(
-        "normalized_phong", {"mu": mu, "p": p}, kd=0.0, ks=1.0, tol=tol, seed=seed
+        check["model"], {"mu": mu, check["param"]: shape}, kd=0.0, ks=1.0, tol=tol, seed=seed
     )
     seconds = time.perf_counter() - start
     samples = int(table.samples.sum())
@@ -112,7 +114,7 @@ def albedo_table_benchmark(size: int, tol: float, seed: int = 0) -> dict[str, An
     se_at_one = table.stderr[-1, :, 0]
     error = np.abs(at_one - 1.0)
     return {
-        "model": "normalized_phong",
+        "model": check["model"],
         "shape": [size, size],
         "tol": tol,
         "seconds": seconds,
@@ -127,7 +129,7 @@ def albedo_table_benchmark(size: int, tol: float, seed: int = 0) -> dict[str, An
 
 
 def run(
-    models: Sequence[str] = DEFAULT_MODELS,
+    models: Sequence[str] | None = None,
     *,
     n: int = 1_000_000,
     repeat: int = 3,
@@ -135,7 +137,10 @@ def run(
     tol: float = 1e-4,
     seed: int = 0,
 ) -> dict[str, Any]:
-    """Runs both measurements; returns ``{"machine", "eval", "albedo_table"}``."""
+    """Runs both measurements; returns ``{"machine", "eval", "albedo_table"}``.
+    ``models``: the models to time (default: the spec's, one per family of kernels)."""
+    if models is None:
+        models = _spec.tool_defaults()["bench"]
     if n < 1 or repeat < 1 or table_size < 1:
         raise ValueError(
             f"n, repeat, table_size: must be at least 1; got {n}, {repeat}, {table_size}"

@@ -12,12 +12,15 @@ from typing import Any, TypeAlias, final
 import numpy as np
 import numpy.typing as npt
 
-from ._spec import ModelSpec
+from ._spec import ModelSpec, ToolDefaults
 
 __all__ = [
     "DEFAULT_REPLICATES",
+    "MAX_IMAGE_SIDE",
+    "PARALLEL_TANGENT_EPSILONS",
     "SAMPLERS",
     "SEQUENCES",
+    "TONEMAPS",
     "PreparedModel",
     "__version__",
     "albedo",
@@ -42,12 +45,16 @@ __all__ = [
     "set_num_threads",
     "shade_gbuffer",
     "tonemap_inplace",
+    "tool_defaults",
 ]
 
 __version__: str
 DEFAULT_REPLICATES: int
 SAMPLERS: list[str]
 SEQUENCES: list[str]
+TONEMAPS: list[str]
+MAX_IMAGE_SIDE: int
+PARALLEL_TANGENT_EPSILONS: float
 
 _F64: TypeAlias = npt.NDArray[np.float64]
 _F32: TypeAlias = npt.NDArray[np.float32]
@@ -108,6 +115,7 @@ class PreparedModel:
 
 def check_params(model: str, params: dict[str, _F64]) -> None: ...
 def models() -> list[ModelSpec]: ...
+def tool_defaults() -> ToolDefaults: ...
 def param_admits(model: str, param: str, value: float) -> bool: ...
 def albedo(
     model: str,

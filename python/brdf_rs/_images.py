@@ -14,7 +14,8 @@ from . import _brdf_rs as _core
 
 __all__ = ["TONEMAPS", "apply_tonemap", "encode_png", "save_image", "tonemap"]
 
-TONEMAPS = ("clamp", "reinhard", "aces", "none")
+#: The tone maps, the first a scene's default (the core's list).
+TONEMAPS = tuple(_core.TONEMAPS)
 
 
 def apply_tonemap(image: np.ndarray, kind: str, exposure: float) -> np.ndarray:

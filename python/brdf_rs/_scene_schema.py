@@ -1,10 +1,12 @@
 """The scene schema: a scene file (TOML) or dict checked into a :class:`Scene`.
 
-The format is described in ``brdf_rs.scene``. Every check a user meets is made here,
-with messages naming the file, the key and what was expected (:class:`SceneError`). The
-renderer takes the checked, plain structure of :meth:`Scene.to_core`; the core checks it
-again (in plainer words, for callers of the core itself), so nothing it cannot hold
-reaches the renderer.
+The format is described in ``brdf_rs.scene``. The schema is checked here, once: every
+check a user meets is made here, with messages naming the file, the key and what was
+expected (:class:`SceneError`). The core's binding is a plain converter of the checked,
+plain structure of :meth:`Scene.to_core`; the core's own limits (the largest image side,
+the tone maps, the parameter ranges) are read from it rather than restated. The renderer's
+types keep the invariants it needs in their constructors, so a caller of the core itself
+gets an error (in plainer words), never a panic or an infinite value.
 """
 
 from __future__ import annotations
@@ -69,6 +71,9 @@ class Where:
         note = _range_note(got) if float32 else ""
         return self.error(f"expected {what}, got {_arrays.show(got)}{note}")
 
+
+#: The most pixels along either side of an image (the core's limit).
+MAX_SIDE = _core.MAX_IMAGE_SIDE
 
 #: The renderer computes in float32: every number of a scene must be within its range.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
@@ -143,14 +148,20 @@ def _vector(where: Where, value: Any, *, nonzero: bool = False) -> list[float]:
     return [float(x) for x in value]
 
 
+#: A tangent is parallel to its normal where the sine of their angle is at most this:
+#: the core's count of epsilons, of float32 (the renderer's precision), as ``eval``
+#: refuses a tangent for float32.
+PARALLEL_SINE = _core.PARALLEL_TANGENT_EPSILONS * float(np.finfo(np.float32).eps)
+
+
 def _parallel(t: Sequence[float], n: Sequence[float]) -> bool:
-    """Whether the sine of the angle between ``t`` and ``n`` is at most 64 float32
-    epsilons (the renderer's precision), as ``eval`` refuses a tangent for float32."""
+    """Whether the sine of the angle between ``t`` and ``n`` is at most
+    :data:`PARALLEL_SINE`."""
     a = np.asarray(t, dtype=np.float64)
     b = np.asarray(n, dtype=np.float64)
     a, b = a / np.max(np.abs(a)), b / np.max(np.abs(b))
     sine = np.linalg.norm(np.cross(a, b)) / (np.linalg.norm(a) * np.linalg.norm(b))
-    return bool(sine <= 64 * np.finfo(np.float32).eps)
+    return bool(sine <= PARALLEL_SINE)
 
 
 def _colour(where: Where, value: Any) -> list[float]:
@@ -220,7 +231,7 @@ def _term(where: Where, value: Any, *, family: str, slot: str | None) -> dict[st
     specs = _spec.specs()
     if not isinstance(value, Mapping):
         raise where.expected("a table with model = ... and the model's parameters", value)
-    model = _required(where, value, "model", 'a model name, e.g. model = "lambert"')
+    model = _required(where, value, "model", f'a model name, e.g. model = "{next(iter(specs))}"')
     if model not in specs:
         close = difflib.get_close_matches(str(model), list(specs), n=1, cutoff=0.6)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
@@ -289,10 +300,10 @@ def _camera(where: Where, value: Any) -> dict[str, Any]:
             isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_))
             for x in resolution
         )
-        or not all(1 <= x <= 32768 for x in resolution)
+        or not all(1 <= x <= MAX_SIDE for x in resolution)
     ):
         raise (where / "resolution").expected(
-            "[width, height]: two integers from 1 to 32768", resolution
+            f"[width, height]: two integers from 1 to {MAX_SIDE}", resolution
         )
     camera: dict[str, Any] = {
         "projection": projection,
@@ -456,8 +467,12 @@ class Scene:
     def with_resolution(self, width: int, height: int) -> Scene:
         """Returns the same scene rendered at another resolution."""
         for name, v in (("width", width), ("height", height)):
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 32768:
-                raise ValueError(f"{name}: expected an integer from 1 to 32768, got {v!r}")
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, (int, np.integer))
+                or not 1 <= v <= MAX_SIDE
+            ):
+                raise ValueError(f"{name}: expected an integer from 1 to {MAX_SIDE}, got {v!r}")
         camera = {**self.camera, "resolution": [int(width), int(height)]}
         return dataclasses.replace(self, camera=camera)
 

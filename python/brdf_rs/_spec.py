@@ -1,6 +1,7 @@
 """The model spec table, read once from the extension: every per-model fact Python needs
 (parameters, family, scene slot, split-sum roughness axis, energy tables, exact
-normalization) comes from here, so no Python module names a model to know what it is."""
+normalization) comes from here, and so do the models the tools pick when the user names
+none (:func:`tool_defaults`), so no Python module names a model to know what it is."""
 
 from __future__ import annotations
 
@@ -92,11 +93,51 @@ class ModelSpec(TypedDict):
     params: list[ParamSpec]
 
 
+class TableDefault(TypedDict):
+    """``brdf-rs table``'s recipe when no model is named."""
+
+    model: str
+    #: The axes beyond ``mu``, as ``name=spec``.
+    axes: list[str]
+    #: The parameters, as ``name=value``.
+    params: list[str]
+
+
+class AlbedoCheck(TypedDict):
+    """The benchmark's self-checking albedo table: ``model`` with ``kd = 0``, ``ks = 1``
+    (its albedo at normal incidence is exactly 1) over ``param`` from ``lo`` to ``hi``,
+    logarithmically."""
+
+    model: str
+    param: str
+    lo: float
+    hi: float
+
+
+class ToolDefaults(TypedDict):
+    """The models the tools pick when the user names none."""
+
+    table: TableDefault
+    #: ``brdf-rs dfg``'s model.
+    dfg: str
+    #: The diffuse shading term a sphere preview puts under a specular-only term.
+    plain_diffuse: str
+    #: ``brdf-rs bench``'s models: one per family of kernels.
+    bench: list[str]
+    albedo_check: AlbedoCheck
+
+
 @cache
 def specs() -> dict[str, ModelSpec]:
     """Every model's spec by name, in a stable order: read once from the extension and
     shared by every module (do not mutate; :func:`brdf_rs.models` hands out copies)."""
     return {m["name"]: m for m in _core.models()}
+
+
+@cache
+def tool_defaults() -> ToolDefaults:
+    """The models the tools pick when the user names none (do not mutate)."""
+    return _core.tool_defaults()
 
 
 def admits(model: str, param: str, value: float) -> bool:

@@ -168,29 +168,33 @@ def _azimuth_option(text: str) -> float | str:
         ) from None
 
 
-DEFAULT_TABLE: dict[str, Any] = {
-    "model": "torrance_sparrow",
-    "axes": ["mu=mid:0:1:32", "p=log:1:10000:32"],
-    "params": ["kd=0", "ks=1", "eta=1.5"],
-    "tol": 1e-4,
-}
+#: ``brdf-rs table``'s incidence axis, and with no model named its tolerance (the model,
+#: its other axes and its parameters are the spec's default table).
+TABLE_MU_AXIS = "mu=mid:0:1:32"
+DEFAULT_TABLE_TOL = 1e-4
+
+
+def _default_table() -> tuple[str, list[str], list[str]]:
+    """``brdf-rs table`` with no model: the model, its axes (``mu`` first) and parameters."""
+    recipe = _spec.tool_defaults()["table"]
+    return recipe["model"], [TABLE_MU_AXIS, *recipe["axes"]], list(recipe["params"])
 
 
 def cmd_table(args: argparse.Namespace) -> int:
     from . import _albedo, _grid
 
     defaulted = args.model is None
-    model = DEFAULT_TABLE["model"] if defaulted else args.model
-    default_axes = DEFAULT_TABLE["axes"] if defaulted else DEFAULT_TABLE["axes"][:1]
-    axes = dict(args.axis) or dict(_axis(a) for a in default_axes)
+    default_model, default_axes, default_params = _default_table()
+    model = default_model if defaulted else args.model
+    axes = dict(args.axis) or dict(_axis(a) for a in default_axes[: None if defaulted else 1])
     params = dict(args.param)
     if defaulted and not args.param:
-        params = dict(_param(p) for p in DEFAULT_TABLE["params"])
+        params = dict(_param(p) for p in default_params)
     if args.phi is not None:
         params["phi"] = args.phi if args.phi == "average" else np.radians(args.phi)
     if "phi" in axes:  # degrees on the command line, radians in the library
         axes["phi"] = np.radians(axes["phi"])
-    tol = args.tol if args.tol is not None else (DEFAULT_TABLE["tol"] if defaulted else None)
+    tol = args.tol if args.tol is not None else (DEFAULT_TABLE_TOL if defaulted else None)
     # Everything is checked before any work (and before a progress bar is drawn).
     _grid.table_axes(model, axes, params)
     _options.check(
@@ -238,7 +242,7 @@ def cmd_table(args: argparse.Namespace) -> int:
             bar.close()
     seconds = time.perf_counter() - start
     saved = _Saved(out, table.save)
-    summary = {
+    summary: dict[str, Any] = {
         "model": model,
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in table.axes.items()},
         "shape": list(table.value.shape),
@@ -273,8 +277,10 @@ def _resolution(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(
             f"expected WIDTHxHEIGHT, e.g. 640x480, got {text!r}"
         ) from None
-    if not (1 <= w <= 32768 and 1 <= h <= 32768):
-        raise argparse.ArgumentTypeError(f"expected sizes from 1 to 32768, got {text!r}")
+    from ._scene_schema import MAX_SIDE
+
+    if not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+        raise argparse.ArgumentTypeError(f"expected sizes from 1 to {MAX_SIDE}, got {text!r}")
     return w, h
 
 
@@ -411,9 +417,6 @@ def cmd_tables(args: argparse.Namespace) -> int:
 # --------------------------------------------------------- dfg, energy, bench, plot-lobe
 
 TABLE_FORMATS = (".npz", ".exr", ".png")
-#: ``dfg --sheen``'s model when none is named: the lobe of Filament's cloth DFG channel
-#: (the spec has no field saying which model a cloth channel uses).
-FILAMENT_CLOTH = "charlie_sheen_neubelt"
 PLOT_FORMATS = (".png", ".svg", ".pdf")
 
 
@@ -869,7 +872,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     if args.threads is not None:
         _api.set_num_threads(args.threads)
     result = _bench.run(
-        args.models or _bench.DEFAULT_MODELS,
+        args.models or None,
         n=args.n,
         repeat=args.repeat,
         table_size=args.table_size,
@@ -1191,18 +1194,23 @@ def _add_eval_command(sub: Any) -> None:
 
 
 def _add_table_command(sub: Any) -> None:
+    model, default_axes, _ = _default_table()
+    axes = [_axis(a) for a in default_axes]
+    names = [name for name, _ in axes]
+    shape = "x".join(str(len(values)) for _, values in axes)
+    tol = np.format_float_scientific(DEFAULT_TABLE_TOL, trim="-", exp_digits=1)
     p = sub.add_parser(
         "table",
         help="build an albedo table (the main job)",
         description="Tabulate the directional albedo R(mu) over axes of mu and parameters. "
-        "With no arguments: a 32x32 torrance_sparrow table over mu and p, tol 1e-4; "
-        "with a model and no --axis: 32 incidences mu.",
+        f"With no arguments: a {shape} {model} table over {' and '.join(names)}, tol {tol};"
+        f" with a model and no --axis: {len(axes[0][1])} incidences mu.",
     )
     p.add_argument(
         "model",
         nargs="?",
         default=None,
-        help="a family-A model (default: the 32x32 torrance_sparrow table described above)",
+        help=f"a family-A model (default: the {shape} {model} table described above)",
     )
     p.add_argument(
         "--axis",
@@ -1300,8 +1308,12 @@ def _add_dfg_command(sub: Any) -> None:
         "table is the scale A, channel 1 the bias B, channel 2 the cloth term with --sheen"
         " (else 0).",
     )
+    default = _spec.tool_defaults()["dfg"]
     p.add_argument(
-        "model", nargs="?", default="ggx", help=f"{', '.join(_spec.with_dfg())} (default ggx)"
+        "model",
+        nargs="?",
+        default=default,
+        help=f"{', '.join(_spec.with_dfg())} (default {default})",
     )
     _add_incidences(p)
     p.add_argument(
@@ -1310,14 +1322,18 @@ def _add_dfg_command(sub: Any) -> None:
         default=None,
         help="roughness axis spec (default mid:0:1:32 for alpha, log:1:10000:32 for p)",
     )
+    # Bare --sheen: the lobe of Filament's cloth channel, as its engine preset says.
+    from .lut import PRESETS
+
+    filament_cloth = PRESETS["filament_cloth"].spec.sheen
     p.add_argument(
         "--sheen",
         nargs="?",
-        const=FILAMENT_CLOTH,
+        const=filament_cloth,
         default=None,
         metavar="MODEL",
         help="fill channel 2 with a cloth term: the directional albedo of the sheen MODEL with"
-        f" kd = 0, ks = 1 at alpha = the table's alpha (bare --sheen: {FILAMENT_CLOTH},"
+        f" kd = 0, ks = 1 at alpha = the table's alpha (bare --sheen: {filament_cloth},"
         " Filament's cloth DG channel; pass --roughness as squared perceptual roughness to"
         " match its rows); alpha tables only",
     )
@@ -1336,8 +1352,8 @@ def _add_energy_command(sub: Any) -> None:
         "energy",
         help="build a Kulla-Conty energy compensation table: E(mu, alpha) and E_avg(alpha)",
         description="The single-scattering albedo E(mu, alpha) of a microfacet model with "
-        "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy the "
-        "multiple-scattering lobe (ggx_ms, beckmann_ms) restores.",
+        "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy a "
+        "multiple-scattering lobe (Kulla and Conty's; the _ms models) restores.",
     )
     _add_model(p, help=" or ".join(_spec.with_energy_table()))
     _add_incidences(p)
@@ -1421,7 +1437,8 @@ def _add_bench_command(sub: Any) -> None:
         "bench",
         help="a short benchmark: eval throughput and an albedo table, on this machine",
         description="Measures million evaluations per second of a few models (float64 and "
-        "float32) and builds a small normalized_phong albedo table to a tolerance, checking "
+        f"float32) and builds a small {_spec.tool_defaults()['albedo_check']['model']} albedo"
+        " table to a tolerance, checking "
         "it against its exact value at mu = 1. A few seconds; benches/ in the repository has "
         "the full benchmarks.",
     )

@@ -663,7 +663,8 @@ def render_sphere(
     elif specs[model]["scene_slot"] == "specular":
         material = {"specular": term}
         if base > 0:
-            material["diffuse"] = {"model": "lambert_shading", "kd": float(base)}
+            plain = _spec.tool_defaults()["plain_diffuse"]
+            material["diffuse"] = {"model": plain, "kd": float(base)}
     else:
         material = {"diffuse": term}
     scale = np.pi if family == "A" else 1.0

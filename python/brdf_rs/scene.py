@@ -72,6 +72,7 @@ from ._images import encode_png, save_image, tonemap
 from ._scene_cache import TableResult, scene_tables
 from ._scene_cache import default_cache_dir as default_cache_dir
 from ._scene_schema import (
+    PARALLEL_SINE,
     Scene,
     SceneError,
     SceneLike,
@@ -253,9 +254,9 @@ def _projects_tangent(material: Mapping[str, Any]) -> bool:
 
 def _check_tangent_rows(t: np.ndarray, n: np.ndarray, shape: tuple[int, ...]) -> None:
     """Refuses unit tangents (nearly) parallel to their unit normals: the sine of their
-    angle at most 64 float32 epsilons (the shading precision), as ``eval`` does."""
+    angle at most :data:`PARALLEL_SINE` (the shading precision), as ``eval`` does."""
     sine = np.linalg.norm(np.cross(t.astype(np.float64), n.astype(np.float64)), axis=1)
-    bad = sine <= 64 * np.finfo(np.float32).eps
+    bad = sine <= PARALLEL_SINE
     if bad.any():
         i = int(np.argmax(bad))
         index = [int(k) for k in np.unravel_index(i, shape)] if shape else []

@@ -9,6 +9,7 @@
 //! (selects, not early returns).
 
 pub mod albedo;
+pub mod defaults;
 pub mod fresnel;
 pub mod lobes;
 pub mod microfacet_fresnel;

@@ -350,6 +350,30 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(list)
 }
 
+/// Returns the models the package's tools pick when the user names none
+/// ([`crate::models::defaults`]).
+#[pyfunction]
+fn tool_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let defaults = crate::models::defaults::TOOL_DEFAULTS;
+    let table = PyDict::new(py);
+    table.set_item("model", defaults.table.model.name())?;
+    table.set_item("axes", defaults.table.axes)?;
+    table.set_item("params", defaults.table.params)?;
+    let check = PyDict::new(py);
+    check.set_item("model", defaults.albedo_check.model.name())?;
+    check.set_item("param", defaults.albedo_check.param)?;
+    check.set_item("lo", defaults.albedo_check.lo)?;
+    check.set_item("hi", defaults.albedo_check.hi)?;
+    let d = PyDict::new(py);
+    d.set_item("table", table)?;
+    d.set_item("dfg", defaults.dfg.name())?;
+    d.set_item("plain_diffuse", defaults.plain_diffuse.name())?;
+    let bench: Vec<&str> = defaults.bench.iter().map(|k| k.name()).collect();
+    d.set_item("bench", bench)?;
+    d.set_item("albedo_check", check)?;
+    Ok(d)
+}
+
 /// Runs `work` on a scoped thread while this thread polls every 100 ms: it reports
 /// progress to `callback(cells_done, samples_done)` and checks for Ctrl-C (a
 /// `KeyboardInterrupt` cancels the work, waits for it to stop and is raised).
@@ -594,7 +618,7 @@ mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
         albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads,
-        param_admits, pdf, sample, set_num_threads,
+        param_admits, pdf, sample, set_num_threads, tool_defaults,
     };
 
     #[pymodule_export]
@@ -611,6 +635,15 @@ mod brdf_rs_ext {
 
     #[pymodule_export]
     const DEFAULT_REPLICATES: u32 = crate::integrate::DEFAULT_REPLICATES;
+
+    #[pymodule_export]
+    const TONEMAPS: [&str; 4] = crate::scene::ToneMap::NAMES;
+
+    #[pymodule_export]
+    const MAX_IMAGE_SIDE: usize = crate::scene::camera::MAX_SIDE;
+
+    #[pymodule_export]
+    const PARALLEL_TANGENT_EPSILONS: f64 = crate::math::geometry::PARALLEL_TANGENT_EPSILONS;
 
     #[pymodule_export]
     use super::scene::{

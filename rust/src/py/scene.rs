@@ -1,5 +1,13 @@
-//! Bindings of the scene renderer: plain dicts and lists in (already validated by
-//! `brdf_rs.scene`, checked again here so nothing panics), NumPy arrays out.
+//! Bindings of the scene renderer: plain dicts and lists in, NumPy arrays out.
+//!
+//! A plain converter. The user's scene is checked once, by the Python schema
+//! (`brdf_rs._scene_schema`), which words every error with the file and the key; what
+//! arrives here is its plain structure. This module checks nothing of its own: it reads
+//! the values into the scene's types, whose constructors ([`Camera::new`],
+//! [`Object::sphere`], [`Light::point`], [`Term::new`], [`Scene::background_from`]) and the
+//! renderer (material indices, model families) hold the invariants the renderer needs.
+//! A caller of the core itself that passes something else gets those errors, or a type
+//! error naming the key, never a panic.
 
 use numpy::{
     IntoPyArray, PyArrayDyn, PyReadonlyArray2, PyReadonlyArrayDyn, PyReadwriteArrayDyn,
@@ -48,6 +56,16 @@ fn optional<'py, T: FromPyObjectOwned<'py>>(
     }
 }
 
+/// Returns which of the two `names` `d[key]` is (0 or 1), or an error naming `path.key`,
+/// the names and what was given.
+fn either(d: &Bound<'_, PyDict>, key: &str, path: &str, names: [&str; 2]) -> PyResult<usize> {
+    let expected = format!("{:?} or {:?}", names[0], names[1]);
+    let name: String = item(d, key, path, &expected)?;
+    names.iter().position(|n| *n == name).ok_or_else(|| {
+        PyValueError::new_err(format!("{path}.{key}: expected {expected}; got {name:?}"))
+    })
+}
+
 /// Prefixes an error with where it happened.
 fn at(path: &str) -> impl Fn(BrdfError) -> PyErr + '_ {
     move |e| PyErr::from(BrdfError::InvalidArgument(format!("{path}: {e}")))
@@ -75,7 +93,7 @@ fn term(d: &Bound<'_, PyDict>, path: &str) -> PyResult<Term> {
 }
 
 fn material(d: &Bound<'_, PyDict>, path: &str) -> PyResult<MaterialDesc> {
-    let desc = if let Some(brdf) = d.get_item("brdf")? {
+    Ok(if let Some(brdf) = d.get_item("brdf")? {
         MaterialDesc::Brdf(term(&dict(&brdf, path)?, path)?)
     } else {
         let part = |role: &str| -> PyResult<Option<Term>> {
@@ -91,56 +109,52 @@ fn material(d: &Bound<'_, PyDict>, path: &str) -> PyResult<MaterialDesc> {
             diffuse: part("diffuse")?,
             specular: part("specular")?,
         }
-    };
-    desc.check().map_err(at(path))?;
-    Ok(desc)
+    })
 }
 
 fn light(d: &Bound<'_, PyDict>, path: &str) -> PyResult<Light> {
-    let kind: String = item(d, "type", path, "\"directional\" or \"point\"")?;
+    let directional = either(d, "type", path, ["directional", "point"])? == 0;
     let intensity: [f64; 3] = item(d, "intensity", path, "an RGB triple")?;
-    let light = match kind.as_str() {
-        "directional" => {
-            Light::directional(item(d, "direction", path, "a vector [x, y, z]")?, intensity)
-        }
-        "point" => Light::point(
+    let light = if directional {
+        Light::directional(item(d, "direction", path, "a vector [x, y, z]")?, intensity)
+    } else {
+        Light::point(
             item(d, "position", path, "a point [x, y, z]")?,
             intensity,
             optional(d, "range", path, "a positive number")?,
-        ),
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "{path}.type: expected \"directional\" or \"point\"; got {kind:?}"
-            )));
-        }
+        )
     };
     light.map_err(at(path))
 }
 
-fn lights(list: &Bound<'_, PyList>) -> PyResult<Vec<Light>> {
+/// Converts each table of `list` (named `name[i]` in errors) with `convert`.
+fn each<T>(
+    list: &Bound<'_, PyList>,
+    name: &str,
+    convert: impl Fn(&Bound<'_, PyDict>, &str) -> PyResult<T>,
+) -> PyResult<Vec<T>> {
     list.iter()
         .enumerate()
         .map(|(i, v)| {
-            let path = format!("lights[{i}]");
-            light(&dict(&v, &path)?, &path)
+            let path = format!("{name}[{i}]");
+            convert(&dict(&v, &path)?, &path)
         })
         .collect()
 }
 
+fn lights(list: &Bound<'_, PyList>) -> PyResult<Vec<Light>> {
+    each(list, "lights", light)
+}
+
 fn camera(d: &Bound<'_, PyDict>) -> PyResult<Camera> {
     let path = "camera";
-    let projection: String = item(d, "projection", path, "\"perspective\" or \"orthographic\"")?;
-    let projection = match projection.as_str() {
-        "perspective" => Projection::Perspective {
+    let projection = if either(d, "projection", path, ["perspective", "orthographic"])? == 0 {
+        Projection::Perspective {
             fov: item::<f64>(d, "fov", path, "an angle in degrees")?.to_radians(),
-        },
-        "orthographic" => Projection::Orthographic {
+        }
+    } else {
+        Projection::Orthographic {
             height: item(d, "height", path, "a positive number")?,
-        },
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "camera.projection: expected \"perspective\" or \"orthographic\"; got {projection:?}"
-            )));
         }
     };
     let [width, height]: [usize; 2] =
@@ -156,34 +170,25 @@ fn camera(d: &Bound<'_, PyDict>) -> PyResult<Camera> {
     .map_err(at(path))
 }
 
-fn object(d: &Bound<'_, PyDict>, path: &str, materials: usize) -> PyResult<Object> {
-    let shape: String = item(d, "shape", path, "\"sphere\" or \"plane\"")?;
+fn object(d: &Bound<'_, PyDict>, path: &str) -> PyResult<Object> {
+    let sphere = either(d, "shape", path, ["sphere", "plane"])? == 0;
     let material: usize = item(d, "material", path, "a material index")?;
-    if material >= materials {
-        return Err(PyValueError::new_err(format!(
-            "{path}.material: index {material} is out of range ({materials} materials)"
-        )));
-    }
-    let object = match shape.as_str() {
-        "sphere" => Object::sphere(
+    let object = if sphere {
+        Object::sphere(
             item(d, "center", path, "a point [x, y, z]")?,
             item(d, "radius", path, "a positive number")?,
             material,
             &optional::<String>(d, "tangent", path, "\"meridian\" or \"parallel\"")?
                 .unwrap_or_else(|| "meridian".into()),
             optional(d, "axis", path, "a vector [x, y, z]")?.unwrap_or([0.0, 1.0, 0.0]),
-        ),
-        "plane" => Object::plane(
+        )
+    } else {
+        Object::plane(
             item(d, "point", path, "a point [x, y, z]")?,
             item(d, "normal", path, "a vector [x, y, z]")?,
             material,
             optional(d, "tangent", path, "a vector [x, y, z]")?,
-        ),
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "{path}.shape: expected \"sphere\" or \"plane\"; got {shape:?}"
-            )));
-        }
+        )
     };
     object.map_err(at(path))
 }
@@ -200,36 +205,15 @@ fn scene(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
             .ok_or_else(|| PyValueError::new_err("camera: missing"))?,
         "camera",
     )?;
-    let materials: Vec<MaterialDesc> = get_list("materials")?
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            let path = format!("materials[{i}]");
-            material(&dict(&v, &path)?, &path)
-        })
-        .collect::<PyResult<_>>()?;
-    let objects = get_list("objects")?
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            let path = format!("objects[{i}]");
-            object(&dict(&v, &path)?, &path, materials.len())
-        })
-        .collect::<PyResult<_>>()?;
-    let background: [f64; 3] =
-        optional(d, "background", "scene", "an RGB triple")?.unwrap_or([0.0; 3]);
-    if background.iter().any(|&x| !(x as f32).is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "background: expected an RGB triple within float32's range (|x| <= 3.4e38); \
-             got {background:?}"
-        )));
-    }
+    let materials = each(&get_list("materials")?, "materials", material)?;
+    let objects = each(&get_list("objects")?, "objects", object)?;
+    let background = optional(d, "background", "scene", "an RGB triple")?.unwrap_or([0.0; 3]);
     Ok(Scene {
         camera: camera(&camera_dict)?,
         materials,
         objects,
         lights: lights(&get_list("lights")?)?,
-        background: background.map(|x| x as f32),
+        background: Scene::background_from(background)?,
     })
 }
 

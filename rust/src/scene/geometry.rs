@@ -57,7 +57,7 @@ pub struct Object {
 
 /// Converts to the renderer's float32, refusing what is not finite there (|x| above
 /// `f32::MAX` ≈ 3.4e38 rounds to infinity).
-fn vector(v: [f64; 3], what: &str) -> Result<Vec3, BrdfError> {
+pub(crate) fn vector(v: [f64; 3], what: &str) -> Result<Vec3, BrdfError> {
     let f = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
     if f.is_finite() {
         Ok(f)

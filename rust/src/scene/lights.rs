@@ -8,6 +8,7 @@
 
 use glam::Vec3;
 
+use super::geometry::vector;
 use super::shading::SEGMENT;
 use crate::error::BrdfError;
 
@@ -27,18 +28,6 @@ pub enum Light {
     },
 }
 
-/// Converts to the renderer's float32, refusing what is not finite there (|x| above
-/// `f32::MAX` ≈ 3.4e38 rounds to infinity).
-fn check_vector(v: [f64; 3], what: &str) -> Result<Vec3, BrdfError> {
-    let f = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
-    if !f.is_finite() {
-        return Err(BrdfError::InvalidArgument(format!(
-            "{what}: expected finite numbers within float32's range (|x| <= 3.4e38); got {v:?}"
-        )));
-    }
-    Ok(f)
-}
-
 fn check_intensity(i: [f64; 3]) -> Result<[f32; 3], BrdfError> {
     if i.iter().any(|&x| !((x as f32).is_finite() && x >= 0.0)) {
         return Err(BrdfError::InvalidArgument(format!(
@@ -52,7 +41,7 @@ fn check_intensity(i: [f64; 3]) -> Result<[f32; 3], BrdfError> {
 impl Light {
     /// Returns a directional light travelling along `direction` (any nonzero length).
     pub fn directional(direction: [f64; 3], intensity: [f64; 3]) -> Result<Light, BrdfError> {
-        let d = check_vector(direction, "direction")?;
+        let d = vector(direction, "direction")?;
         if d.length_squared() == 0.0 || !d.normalize().is_finite() {
             return Err(BrdfError::InvalidArgument(
                 "direction: expected a nonzero vector (the way the light travels)".into(),
@@ -81,7 +70,7 @@ impl Light {
             }
         };
         Ok(Light::Point {
-            position: check_vector(position, "position")?,
+            position: vector(position, "position")?,
             intensity: check_intensity(intensity)?,
             range,
         })

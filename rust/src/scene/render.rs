@@ -41,6 +41,20 @@ pub struct Scene {
     pub background: [f32; 3],
 }
 
+impl Scene {
+    /// Returns the radiance of pixels that hit nothing in the renderer's float32, or an
+    /// error for a value beyond its range (it would become infinite).
+    pub fn background_from(rgb: [f64; 3]) -> Result<[f32; 3], BrdfError> {
+        if rgb.iter().any(|&x| !(x as f32).is_finite()) {
+            return Err(BrdfError::InvalidArgument(format!(
+                "background: expected an RGB triple within float32's range (|x| <= 3.4e38); \
+                 got {rgb:?}"
+            )));
+        }
+        Ok(rgb.map(|x| x as f32))
+    }
+}
+
 /// Counts of the work one render did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RenderStats {

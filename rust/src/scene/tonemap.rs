@@ -26,6 +26,10 @@ pub enum ToneMap {
 }
 
 impl ToneMap {
+    /// The tone maps' names, in the order messages and docs list them (the first is a
+    /// scene's default).
+    pub const NAMES: [&'static str; 4] = ["clamp", "reinhard", "aces", "none"];
+
     /// Parses `"none"`, `"clamp"`, `"reinhard"` or `"aces"`.
     pub fn from_name(name: &str) -> Result<ToneMap, BrdfError> {
         match name {
@@ -127,6 +131,14 @@ pub fn encode_srgb8(values: &[f32], out: &mut [u8]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_name_parses_and_no_other() {
+        for name in ToneMap::NAMES {
+            assert!(ToneMap::from_name(name).is_ok(), "{name}");
+        }
+        assert!(ToneMap::from_name("Clamp").is_err());
+    }
 
     #[test]
     fn tone_maps_are_monotone_and_bounded() {
