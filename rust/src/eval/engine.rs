@@ -3,9 +3,11 @@
 //!
 //! Each task takes up to `TASK_BLOCKS` blocks of `BLOCK` rows. Per block it (1) copies the
 //! direction rows into scratch, deinterleaved, (2) normalizes them and flags unusable
-//! rows, (3) copies varying parameters into scratch, (4) runs the model over the block
-//! (for a kernel with [`Kernel::SPLIT_POWER`], in three passes: the power's base, the
-//! power, the rest) and writes RGB rows into the output. Steps 2 and 4 are straight-line
+//! rows (a full block of contiguous rows of ordinary lengths: both in one pass), (3)
+//! copies varying parameters into scratch, (4) runs the model over the block (for a
+//! kernel with [`Kernel::SPLIT_POWER`], in three passes: the power's base, the power, the
+//! rest; the powers the short way where they are ordinary, [`PowUnit::pow_unit_ordinary`])
+//! and writes RGB rows into the output. Steps 2 and 4 are straight-line
 //! loops over scratch that LLVM vectorizes across elements (8 `f64` / 16 `f32` lanes on
 //! AVX-512).
 
@@ -256,6 +258,36 @@ fn normalize_block<F: Real, P: PowUnit>(
     }
 }
 
+/// Copies a full block of rows of a contiguous direction source into scratch and
+/// normalizes them in the same pass, as [`normalize_block`] does a block whose rows are all
+/// ordinary (the same bits): one pass over the rows instead of three (copy, range test,
+/// normalization). Returns whether every row was ordinary; if not, the scratch holds
+/// garbage and the caller loads and normalizes the block the general way.
+#[inline(always)]
+fn load_normalize_ordinary<F: Real, P: PowUnit>(
+    rows: &[F; 3 * BLOCK],
+    dst: &mut [[F; BLOCK]; 3],
+) -> bool {
+    let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
+    let [x, y, z] = dst;
+    let mut all_ordinary = true;
+    for (j, row) in rows.chunks_exact(3).enumerate() {
+        let raw = F::V3::new(row[0], row[1], row[2]);
+        // NaN fails both comparisons.
+        let l2 = raw.length_squared();
+        all_ordinary &= (l2 >= lo) & (l2 <= hi);
+        let u = if P::FAST {
+            F::normalize_ordinary(raw)
+        } else {
+            F::normalize_unscaled(raw)
+        };
+        x[j] = u.x();
+        y[j] = u.y();
+        z[j] = u.z();
+    }
+    all_ordinary
+}
+
 /// Evaluates rows `first_row .. first_row + out.len()/3` of the plan with kernel `K`,
 /// its powers computed by `P` ([`TablePow`]; [`FastPow`] for the fast tier, which also
 /// normalizes ordinary blocks the short way, see [`normalize_block`]).
@@ -322,6 +354,8 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     let stream = plan.rows * 3 * std::mem::size_of::<F>() >= STREAM_BYTES;
     let mut staged = Staged([F::ZERO; 3 * BLOCK]);
     let mut any_bad = false;
+    // Whether the next block's powers are tried the short way (see the split passes).
+    let mut try_ordinary = true;
     for block_start in (0..rows).step_by(BLOCK) {
         let len = BLOCK.min(rows - block_start);
         let row0 = first_row + block_start;
@@ -345,6 +379,16 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
         }
         for (i, source) in plan.vectors.iter().enumerate() {
             if (i == 3 && !uses_tangent) || constant[i].is_some() {
+                continue;
+            }
+            if len == BLOCK
+                && !plan.options.normalized
+                && let Rows::Contiguous(s) = source
+                && let Some(full) = s
+                    .get(3 * row0..3 * (row0 + BLOCK))
+                    .and_then(|s| <&[F; 3 * BLOCK]>::try_from(s).ok())
+                && load_normalize_ordinary::<F, P>(full, &mut scratch.vectors[i])
+            {
                 continue;
             }
             load_vector(source, &plan.batch, row0, len, &mut scratch.vectors[i]);
@@ -399,9 +443,29 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                     lane[j] = value;
                 }
             });
-            for_lanes!(lanes, |j| {
-                split.power[j] = P::pow_unit(split.base[j], split.one_minus[j], split.p[j]);
-            });
+            // The block's powers the short way for ordinary lanes
+            // ([`PowUnit::pow_unit_ordinary`]), and again in full if a lane was not: the
+            // same bits either way. A block with such a lane (a power below the normal
+            // range: a high exponent) is likely followed by more, so after one the task's
+            // later blocks go the full way at once.
+            let mut done = false;
+            if try_ordinary {
+                let mut all_ordinary = true;
+                for_lanes!(lanes, |j| {
+                    let (power, ordinary) =
+                        P::pow_unit_ordinary(split.base[j], split.one_minus[j], split.p[j]);
+                    split.power[j] = power;
+                    // Lanes past `len` hold stale scratch.
+                    all_ordinary &= ordinary | (j >= len);
+                });
+                done = all_ordinary;
+                try_ordinary = all_ordinary;
+            }
+            if !done {
+                for_lanes!(lanes, |j| {
+                    split.power[j] = P::pow_unit(split.base[j], split.one_minus[j], split.p[j]);
+                });
+            }
             for_lanes!(lanes, |j| {
                 let stage = PowerStage {
                     base: Cosine {

@@ -278,8 +278,15 @@ fn exp_mant_f64<const FMA: bool>(z: f64, w: f64) -> f64 {
 /// subnormal (those cost ~100+ cycle microcode assists on x86).
 #[inline(always)]
 fn scale_f64(m: f64, kd: f64) -> f64 {
+    scale_in_f64::<false>(m, kd)
+}
+
+/// [`scale_f64`]; with `NORMAL`, for an `n` known to be at least -1021 (the normal range),
+/// without the subnormal range's path (the same bits there).
+#[inline(always)]
+fn scale_in_f64<const NORMAL: bool>(m: f64, kd: f64) -> f64 {
     let kbits = kd.to_bits();
-    let sub = kd - SHIFT_F64 < -1021.5; // n <= -1022
+    let sub = !NORMAL && kd - SHIFT_F64 < -1021.5; // n <= -1022
     // normal range, n in [-1021, 1024]: (2m) * 2^(n-1) (exact, or overflow);
     // lanes in the subnormal range use n = 0 here.
     let kb = if sub { SHIFT_BITS_F64 } else { kbits };
@@ -481,9 +488,12 @@ pub fn log_f64(x: f64) -> f64 {
 /// 1 - `omc` exactly (xr must then be 1 - omc rounded, in [0.705, 1], and kx = 0).
 /// ARM optimized-routines' `log_inline` of `pow` (no-FMA variant), with a split of
 /// r = z/c - 1 into rhi + rlo that stays exact for z = 1 - omc.
+///
+/// With `NORMAL`, for an `xr` known to be in the normal range, without the subnormal
+/// scaling (the same bits there).
 #[inline(always)]
-fn log_dd_f64(xr: f64, omc: f64, near: bool, kx: f64) -> (f64, f64) {
-    let sub = xr < f64::MIN_POSITIVE;
+fn log_dd_in_f64<const NORMAL: bool>(xr: f64, omc: f64, near: bool, kx: f64) -> (f64, f64) {
+    let sub = !NORMAL && xr < f64::MIN_POSITIVE;
     let xs = if sub { xr * TWO52_F64 } else { xr };
     let ix = xs.to_bits();
     // x = 2^k z, z in [OFF, 2 OFF); entry i from the top mantissa bits of ix - OFF
@@ -537,10 +547,17 @@ fn log_dd_f64(xr: f64, omc: f64, near: bool, kx: f64) -> (f64, f64) {
 /// (result 1) so that r^4 cannot underflow.
 #[inline(always)]
 fn exp_dd_f64(xh: f64, xl: f64, e: f64) -> f64 {
+    exp_dd_in_f64::<false>(xh, xl, e)
+}
+
+/// [`exp_dd_f64`]; with `ORDINARY`, for an `xh - e ln 2` known to be in
+/// [`ORDINARY_POW_Y`] (the same bits there: no clamp applies, the result is normal).
+#[inline(always)]
+fn exp_dd_in_f64<const ORDINARY: bool>(xh: f64, xl: f64, e: f64) -> f64 {
     let eln2 = e * LN2_F64;
-    let dead = xh - eln2 < -1090.0 * LN2_F64;
-    let huge = xh - eln2 > 1024.01 * LN2_F64;
-    let small = xh.abs() < TWO_M200_F64;
+    let dead = !ORDINARY && xh - eln2 < -1090.0 * LN2_F64;
+    let huge = !ORDINARY && xh - eln2 > 1024.01 * LN2_F64;
+    let small = !ORDINARY && xh.abs() < TWO_M200_F64;
     let xh = if small { 0.0 } else { xh };
     let xh = if dead { eln2 - 1100.0 * LN2_F64 } else { xh };
     let xh = if huge { eln2 + 1024.5 * LN2_F64 } else { xh };
@@ -559,7 +576,7 @@ fn exp_dd_f64(xh: f64, xl: f64, e: f64) -> f64 {
     let m = s + s * tmp; // 2^(i/128) e^r in [0.997, 2.006)
     // 1.5 * 2^52 + floor(k / 128), then - e (exact)
     let nb = (ki >> 7).wrapping_add(SHIFT_BITS_F64 - (SHIFT_BITS_F64 >> 7));
-    scale_f64(m, f64::from_bits(nb) - e)
+    scale_in_f64::<ORDINARY>(m, f64::from_bits(nb) - e)
 }
 
 /// x^p 2^-e / m for x 2^-kx with x in [0, 1] (given with `one_minus_x` as in
@@ -576,16 +593,41 @@ fn pow_scaled_f64<const OVER: bool>(
     kx: f64,
     m: f64,
 ) -> f64 {
+    pow_scaled_in_f64::<OVER, false>(x, one_minus_x, p, e, kx, m).0
+}
+
+/// The logarithm products `y = p ln x` (`ehi`, the high half) for which the table-driven
+/// power's special cases and clamps are all idle, given an ordinary base and exponent
+/// (see [`pow_unit_table_ordinary_f64`]): a normal result above 2^-1000, and `|y|` at
+/// least 2^-200.
+const ORDINARY_POW_Y: (f64, f64) = (-1000.0 * LN2_F64, -TWO_M200_F64);
+
+/// [`pow_scaled_f64`], and with `ORDINARY` its arithmetic for an ordinary lane only (see
+/// [`pow_unit_table_ordinary_f64`]): every select that such a lane leaves idle is left
+/// out, so its bits are the same. Also returns `ehi`.
+#[inline(always)]
+fn pow_scaled_in_f64<const OVER: bool, const ORDINARY: bool>(
+    x: f64,
+    one_minus_x: f64,
+    p: f64,
+    e: f64,
+    kx: f64,
+    m: f64,
+) -> (f64, f64) {
     let near = x > SQRT3_HALF_F64;
     // one_minus_x < 2^-330: log x = -one_minus_x to 2^-330 relative, and the
     // polynomial's r^3 would underflow: y = -(p 2^-600)(one_minus_x 2^600) instead.
-    let tiny = near & (one_minus_x < TWO_M330_F64);
+    let tiny = !ORDINARY && near & (one_minus_x < TWO_M330_F64);
     let omc = if tiny { TWO_M30_F64 } else { one_minus_x };
     let xr = if near { 1.0 - omc } else { x };
-    let xr = if x == 0.0 { 1.0 } else { xr };
-    let (lh, ll) = log_dd_f64(xr, omc, near, kx);
+    let xr = if !ORDINARY && x == 0.0 { 1.0 } else { xr };
+    let (lh, ll) = log_dd_in_f64::<ORDINARY>(xr, omc, near, kx);
     // p below 2^-300 gives |y| < 2^-289 (result 1, as for 2^-300): keeps products normal
-    let pc = if p < TWO_M300_F64 { TWO_M300_F64 } else { p };
+    let pc = if !ORDINARY && p < TWO_M300_F64 {
+        TWO_M300_F64
+    } else {
+        p
+    };
     let ps = pc * TWO_M600_F64;
     let ps = if ps < TWO_M400_F64 { TWO_M400_F64 } else { ps }; // then |y| < 2^-130
     let pp = if tiny { ps } else { pc };
@@ -602,7 +644,31 @@ fn pow_scaled_f64<const OVER: bool>(
     let l_lo = (lh - l_hi) + ll;
     let ehi = p_hi * l_hi;
     let elo = p_lo * l_hi + pp * l_lo;
-    over_from_halves_f64::<OVER>(x, one_minus_x, p, ehi, e, m, |e| exp_dd_f64(ehi, elo, e))
+    if ORDINARY {
+        // No special case applies (x, 1 − x and p are nonzero, OVER is off): the power.
+        return (exp_dd_in_f64::<true>(ehi, elo, e), ehi);
+    }
+    let r = over_from_halves_f64::<OVER>(x, one_minus_x, p, ehi, e, m, |e| exp_dd_f64(ehi, elo, e));
+    (r, ehi)
+}
+
+/// [`pow_unit_table_f64`] for a lane whose inputs and result are ordinary, and whether
+/// they were: `x` in the normal range, `1 − x` at least 2^-330, `p` at least 2^-300 and
+/// `y = p ln x` in [`ORDINARY_POW_Y`] (a normal result, no clamp). For such a lane the
+/// value is [`pow_unit_table_f64`]'s bit for bit, computed without the selects that its
+/// special cases need (about a fifth of the arithmetic); for any other lane it is
+/// garbage, and the flag false. The eval engine runs a block's powers this way and
+/// again the general way if a lane was not ordinary.
+#[inline(always)]
+pub fn pow_unit_table_ordinary_f64(x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
+    let (r, ehi) = pow_scaled_in_f64::<false, true>(x, one_minus_x, p, 0.0, 0.0, 1.0);
+    let (lo, hi) = ORDINARY_POW_Y;
+    let ordinary = (x >= f64::MIN_POSITIVE)
+        & (one_minus_x >= TWO_M330_F64)
+        & (p >= TWO_M300_F64)
+        & (ehi > lo)
+        & (ehi <= hi);
+    (r, ordinary)
 }
 
 /// [`pow_unit_f64`] from tables: the same contract, table-driven (ARM
@@ -914,6 +980,16 @@ pub fn pow_unit_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> f64
     }
 }
 
+/// [`pow_unit_tier_f64`] for a lane expected to be ordinary, and whether it was: the
+/// table-driven power's [`pow_unit_table_ordinary_f64`]; the others' one value and true.
+#[inline(always)]
+pub fn pow_unit_ordinary_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
+    match tier {
+        PowTier::Table => pow_unit_table_ordinary_f64(x, one_minus_x, p),
+        _ => (pow_unit_tier_f64(tier, x, one_minus_x, p), true),
+    }
+}
+
 /// `(x·2^-kx)^p / d` in `tier` ([`pow_unit_over_scaled_f64`]'s contract; `kx = 0`:
 /// [`pow_unit_over_f64`]'s). The table-driven and the fast quotients are formed from
 /// halves, so they do not overflow below 2^1024; the fast one's |y| stays below about
@@ -941,6 +1017,14 @@ pub fn pow_unit_over_scaled_tier_f64(
 #[inline(always)]
 pub fn pow_unit_tier_f32(_tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> f32 {
     pow_unit_f32(x, one_minus_x, p)
+}
+
+/// [`pow_unit_f32`] and true, whatever the tier (see [`pow_unit_ordinary_tier_f64`]): an
+/// ordinary path measured slower in `f32`, whose powers fall below the normal range (and
+/// out of such a path) in most blocks of an ordinary lobe (`cos^50` at `cos < 0.19`).
+#[inline(always)]
+pub fn pow_unit_ordinary_tier_f32(_tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> (f32, bool) {
+    (pow_unit_f32(x, one_minus_x, p), true)
 }
 
 /// [`pow_unit_over_f32`] whatever the tier; `f32` carries no extended cosine exponent, so
@@ -1151,6 +1235,51 @@ pub(crate) mod tests {
             }
         }
         assert!(worst <= 1.0, "table vs series power: {worst} ulp");
+    }
+
+    /// The table-driven power's ordinary path gives the general path's bits wherever it
+    /// says a lane is ordinary, says so for the everyday lanes, and refuses the special
+    /// cases and the ends of the range.
+    #[test]
+    fn ordinary_table_pow_is_the_table_pow() {
+        let mut s = 5;
+        let (mut ordinary, mut total) = (0, 0);
+        for _ in 0..300_000 {
+            let x = match (uniform(&mut s) * 5.0) as u32 {
+                0 => uniform(&mut s),
+                1 => 10f64.powf(-310.0 * uniform(&mut s)),
+                2 => 1.0 - 10f64.powf(-16.0 * uniform(&mut s)),
+                _ => 0.5 + 0.5 * uniform(&mut s),
+            };
+            let omc = if uniform(&mut s) < 0.01 {
+                10f64.powf(-330.0 * uniform(&mut s) - 10.0)
+            } else {
+                1.0 - x
+            };
+            let p = 10f64.powf(uniform(&mut s) * 14.0 - 6.0);
+            let (got, ok) = pow_unit_table_ordinary_f64(x, omc, p);
+            let want = pow_unit_table_f64(x, omc, p);
+            if ok {
+                assert_eq!(got.to_bits(), want.to_bits(), "{x} {omc} {p}");
+                ordinary += 1;
+            }
+            total += 1;
+        }
+        assert!(ordinary > total / 2, "{ordinary} of {total}");
+        for (x, omc, p) in [
+            (0.0, 1.0, 2.0),
+            (1.0, 0.0, 2.0),
+            (0.5, 0.5, 0.0),
+            (0.5, 0.5, 1e-301),
+            (1e-310, 1.0, 2.0),
+            (1.0, 1e-331, 2.0),
+            (0.5, 0.5, 1022.0),
+            (1.0 - 1e-16, 1e-16, 1e-190),
+            (0.5, 0.5, f64::NAN),
+        ] {
+            assert!(!pow_unit_table_ordinary_f64(x, omc, p).1, "{x} {omc} {p}");
+        }
+        assert!(pow_unit_table_ordinary_f64(0.5, 0.5, 50.0).1);
     }
 
     /// The fast tier's power keeps the contract's special cases and never gives NaN.

@@ -206,6 +206,12 @@ pub trait Real:
     }
     /// [`Real::pow_unit`] computed by `tier` (`f32`: every tier is the series power).
     fn pow_unit_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> Self;
+    /// [`Real::pow_unit`] computed by `tier` for a lane expected to be ordinary, with
+    /// whether it was; where it was, the value is [`Real::pow_unit_in`]'s bit for bit, else
+    /// garbage. Only the `f64` table-driven power has such a path
+    /// ([`fastmath::pow_unit_table_ordinary_f64`]); the others return their one value and
+    /// true.
+    fn pow_unit_ordinary_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> (Self, bool);
     /// [`Real::pow_unit_over_scaled`] computed by `tier` (`f32`: the series power, `kx`
     /// ignored); `kx = 0` is [`Real::pow_unit_over`] bit for bit.
     fn pow_unit_over_scaled_in(
@@ -279,6 +285,15 @@ pub trait PowUnit: 'static {
     #[inline(always)]
     fn pow_unit<F: Real>(x: F, one_minus_x: F, p: F) -> F {
         F::pow_unit_in(Self::TIER, x, one_minus_x, p)
+    }
+
+    /// Returns [`PowUnit::pow_unit`] for a lane expected to be ordinary (a normal base,
+    /// exponent and result), and whether it was: the value is then the same bits, else
+    /// garbage ([`Real::pow_unit_ordinary_in`]). A loop over many powers computes them this
+    /// way, shorter, and again with [`PowUnit::pow_unit`] if any lane was not ordinary.
+    #[inline(always)]
+    fn pow_unit_ordinary<F: Real>(x: F, one_minus_x: F, p: F) -> (F, bool) {
+        F::pow_unit_ordinary_in(Self::TIER, x, one_minus_x, p)
     }
 
     /// Returns `x^p / d`, as [`Real::pow_unit_over`].
@@ -373,7 +388,7 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 }
 
 macro_rules! impl_real {
-    ($f:ident, $v:ty, $pow:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
+    ($f:ident, $v:ty, $pow:ident, $pow_ord:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
      exact_lengths = $exact_lengths:expr, small = $small:expr, big = $big:expr, up = $up:expr,
      down = $down:expr, ordinary = $ordinary:expr, newton = $newton:expr) => {
         impl Real for $f {
@@ -423,6 +438,15 @@ macro_rules! impl_real {
             #[inline(always)]
             fn pow_unit_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> Self {
                 fastmath::$pow(tier, x, one_minus_x, p)
+            }
+            #[inline(always)]
+            fn pow_unit_ordinary_in(
+                tier: PowTier,
+                x: Self,
+                one_minus_x: Self,
+                p: Self,
+            ) -> (Self, bool) {
+                fastmath::$pow_ord(tier, x, one_minus_x, p)
             }
             #[inline(always)]
             fn pow_unit_over_scaled_in(
@@ -503,12 +527,25 @@ macro_rules! impl_real {
                 let raw = v;
                 let small = s < $small;
                 let big = s > $big;
-                let v = if small { v * $up } else { v };
-                let v = if big { v * $down } else { v };
+                // One scaling by the factor chosen (at most one of the two applies, and
+                // a product by 1 is exact: the bits of scaling by each in turn).
+                let v = v * if small {
+                    $up
+                } else if big {
+                    $down
+                } else {
+                    1.0
+                };
                 let len = v.length_squared().sqrt();
                 let u = keep_signs!($f, $v, v * (1.0 / len), raw);
-                let len = if small { len * $down } else { len };
-                (u, if big { len * $up } else { len })
+                let back = if small {
+                    $down
+                } else if big {
+                    $up
+                } else {
+                    1.0
+                };
+                (u, len * back)
             }
             #[inline(always)]
             fn length(v: Self::V3) -> Self {
@@ -530,6 +567,7 @@ impl_real!(
     f64,
     DVec3,
     pow_unit_tier_f64,
+    pow_unit_ordinary_tier_f64,
     pow_unit_over_scaled_tier_f64,
     exp_f64,
     log_f64,
@@ -552,6 +590,7 @@ impl_real!(
     f32,
     Vec3,
     pow_unit_tier_f32,
+    pow_unit_ordinary_tier_f32,
     pow_unit_over_scaled_tier_f32,
     exp_f32,
     log_f32,

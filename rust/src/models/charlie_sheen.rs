@@ -11,7 +11,7 @@ use super::sheen::{self, Colours, SHEEN_SPEC, Charlie, LambdaFit};
 use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::WideCosine;
-use crate::math::{PowUnit, Real, SeriesPow};
+use crate::math::{PowTier, PowUnit, Real, SeriesPow};
 
 /// The Charlie sheen kernel.
 pub struct CharlieSheen;
@@ -36,6 +36,16 @@ pub struct Prepared<F> {
     fit: LambdaFit<F>,
 }
 
+/// The kernel's value with powers computed by `P`.
+#[inline(always)]
+fn eval_in<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+    let a = sheen::angles(d);
+    let lambda_i = pp.fit.lambda::<P>(a.mu_i);
+    let lambda_o = pp.fit.lambda::<P>(a.mu_o);
+    let lobe = sheen::charlie_smith::<F, P>(&pp.charlie, &a, lambda_i, lambda_o);
+    pp.colours.rgb(lobe, &a)
+}
+
 impl Kernel for CharlieSheen {
     type Prepared<F: Real> = Prepared<F>;
 
@@ -56,13 +66,17 @@ impl Kernel for CharlieSheen {
         }
     }
 
+    /// With the table-driven power ([`TablePow`](crate::math::TablePow), the eval
+    /// engine's accurate tier) the powers are the series ones instead, as accurate: the
+    /// tables' lookups, five per power and three powers per row, made LLVM keep the
+    /// engine's block loop scalar (`f64` ran at a sixth of `f32`'s rate).
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let a = sheen::angles(d);
-        let lambda_i = pp.fit.lambda::<P>(a.mu_i);
-        let lambda_o = pp.fit.lambda::<P>(a.mu_o);
-        let lobe = sheen::charlie_smith::<F, P>(&pp.charlie, &a, lambda_i, lambda_o);
-        pp.colours.rgb(lobe, &a)
+        if matches!(P::TIER, PowTier::Table) {
+            eval_in::<F, SeriesPow>(pp, d)
+        } else {
+            eval_in::<F, P>(pp, d)
+        }
     }
 
     /// Cosines below the `f64` range: the lobe divides by both, and `D` may be below the
