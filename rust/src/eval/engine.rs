@@ -235,12 +235,7 @@ fn normalize_block<F: Real, P: PowUnit>(
     if all_ordinary {
         // Every row is usable: `ok` stays as it is.
         for_lanes!(lanes, |j| {
-            let raw = F::V3::new(x[j], y[j], z[j]);
-            let u = if P::FAST {
-                F::normalize_ordinary(raw)
-            } else {
-                F::normalize_unscaled(raw)
-            };
+            let u = normalize_ordinary_row::<F, P>(F::V3::new(x[j], y[j], z[j]));
             x[j] = u.x();
             y[j] = u.y();
             z[j] = u.z();
@@ -255,6 +250,17 @@ fn normalize_block<F: Real, P: PowUnit>(
             z[j] = u.z();
             ok[j] &= usable;
         });
+    }
+}
+
+/// Normalizes a row whose squared length is in the ordinary range
+/// (`F::ORDINARY_LENGTH_SQUARED`): the fast tier's way or the accurate tier's.
+#[inline(always)]
+fn normalize_ordinary_row<F: Real, P: PowUnit>(raw: F::V3) -> F::V3 {
+    if P::FAST {
+        F::normalize_ordinary(raw)
+    } else {
+        F::normalize_unscaled(raw)
     }
 }
 
@@ -276,11 +282,7 @@ fn load_normalize_ordinary<F: Real, P: PowUnit>(
         // NaN fails both comparisons.
         let l2 = raw.length_squared();
         all_ordinary &= (l2 >= lo) & (l2 <= hi);
-        let u = if P::FAST {
-            F::normalize_ordinary(raw)
-        } else {
-            F::normalize_unscaled(raw)
-        };
+        let u = normalize_ordinary_row::<F, P>(raw);
         x[j] = u.x();
         y[j] = u.y();
         z[j] = u.z();
