@@ -26,7 +26,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from . import _api, _options, _spec
+from . import _api, _images, _options, _spec
 from ._brdf_rs import __version__
 
 EXIT_USAGE = 2
@@ -1260,7 +1260,7 @@ def _add_render_command(sub: Any) -> None:
     p.add_argument(
         "--tonemap",
         default=None,
-        choices=["clamp", "reinhard", "aces", "none"],
+        choices=_images.TONEMAPS,
         help="override the scene's [output] tonemap",
     )
     p.add_argument("--exposure", type=float, default=None, help="stops (override the scene's)")

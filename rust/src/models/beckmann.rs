@@ -118,9 +118,11 @@ pub fn lambda_of_c<F: Real>(c: F) -> F {
 /// was not, and `exp(−tan²θh/α²)` carried that error times `tan²θh/α²`), `cos⁴θh` of
 /// degree 4 in `|n|` and `|h|`, and `G2/(4 mu_i mu_o)` (a quotient of `μ`s and
 /// `μ·Λ(μ)`s, each of degree 1 in `|n|` and its direction) of degree −2 in `|n|` and −1
-/// in `|wi|`, `|wo|`. The rounded unit vectors' length errors `e = |w|² − 1`
-/// ([`Real::length_error`]) then come out as the factor `1 + 3e_n + (e_i + e_o)/2 + 2e_h`,
-/// which is divided out; `h` is the corrected half vector ([`half_vector_exact`]).
+/// in `|wi|`, `|wo|`. The value computed from the rounded unit vectors, whose length
+/// errors are `e = |w|² − 1` ([`Real::length_error`]), then carries the factor
+/// `1 − (3e_n + (e_i + e_o)/2 + 2e_h)`, and the lobe is multiplied by
+/// `1 + 3e_n + (e_i + e_o)/2 + 2e_h` ([`microfacet_length_correction`]); `h` is the
+/// corrected half vector ([`half_vector_exact`]).
 /// `f32` keeps `sin²θh = (1 − cos θh)(1 + cos θh)` of the clamped cosine.
 #[inline(always)]
 pub fn lobe<F: Real>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, bool) {
