@@ -5,8 +5,8 @@ Two measurements a user can run anywhere the wheel installs, in a few seconds:
 - **eval throughput**: million evaluations per second of a few models on ``n`` random
   direction pairs, float64 and float32 (NumPy arrays in, written into a preallocated
   array with ``out=``), the best of ``repeat`` timed calls after a warm-up.
-- **albedo table**: the spec's self-checking model (``normalized_phong``, kd = 0, ks = 1)
-  over mu × its parameter (``p``) to a standard-error tolerance, timed, with a correctness
+- **albedo table**: the tool defaults' self-checking model (kd = 0, ks = 1) over mu × its
+  parameter to a standard-error tolerance, timed, with a correctness
   check: at mu = 1 its albedo is exactly 1 (docs/models.md), so the largest ``|R − 1|`` is
   reported against the stated standard error; the check passes when it is within
   ``CHECK_STDERRS`` standard errors.

@@ -225,12 +225,10 @@ fn normalize_block<F: Real, P: PowUnit>(
         });
         return;
     }
-    let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
     let mut all_ordinary = true;
     for_lanes!(lanes, |j| {
-        // NaN fails both comparisons; lanes past `len` hold stale scratch.
-        let l2 = F::V3::new(x[j], y[j], z[j]).length_squared();
-        all_ordinary &= ((l2 >= lo) & (l2 <= hi)) | (j >= len);
+        // Lanes past `len` hold stale scratch.
+        all_ordinary &= ordinary_length::<F>(F::V3::new(x[j], y[j], z[j])) | (j >= len);
     });
     if all_ordinary {
         // Every row is usable: `ok` stays as it is.
@@ -242,15 +240,22 @@ fn normalize_block<F: Real, P: PowUnit>(
         });
         return;
     }
-    {
-        for_lanes!(lanes, |j| {
-            let (u, usable) = F::normalize(F::V3::new(x[j], y[j], z[j]));
-            x[j] = u.x();
-            y[j] = u.y();
-            z[j] = u.z();
-            ok[j] &= usable;
-        });
-    }
+    for_lanes!(lanes, |j| {
+        let (u, usable) = F::normalize(F::V3::new(x[j], y[j], z[j]));
+        x[j] = u.x();
+        y[j] = u.y();
+        z[j] = u.z();
+        ok[j] &= usable;
+    });
+}
+
+/// Whether a row's squared length is in [`Real::ORDINARY_LENGTH_SQUARED`], where
+/// [`normalize_ordinary_row`] gives [`Real::normalize`]'s bits (NaN is not).
+#[inline(always)]
+fn ordinary_length<F: Real>(raw: F::V3) -> bool {
+    let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
+    let l2 = raw.length_squared();
+    (l2 >= lo) & (l2 <= hi)
 }
 
 /// Normalizes a row whose squared length is in the ordinary range
@@ -274,14 +279,11 @@ fn load_normalize_ordinary<F: Real, P: PowUnit>(
     rows: &[F; 3 * BLOCK],
     dst: &mut [[F; BLOCK]; 3],
 ) -> bool {
-    let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
     let [x, y, z] = dst;
     let mut all_ordinary = true;
     for (j, row) in rows.chunks_exact(3).enumerate() {
         let raw = F::V3::new(row[0], row[1], row[2]);
-        // NaN fails both comparisons.
-        let l2 = raw.length_squared();
-        all_ordinary &= (l2 >= lo) & (l2 <= hi);
+        all_ordinary &= ordinary_length::<F>(raw);
         let u = normalize_ordinary_row::<F, P>(raw);
         x[j] = u.x();
         y[j] = u.y();
