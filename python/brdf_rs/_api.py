@@ -57,10 +57,12 @@ def eval(
             normal incidence, from a table the library computed). Details and
             accuracy: ``brdf_rs._normalization``.
         precision: ``"accurate"`` (the default: the goals of docs/numerics.md, within a
-            few ulps) or ``"fast"``: powers ``x^p`` in plain floating point, relative
-            error at most 1e-12 in float64 and 2e-6 in float32 on well-conditioned
-            inputs (docs/numerics.md); the same results for bad inputs (NaN rows or
-            errors). Models without powers give the same bits in both.
+            few ulps) or ``"fast"``: powers ``x^p`` in plain floating point and the
+            microfacet lobes without their length corrections, relative error at most
+            1e-12 in float64 and 2e-6 in float32 on well-conditioned inputs
+            (docs/numerics.md); the same results for bad inputs (NaN rows or errors).
+            Models whose ``models()`` entry has ``fast_tier`` false, and every float32
+            evaluation, give the same bits in both.
         **params: the model's parameters (docs/models.md names). Scalars, RGB triples for
             colours, or arrays broadcasting against the batch (colours with a trailing
             axis of 3) for spatially varying parameters.
@@ -261,8 +263,9 @@ def models() -> dict[str, _spec.ModelSpec]:
     parameters whose all being zero makes the model zero), ``scene_slot`` (where a scene
     material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
     ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
-    ``powers`` (whether it raises something to a power: ``precision="fast"`` changes
-    only such models), ``exact`` (its ``normalization="exact"``: how the factor is
+    ``powers`` (whether it raises something to a power), ``fast_tier`` (whether
+    ``precision="fast"`` changes it: powers, or microfacet length corrections),
+    ``exact`` (its ``normalization="exact"``: how the factor is
     computed, the parameters it takes and the colour it scales; None where it has none) and
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,
     colour list), ``default`` (None: required), ``range`` (as text, plus

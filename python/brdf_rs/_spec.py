@@ -85,9 +85,11 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
-    #: Whether its kernel raises something to a power (``precision="fast"`` changes
-    #: only such models, and only in float64).
+    #: Whether its kernel raises something to a power.
     powers: bool
+    #: Whether ``precision="fast"`` computes it differently (only in float64): it has
+    #: powers, or length corrections the fast tier leaves out (the microfacet lobes).
+    fast_tier: bool
     #: Its ``normalization="exact"``, or None where it has none.
     exact: ExactNormalization | None
     params: list[ParamSpec]

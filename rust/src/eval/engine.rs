@@ -206,12 +206,11 @@ macro_rules! for_lanes {
 ///
 /// A block whose rows all have squared lengths in [`Real::ORDINARY_LENGTH_SQUARED`] is
 /// normalized without [`Real::normalize`]'s range selects, which scale no such row:
-/// [`Real::normalize_unscaled`], the same bits, or in the fast tier (`P::FAST`)
-/// [`Real::normalize_ordinary`] (`f64` within about 2 ulps). Any other block (a NaN,
+/// [`Real::normalize_unscaled`], the same bits. Any other block (a NaN,
 /// infinite, zero, tiny or huge row among its first `len`) takes [`Real::normalize`]
 /// whole, so bad rows are flagged and extreme ones normalized.
 #[inline(always)]
-fn normalize_block<F: Real, P: PowUnit>(
+fn normalize_block<F: Real>(
     v: &mut [[F; BLOCK]; 3],
     ok: &mut [bool; BLOCK],
     normalized: bool,
@@ -233,7 +232,7 @@ fn normalize_block<F: Real, P: PowUnit>(
     if all_ordinary {
         // Every row is usable: `ok` stays as it is.
         for_lanes!(lanes, |j| {
-            let u = normalize_ordinary_row::<F, P>(F::V3::new(x[j], y[j], z[j]));
+            let u = F::normalize_unscaled(F::V3::new(x[j], y[j], z[j]));
             x[j] = u.x();
             y[j] = u.y();
             z[j] = u.z();
@@ -250,23 +249,12 @@ fn normalize_block<F: Real, P: PowUnit>(
 }
 
 /// Whether a row's squared length is in [`Real::ORDINARY_LENGTH_SQUARED`], where
-/// [`normalize_ordinary_row`] gives [`Real::normalize`]'s bits (NaN is not).
+/// [`Real::normalize_unscaled`] gives [`Real::normalize`]'s bits (NaN is not).
 #[inline(always)]
 fn ordinary_length<F: Real>(raw: F::V3) -> bool {
     let (lo, hi) = F::ORDINARY_LENGTH_SQUARED;
     let l2 = raw.length_squared();
     (l2 >= lo) & (l2 <= hi)
-}
-
-/// Normalizes a row whose squared length is in the ordinary range
-/// (`F::ORDINARY_LENGTH_SQUARED`): the fast tier's way or the accurate tier's.
-#[inline(always)]
-fn normalize_ordinary_row<F: Real, P: PowUnit>(raw: F::V3) -> F::V3 {
-    if P::FAST {
-        F::normalize_ordinary(raw)
-    } else {
-        F::normalize_unscaled(raw)
-    }
 }
 
 /// Copies a full block of rows of a contiguous direction source into scratch and
@@ -275,16 +263,13 @@ fn normalize_ordinary_row<F: Real, P: PowUnit>(raw: F::V3) -> F::V3 {
 /// normalization). Returns whether every row was ordinary; if not, the scratch holds
 /// garbage and the caller loads and normalizes the block the general way.
 #[inline(always)]
-fn load_normalize_ordinary<F: Real, P: PowUnit>(
-    rows: &[F; 3 * BLOCK],
-    dst: &mut [[F; BLOCK]; 3],
-) -> bool {
+fn load_normalize_ordinary<F: Real>(rows: &[F; 3 * BLOCK], dst: &mut [[F; BLOCK]; 3]) -> bool {
     let [x, y, z] = dst;
     let mut all_ordinary = true;
     for (j, row) in rows.chunks_exact(3).enumerate() {
         let raw = F::V3::new(row[0], row[1], row[2]);
         all_ordinary &= ordinary_length::<F>(raw);
-        let u = normalize_ordinary_row::<F, P>(raw);
+        let u = F::normalize_unscaled(raw);
         x[j] = u.x();
         y[j] = u.y();
         z[j] = u.z();
@@ -294,7 +279,7 @@ fn load_normalize_ordinary<F: Real, P: PowUnit>(
 
 /// Evaluates rows `first_row .. first_row + out.len()/3` of the plan with kernel `K`,
 /// its powers computed by `P` ([`TablePow`]; [`FastPow`] for the fast tier, which also
-/// normalizes ordinary blocks the short way, see [`normalize_block`]).
+/// leaves out the microfacet lobes' length errors, [`Kernel::LENGTH_CORRECTIONS`]).
 /// Returns whether any row had an unusable input vector.
 #[inline(always)]
 fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
@@ -391,12 +376,12 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                 && let Some(full) = s
                     .get(3 * row0..3 * (row0 + BLOCK))
                     .and_then(|s| <&[F; 3 * BLOCK]>::try_from(s).ok())
-                && load_normalize_ordinary::<F, P>(full, &mut scratch.vectors[i])
+                && load_normalize_ordinary::<F>(full, &mut scratch.vectors[i])
             {
                 continue;
             }
             load_vector(source, &plan.batch, row0, len, &mut scratch.vectors[i]);
-            normalize_block::<F, P>(
+            normalize_block::<F>(
                 &mut scratch.vectors[i],
                 &mut scratch.ok,
                 plan.options.normalized,
@@ -699,7 +684,8 @@ fn range_avx512<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
 struct SelectLoop<F> {
     isa: Isa,
     mode: u8,
-    /// The fast tier: its loops where the model has powers ([`Kernel::POWERS`]).
+    /// The fast tier: its loops where the model has powers ([`Kernel::POWERS`]) or
+    /// length-error corrections ([`Kernel::LENGTH_CORRECTIONS`]).
     fast: bool,
     _float: PhantomData<F>,
 }
@@ -717,12 +703,12 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
                 }
             };
         }
-        // `K::POWERS` and `F::FAST_TIER` are constants: models without powers, and `f32`,
-        // compile no fast-tier loops, nor does the baseline instruction set (x86-64 CPUs
+        // `K::POWERS`, `K::LENGTH_CORRECTIONS` and `F::FAST_TIER` are constants: models
+        // with neither, and `f32`, compile no fast-tier loops, nor does the baseline instruction set (x86-64 CPUs
         // without AVX2 are rare, and the accurate loops meet the fast tier's bound).
         macro_rules! pick {
             ($f:ident) => {
-                if K::POWERS && F::FAST_TIER && self.fast {
+                if (K::POWERS || K::LENGTH_CORRECTIONS) && F::FAST_TIER && self.fast {
                     pick_mode!($f, FastPow)
                 } else {
                     pick_mode!($f, TablePow)

@@ -981,12 +981,16 @@ pub fn pow_unit_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> f64
 }
 
 /// [`pow_unit_tier_f64`] for a lane expected to be ordinary, and whether it was: the
-/// table-driven power's [`pow_unit_table_ordinary_f64`]; the others' one value and true.
+/// table-driven power's [`pow_unit_table_ordinary_f64`] (in the fast tier too, whose
+/// lanes that are not ordinary then take [`pow_unit_fast_f64`]); the series power's one
+/// value and true.
 #[inline(always)]
 pub fn pow_unit_ordinary_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
     match tier {
-        PowTier::Table => pow_unit_table_ordinary_f64(x, one_minus_x, p),
-        _ => (pow_unit_tier_f64(tier, x, one_minus_x, p), true),
+        // The fast tier too: on ordinary lanes the table-driven power without its
+        // special cases is faster than the fast one with them (and more accurate).
+        PowTier::Table | PowTier::Fast => pow_unit_table_ordinary_f64(x, one_minus_x, p),
+        PowTier::Series => (pow_unit_tier_f64(tier, x, one_minus_x, p), true),
     }
 }
 

@@ -166,23 +166,15 @@ pub trait Real:
     /// beyond a subnormal that cannot matter.
     const ORDINARY_LENGTH_SQUARED: (Self, Self);
     /// Whether the fast tier (`precision="fast"`) has loops of its own in this width:
-    /// `f64`. In `f32` it would compute the accurate tier's bits ([`FastPow`] and
-    /// [`Real::normalize_ordinary`] are its arithmetic there), so the engine runs the
-    /// accurate loops and compiles none.
+    /// `f64`. In `f32` it would compute the accurate tier's bits ([`FastPow`] is the
+    /// accurate power there, and there are no length errors to leave out), so the engine
+    /// runs the accurate loops and compiles none.
     const FAST_TIER: bool;
-    /// `v / |v|` for a `v` whose squared length lies in [`Real::ORDINARY_LENGTH_SQUARED`]
-    /// (so usable): the fast tier's normalization. `f64`: without a square root or a
-    /// division, `1/|v|` by Newton's iteration from the bit-pattern estimate (relative
-    /// error 0.035, squared by each of 4 steps), to within about 2 ulps, which the
-    /// components inherit (measured on Torrance-Sparrow, the normalization's share of
-    /// the loop fell from 23% to 13%). `f32`: [`Real::normalize`]'s arithmetic without its
-    /// range selects, bit for bit (Newton's 3 steps there gained nothing measurable and
-    /// doubled the length error, which exponents amplify). A nonzero component that
-    /// underflows keeps its sign as in [`Real::normalize`]. Anything for any other `v`.
-    fn normalize_ordinary(v: Self::V3) -> Self::V3;
     /// [`Real::normalize`]'s unit vector for a `v` whose squared length lies in
     /// [`Real::ORDINARY_LENGTH_SQUARED`], bit for bit, without the range selects (which
-    /// scale no such vector): the accurate tier's normalization of an ordinary block.
+    /// scale no such vector): the normalization of an ordinary block, in either tier (a
+    /// `1/|v|` by Newton's iteration from the bit-pattern estimate, without the square
+    /// root and the division, measured slower on AMD Zen 3 and was dropped).
     fn normalize_unscaled(v: Self::V3) -> Self::V3;
     /// Returns [`Real::normalize`]'s unit vector together with [`Real::length`]'s `|v|`,
     /// sharing the scaling and the square root (bit for bit the values of the two).
@@ -390,7 +382,7 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 macro_rules! impl_real {
     ($f:ident, $v:ty, $pow:ident, $pow_ord:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
      exact_lengths = $exact_lengths:expr, small = $small:expr, big = $big:expr, up = $up:expr,
-     down = $down:expr, ordinary = $ordinary:expr, newton = $newton:expr) => {
+     down = $down:expr, ordinary = $ordinary:expr) => {
         impl Real for $f {
             type V3 = $v;
             const ZERO: Self = 0.0;
@@ -502,19 +494,6 @@ macro_rules! impl_real {
                 (u, finite_nonzero::<$f>(v))
             }
             #[inline(always)]
-            fn normalize_ordinary(v: Self::V3) -> Self::V3 {
-                let Some((magic, steps)) = $newton else {
-                    return Self::normalize_unscaled(v);
-                };
-                let l2 = v.length_squared();
-                let half = 0.5 * l2;
-                let mut r = $f::from_bits(magic - (l2.to_bits() >> 1));
-                for _ in 0..steps {
-                    r = r * (1.5 - half * r * r);
-                }
-                keep_signs!($f, $v, v * r, v)
-            }
-            #[inline(always)]
             fn normalize_unscaled(v: Self::V3) -> Self::V3 {
                 // `normalize_length`'s arithmetic without its selects: bit for bit.
                 keep_signs!($f, $v, v * (1.0 / v.length_squared().sqrt()), v)
@@ -581,9 +560,7 @@ impl_real!(
     ordinary = (
         f64::from_bits((1023 - 998) << 52), // 2^-998
         f64::from_bits((1023 + 999) << 52)  // 2^999
-    ),
-    // 1/sqrt by Newton's iteration: the bit-pattern estimate's constant, and the steps.
-    newton = Some((0x5FE6_EB50_C7B5_37A9_u64, 4))
+    )
 );
 // f32: |v| in [2^-40, 2^40] squares safely; outside, rescale by 2^(+-100).
 impl_real!(
@@ -604,8 +581,7 @@ impl_real!(
     ordinary = (
         f32::from_bits((127 - 78) << 23), // 2^-78
         f32::from_bits((127 + 79) << 23)  // 2^79
-    ),
-    newton = None::<(u32, u32)>
+    )
 );
 
 #[cfg(test)]

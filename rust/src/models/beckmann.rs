@@ -13,10 +13,9 @@
 use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
-use super::{Directions, Kernel, ParamSource};
+use super::{Directions, Kernel, ParamSource, ggx};
 use crate::math::geometry::{
-    microfacet_length_correction,
-    Cosine, above_both, clamped_cosine, half_vector_exact, schlick_rgb, schlick_weight, smith_quotient, weighted,
+    Cosine, above_both, clamped_cosine, schlick_rgb, schlick_weight, smith_quotient, weighted,
 };
 use crate::math::{PowUnit, Real, Vector3, max};
 
@@ -124,14 +123,13 @@ pub fn lambda_of_c<F: Real>(c: F) -> F {
 /// `1 + 3e_n + (e_i + e_o)/2 + 2e_h` ([`microfacet_length_correction`]); `h` is the
 /// corrected half vector ([`half_vector_exact`]).
 /// `f32` keeps `sin²θh = (1 − cos θh)(1 + cos θh)` of the clamped cosine.
+/// The fast tier leaves the length errors out, as `ggx`'s does ([`ggx::length_errors`]).
 #[inline(always)]
-pub fn lobe<F: Real>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, bool) {
-    let e_n = F::length_error(d.n);
-    let e_i = F::length_error(d.wi);
-    let e_o = F::length_error(d.wo);
+pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, bool) {
+    let errors = ggx::length_errors::<F, P>(d);
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
-    let hv = half_vector_exact::<F>(d.wi, d.wo, e_i, e_o);
+    let hv = ggx::lobe_half_vector(d, errors);
     let (c2, sin2_th) = if F::EXACT_LENGTHS {
         // Below the horizon of n (only by rounding, with both cosines positive) D is 0.
         let cos_th = max(d.n.dot(hv.h), F::ZERO);
@@ -157,12 +155,12 @@ pub fn lobe<F: Real>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, b
     let l_o = mu_lambda(mu_o, d.n.cross(d.wo).length_squared(), alpha);
     // D is 0 far from the peak, where G2/(4 mu_i mu_o) alone may be infinite.
     let spec = smith_quotient(F::flush_subnormal(ndf), mu_i, mu_o, l_i, l_o);
-    let spec = microfacet_length_correction(spec, e_n, e_i, e_o, hv.h);
-    (spec, hv.cos_b, hv.defined)
+    (ggx::corrected(spec, errors, hv.h), hv.cos_b, hv.defined)
 }
 
 impl Kernel for Beckmann {
     type Prepared<F: Real> = Prepared<F>;
+    const LENGTH_CORRECTIONS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC
@@ -181,7 +179,7 @@ impl Kernel for Beckmann {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let (spec, cos_b, defined) = lobe(d, pp.alpha, pp.alpha2);
+        let (spec, cos_b, defined) = lobe::<F, P>(d, pp.alpha, pp.alpha2);
         let spec = if defined { spec } else { F::ZERO };
         let fresnel = schlick_rgb(pp.f0, schlick_weight(cos_b));
         let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);

@@ -16,8 +16,8 @@ use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
-    microfacet_length_correction,
-    Cosine, above_both, half_vector_exact, schlick_rgb, schlick_weight, weighted,
+    Cosine, HalfVector, above_both, half_vector, half_vector_exact, microfacet_length_correction,
+    schlick_rgb, schlick_weight, weighted,
 };
 use crate::math::{PowUnit, Real, Vector3, max, min};
 
@@ -85,13 +85,18 @@ pub struct Prepared<F> {
 /// moved the value by up to 5 ulps, come out as the factor `1 + 3e_n + (e_i + e_o)/2 +
 /// 2e_h`; `h` is the corrected half vector ([`half_vector_exact`]).
 #[inline(always)]
-pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, Cosine<F>, bool) {
-    let e_n = F::length_error(d.n);
-    let e_i = F::length_error(d.wi);
-    let e_o = F::length_error(d.wo);
+///
+/// The fast tier (`P` is [`crate::math::FastPow`]) leaves the length errors out
+/// ([`length_errors`]).
+pub fn lobe<F: Real, P: PowUnit>(
+    d: &Directions<F>,
+    alpha2: F,
+    d_scale: F,
+) -> (F, Cosine<F>, bool) {
+    let errors = length_errors::<F, P>(d);
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
-    let hv = half_vector_exact::<F>(d.wi, d.wo, e_i, e_o);
+    let hv = lobe_half_vector(d, errors);
     let cos_th = d.n.dot(hv.h);
     // sin²θh = (1 − cos)(1 + cos); with both cosines positive n·h > 0.
     let sin2_th =
@@ -111,12 +116,45 @@ pub fn lobe<F: Real>(d: &Directions<F>, alpha2: F, d_scale: F) -> (F, Cosine<F>,
     let pp = p_i * p_o;
     let q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i;
     let spec = ndf * pp / (F::from_f64(4.0) * q) / m;
-    let spec = microfacet_length_correction(spec, e_n, e_i, e_o, hv.h);
-    (spec, hv.cos_b, hv.defined)
+    (corrected(spec, errors, hv.h), hv.cos_b, hv.defined)
+}
+
+/// The length errors `e = |w|² − 1` of `n`, `wi` and `wo` ([`Real::length_error`]) that the
+/// microfacet lobes divide out, or `None` in the fast tier (`P::FAST`): they move the
+/// value by a few ulps, far inside that tier's bound, and cost as much as the rest of
+/// the lobe. `f32`'s are zero ([`Real::EXACT_LENGTHS`]) and fold away either way.
+#[inline(always)]
+pub fn length_errors<F: Real, P: PowUnit>(d: &Directions<F>) -> Option<[F; 3]> {
+    if P::FAST {
+        None
+    } else {
+        Some([d.n, d.wi, d.wo].map(F::length_error))
+    }
+}
+
+/// The half vector of a microfacet lobe: of the exact unit vectors
+/// ([`half_vector_exact`]) given their length errors, else of the rounded ones.
+#[inline(always)]
+pub fn lobe_half_vector<F: Real>(d: &Directions<F>, errors: Option<[F; 3]>) -> HalfVector<F> {
+    match errors {
+        Some([_, e_i, e_o]) => half_vector_exact::<F>(d.wi, d.wo, e_i, e_o),
+        None => half_vector::<F>(d.wi, d.wo),
+    }
+}
+
+/// A microfacet lobe multiplied by its length-error factor
+/// ([`microfacet_length_correction`]), unless the errors were left out.
+#[inline(always)]
+pub fn corrected<F: Real>(spec: F, errors: Option<[F; 3]>, h: F::V3) -> F {
+    match errors {
+        Some([e_n, e_i, e_o]) => microfacet_length_correction(spec, e_n, e_i, e_o, h),
+        None => spec,
+    }
 }
 
 impl Kernel for Ggx {
     type Prepared<F: Real> = Prepared<F>;
+    const LENGTH_CORRECTIONS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         &SPEC
@@ -136,7 +174,7 @@ impl Kernel for Ggx {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let (spec, cos_b, defined) = lobe(d, pp.alpha2, pp.d_scale);
+        let (spec, cos_b, defined) = lobe::<F, P>(d, pp.alpha2, pp.d_scale);
         let spec = if defined { spec } else { F::ZERO };
         let fresnel = schlick_rgb(pp.f0, schlick_weight(cos_b));
         let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);

@@ -39,7 +39,7 @@ pub trait MicrofacetLobe: 'static {
     fn prepare<F: Real>(alpha: F) -> Self::Prepared<F>;
     /// Returns the lobe, `cos_b = wi·h` and whether the lobe is defined (as
     /// [`ggx::lobe`]).
-    fn eval<F: Real>(p: &Self::Prepared<F>, d: &Directions<F>) -> (F, Cosine<F>, bool);
+    fn eval<F: Real, P: PowUnit>(p: &Self::Prepared<F>, d: &Directions<F>) -> (F, Cosine<F>, bool);
     /// The sampler of the lobe at roughness `alpha`.
     fn importance(alpha: f64) -> Importance;
 }
@@ -58,8 +58,8 @@ impl MicrofacetLobe for Ggx {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(p: &(F, F), d: &Directions<F>) -> (F, Cosine<F>, bool) {
-        ggx::lobe(d, p.0, p.1)
+    fn eval<F: Real, P: PowUnit>(p: &(F, F), d: &Directions<F>) -> (F, Cosine<F>, bool) {
+        ggx::lobe::<F, P>(d, p.0, p.1)
     }
 
     fn importance(alpha: f64) -> Importance {
@@ -80,8 +80,8 @@ impl MicrofacetLobe for Beckmann {
     }
 
     #[inline(always)]
-    fn eval<F: Real>(p: &(F, F), d: &Directions<F>) -> (F, Cosine<F>, bool) {
-        beckmann::lobe(d, p.0, p.1)
+    fn eval<F: Real, P: PowUnit>(p: &(F, F), d: &Directions<F>) -> (F, Cosine<F>, bool) {
+        beckmann::lobe::<F, P>(d, p.0, p.1)
     }
 
     fn importance(alpha: f64) -> Importance {
@@ -161,6 +161,7 @@ where
 {
     type Prepared<F: Real> = Prepared<F, L::Prepared<F>, R::Channel<F>>;
     const POWERS: bool = R::POWERS;
+    const LENGTH_CORRECTIONS: bool = true;
 
     fn spec() -> &'static ModelSpec {
         <Self as VariantSpec>::spec()
@@ -177,7 +178,7 @@ where
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let (spec, cos_b, defined) = L::eval(&pp.lobe, d);
+        let (spec, cos_b, defined) = L::eval::<F, P>(&pp.lobe, d);
         let spec = if defined { spec } else { F::ZERO };
         let rgb = [0, 1, 2].map(|c| {
             let fresnel = R::eval::<F, P>(&pp.fresnel[c], cos_b);
@@ -447,6 +448,7 @@ impl FresnelTerm for GenSchlick {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::SeriesPow;
     use crate::models::beckmann::Beckmann as BeckmannKernel;
     use crate::models::beckmann_conductor::BeckmannConductor;
     use crate::models::beckmann_f82::BeckmannF82;
@@ -503,7 +505,7 @@ mod tests {
         for d in directions() {
             let got = V::eval::<f64>(&pv, &d);
             let base = B::eval::<f64>(&pb, &d);
-            let cos_b = L::eval(&L::prepare(alpha), &d).1;
+            let cos_b = L::eval::<f64, SeriesPow>(&L::prepare(alpha), &d).1;
             for c in 0..3 {
                 let want = weighted(fresnel(cos_b, c), base[c]);
                 assert_eq!(

@@ -94,6 +94,12 @@ pub trait Kernel: 'static {
     /// accurate loops.
     const POWERS: bool = false;
 
+    /// Whether [`Kernel::eval_with`] divides out the rounded unit vectors' length errors
+    /// in the accurate tier and leaves them out under [`crate::math::FastPow`] (the
+    /// microfacet lobes, [`ggx::length_errors`]): the eval engine then compiles fast-tier
+    /// loops for the model even without powers.
+    const LENGTH_CORRECTIONS: bool = false;
+
     /// Whether the kernel's one power can be computed apart from the rest
     /// ([`Kernel::power_stage`], [`Kernel::finish_power`]): the eval engine then runs the
     /// model over a block in three passes (the bases, the powers, the rest), which
@@ -208,6 +214,18 @@ macro_rules! declare_models {
             /// ([`Kernel::POWERS`]).
             pub fn powers(self) -> bool {
                 match self { $(ModelKind::$variant => <$module::$ty as Kernel>::POWERS),* }
+            }
+
+            /// Returns whether `precision="fast"` computes the model differently from the
+            /// accurate tier (in `f64`): it has powers ([`Kernel::POWERS`]) or length
+            /// corrections the fast tier leaves out ([`Kernel::LENGTH_CORRECTIONS`]).
+            pub fn fast_tier(self) -> bool {
+                match self {
+                    $(ModelKind::$variant => {
+                        <$module::$ty as Kernel>::POWERS
+                            || <$module::$ty as Kernel>::LENGTH_CORRECTIONS
+                    }),*
+                }
             }
 
             /// Calls the visitor with the model's kernel type.
