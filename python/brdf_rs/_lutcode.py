@@ -94,6 +94,25 @@ def _axis_code(axis: Axis, var: str, lang: str) -> list[str]:
     ]
 
 
+def _bilinear(name: str, w: int, nc: int, k: int, let: str, u: str, f: str) -> str:
+    """Statements blending channel ``k``'s four texels around ``(x0, y0)`` by ``(fx, fy)``
+    into ``r{k}``: ``let`` declares a value, ``u`` suffixes the integer literals and ``f``
+    the float ones (GLSL and HLSL: ``float``, no suffix; WGSL: ``let``, ``u``)."""
+
+    def texel(row: str, col: str) -> str:
+        return f"{name}_data[({row} * {w}{u} + {col}) * {nc}{u} + {k}{u}]"
+
+    below, right = f"(y0 + 1{u})", f"x0 + 1{u}"
+    return (
+        f"{let} a{k} = {texel('y0', 'x0')};\n"
+        f"    {let} b{k} = {texel('y0', right)};\n"
+        f"    {let} d{k} = {texel(below, 'x0')};\n"
+        f"    {let} e{k} = {texel(below, right)};\n"
+        f"    {let} r{k} = (a{k} * (1.0{f} - fx) + b{k} * fx) * (1.0{f} - fy)"
+        f" + (d{k} * (1.0{f} - fx) + e{k} * fx) * fy;"
+    )
+
+
 def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     lang = {".h": "c", ".glsl": "glsl", ".hlsl": "hlsl", ".wgsl": "wgsl"}[suffix]
     s = lut.spec
@@ -152,16 +171,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
             if lang == "glsl"
             else f"static const float {name}_data[{total}] = {{\n{block}}};\n"
         )
-        fetch = []
-        for k in range(nc):
-            fetch.append(
-                f"float a{k} = {name}_data[(y0 * {w} + x0) * {nc} + {k}];\n"
-                f"    float b{k} = {name}_data[(y0 * {w} + x0 + 1) * {nc} + {k}];\n"
-                f"    float d{k} = {name}_data[((y0 + 1) * {w} + x0) * {nc} + {k}];\n"
-                f"    float e{k} = {name}_data[((y0 + 1) * {w} + x0 + 1) * {nc} + {k}];\n"
-                f"    float r{k} = (a{k} * (1.0{f} - fx) + b{k} * fx) * (1.0{f} - fy)"
-                f" + (d{k} * (1.0{f} - fx) + e{k} * fx) * fy;"
-            )
+        fetch = [_bilinear(name, w, nc, k, "float", "", f) for k in range(nc)]
         result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
         return (
             head
@@ -183,16 +193,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
         f"let fx = {col_in}_x - f32(x0);",
         f"let fy = {row_in}_x - f32(y0);",
     ]
-    fetch = []
-    for k in range(nc):
-        fetch.append(
-            f"let a{k} = {name}_data[(y0 * {w}u + x0) * {nc}u + {k}u];\n"
-            f"    let b{k} = {name}_data[(y0 * {w}u + x0 + 1u) * {nc}u + {k}u];\n"
-            f"    let d{k} = {name}_data[((y0 + 1u) * {w}u + x0) * {nc}u + {k}u];\n"
-            f"    let e{k} = {name}_data[((y0 + 1u) * {w}u + x0 + 1u) * {nc}u + {k}u];\n"
-            f"    let r{k} = (a{k} * (1.0 - fx) + b{k} * fx) * (1.0 - fy)"
-            f" + (d{k} * (1.0 - fx) + e{k} * fx) * fy;"
-        )
+    fetch = [_bilinear(name, w, nc, k, "let", "u", "") for k in range(nc)]
     result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
     return (
         head
