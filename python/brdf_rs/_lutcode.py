@@ -166,45 +166,39 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     if lang in ("glsl", "hlsl"):
         vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
         v2 = "vec2" if lang == "glsl" else "float2"
-        decl = (
-            f"const float {name}_data[{total}] = float[{total}](\n{block});\n"
+        data = (
+            f"const float {name}_data[{total}] = float[{total}](\n{block});\n\n"
             if lang == "glsl"
-            else f"static const float {name}_data[{total}] = {{\n{block}}};\n"
+            else f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
         )
         fetch = [_bilinear(name, w, nc, k, "float", "", f) for k in range(nc)]
-        result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
-        return (
-            head
-            + decl
-            + f"\n// Bilinear lookup at mu = cos(theta_v) and {s.param}.\n"
-            + f"{vec} {name}_lookup(float mu, float roughness) {{\n    "
-            + "\n    ".join(col_code + row_code + interp + fetch)
-            + f"\n    return {result};\n}}\n\n"
-            + "// The texture coordinate a hardware bilinear filter reads the same value at.\n"
-            + f"{v2} {name}_uv(float mu, float roughness) {{\n    "
-            + "\n    ".join(col_uv + row_uv)
-            + f"\n    return {v2}({col_in}_t, {row_in}_t);\n}}\n"
+        lookup = f"{vec} {name}_lookup(float mu, float roughness)"
+        uv = f"{v2} {name}_uv(float mu, float roughness)"
+    else:  # WGSL
+        vec = "f32" if nc == 1 else f"vec{nc}<f32>"
+        v2 = "vec2<f32>"
+        data = (
+            f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n{block});\n\n"
         )
-    # WGSL
-    vec = "f32" if nc == 1 else f"vec{nc}<f32>"
-    interp_w = [
-        f"let x0 = min(u32({col_in}_x), {w - 2}u);",
-        f"let y0 = min(u32({row_in}_x), {h - 2}u);",
-        f"let fx = {col_in}_x - f32(x0);",
-        f"let fy = {row_in}_x - f32(y0);",
-    ]
-    fetch = [_bilinear(name, w, nc, k, "let", "u", "") for k in range(nc)]
+        interp = [
+            f"let x0 = min(u32({col_in}_x), {w - 2}u);",
+            f"let y0 = min(u32({row_in}_x), {h - 2}u);",
+            f"let fx = {col_in}_x - f32(x0);",
+            f"let fy = {row_in}_x - f32(y0);",
+        ]
+        fetch = [_bilinear(name, w, nc, k, "let", "u", "") for k in range(nc)]
+        lookup = f"fn {name}_lookup(mu: f32, roughness: f32) -> {vec}"
+        uv = f"fn {name}_uv(mu: f32, roughness: f32) -> {v2}"
     result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
     return (
         head
-        + f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n"
-        + f"{block});\n\n"
+        + data
         + f"// Bilinear lookup at mu = cos(theta_v) and {s.param}.\n"
-        + f"fn {name}_lookup(mu: f32, roughness: f32) -> {vec} {{\n    "
-        + "\n    ".join(col_code + row_code + interp_w + fetch)
+        + f"{lookup} {{\n    "
+        + "\n    ".join(col_code + row_code + interp + fetch)
         + f"\n    return {result};\n}}\n\n"
         + "// The texture coordinate a hardware bilinear filter reads the same value at.\n"
-        + f"fn {name}_uv(mu: f32, roughness: f32) -> vec2<f32> {{\n    "
+        + f"{uv} {{\n    "
         + "\n    ".join(col_uv + row_uv)
-        + f"\n    return vec2<f32>({col_in}_t, {row_in}_t);\n}}\n"
+        + f"\n    return {v2}({col_in}_t, {row_in}_t);\n}}\n"
     )
