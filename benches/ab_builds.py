@@ -20,11 +20,11 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
-import subprocess
 import time
 from pathlib import Path
 
 import numpy as np
+from _builds import add_build_option, parse_builds, run_worker
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -97,13 +97,7 @@ def time_to(points, target):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument(
-        "--build",
-        action="append",
-        default=[],
-        metavar="LABEL=PYTHON",
-        help="LABEL=PYTHON: a Python that imports the build (split at the last =; first: baseline)",
-    )
+    add_build_option(parser)
     parser.add_argument(
         "--model",
         default="ggx",
@@ -119,21 +113,21 @@ def main() -> None:
     if args.worker:
         worker(args.model, args.reference, args.budget)
         return
-    if len(args.build) < 2 or not all("=" in b for b in args.build):
-        parser.error("give at least two --build LABEL=PYTHON")
+    builds = parse_builds(parser, args.build, 2)
     out = args.out or RESULTS / f"ab_builds_{args.model}"
     from albedo_convergence import reference as converged
 
     np.save(out.with_suffix(".reference.npy"), converged(args.model, table_spec(args.model)))
     reference = str(out.with_suffix(".reference.npy"))
-    builds = dict(b.rsplit("=", 1) for b in args.build)
     base = next(iter(builds))
     best: dict[str, dict[str, list[dict]]] = {}
     for r in range(args.rounds):
         for label, python in builds.items():
-            cmd = [python, __file__, "--worker", "--model", args.model]
-            cmd += ["--reference", reference, "--budget", str(args.budget)]
-            run = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
+            run = run_worker(
+                python,
+                __file__,
+                ["--model", args.model, "--reference", reference, "--budget", str(args.budget)],
+            )
             print(f"round {r + 1}, {label}: done", flush=True)
             if label not in best:
                 best[label] = run

@@ -20,10 +20,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 import time
 
 import numpy as np
+from _builds import add_build_option, parse_builds, run_worker
 
 
 def extra_args(model: str) -> dict:
@@ -67,13 +67,7 @@ def worker(
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument(
-        "--build",
-        action="append",
-        default=[],
-        metavar="LABEL=PYTHON",
-        help="LABEL=PYTHON: a Python that imports the build (split at the last =; first: baseline)",
-    )
+    add_build_option(parser)
     parser.add_argument("--model", default="torrance_sparrow")
     parser.add_argument("--dtype", default="float64", choices=["float64", "float32"])
     parser.add_argument("--n", type=int, default=16384, help="direction pairs per call")
@@ -93,19 +87,16 @@ def main() -> None:
         tier = args.precision[0] if args.precision else "accurate"
         worker(args.model, args.dtype, args.n, args.threads, args.seconds, tier)
         return
-    if not args.build or not all("=" in b for b in args.build):
-        parser.error("give at least one --build LABEL=PYTHON")
-    builds = dict(b.rsplit("=", 1) for b in args.build)
+    builds = parse_builds(parser, args.build, 1)
     tiers = dict(t.split("=", 1) for t in args.precision)
     rounds: dict[str, list[float]] = {label: [] for label in builds}
     for r in range(args.rounds):
         for label, python in builds.items():
-            cmd = [python, __file__, "--worker", "--model", args.model, "--dtype", args.dtype]
+            cmd = ["--model", args.model, "--dtype", args.dtype]
             cmd += ["--n", str(args.n), "--threads", str(args.threads)]
             cmd += ["--seconds", str(args.seconds)]
             cmd += ["--precision", tiers.get(label, "accurate")]
-            done = subprocess.run(cmd, check=True, capture_output=True, text=True)
-            rounds[label].append(json.loads(done.stdout)["mevals"])
+            rounds[label].append(run_worker(python, __file__, cmd)["mevals"])
             print(f"round {r + 1}, {label}: {rounds[label][-1]:.1f} M evals/s", flush=True)
     base = max(rounds[next(iter(builds))])
     print(

@@ -106,78 +106,72 @@ def oren_nayar(wi, wo, n, *, kd=0.5, sigma=0.5) -> np.ndarray:
         return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
 
 
-def phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
-    """``f = kd + ks·cos_ar^p / mu_i``."""
+def _power_lobe(wi, wo, n, kd, ks, p, cosine, lobe, kd_over_pi: bool) -> np.ndarray:
+    """The Phong and Blinn-Phong families: ``f = kd + ks·lobe(c, p, mu_i)`` (``kd/π`` with
+    ``kd_over_pi``), ``c`` the cosine clamped to [0, 1]: ``"mirror"`` ``cos_ar``, ``"half"``
+    ``cos_th``."""
     wi, wo, n = _arrays(wi, wo, n)
     kd, ks = _rgb(kd, wi.dtype), _rgb(ks, wi.dtype)
     with np.errstate(all="ignore"):
         mu_i, mu_o = _dot(wi, n), _dot(wo, n)
-        cos_ar = np.clip(_mirror_cos(wi, wo, n, mu_i), 0.0, 1.0)
-        lobe = np.power(cos_ar, float(p)) / mu_i
-        value = kd + ks * lobe[:, None]
+        c = _mirror_cos(wi, wo, n, mu_i) if cosine == "mirror" else _half(wi, wo, n)[0]
+        diffuse = kd / np.pi if kd_over_pi else kd
+        value = diffuse + ks * lobe(np.clip(c, 0.0, 1.0), float(p), mu_i)[:, None]
         return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
+
+
+def phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
+    """``f = kd + ks·cos_ar^p / mu_i``."""
+
+    def lobe(c, p, mu_i):
+        return np.power(c, p) / mu_i
+
+    return _power_lobe(wi, wo, n, kd, ks, p, "mirror", lobe, kd_over_pi=False)
 
 
 def modified_phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
     """``f = kd + ks·cos_ar^p``."""
-    wi, wo, n = _arrays(wi, wo, n)
-    kd, ks = _rgb(kd, wi.dtype), _rgb(ks, wi.dtype)
-    with np.errstate(all="ignore"):
-        mu_i, mu_o = _dot(wi, n), _dot(wo, n)
-        cos_ar = np.clip(_mirror_cos(wi, wo, n, mu_i), 0.0, 1.0)
-        lobe = np.power(cos_ar, float(p))
-        value = kd + ks * lobe[:, None]
-        return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
+
+    def lobe(c, p, mu_i):
+        return np.power(c, p)
+
+    return _power_lobe(wi, wo, n, kd, ks, p, "mirror", lobe, kd_over_pi=False)
 
 
 def normalized_phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
     """``f = kd/π + ks·(p+2)/(2π)·cos_ar^p``."""
-    wi, wo, n = _arrays(wi, wo, n)
-    kd, ks = _rgb(kd, wi.dtype), _rgb(ks, wi.dtype)
-    p = float(p)
-    with np.errstate(all="ignore"):
-        mu_i, mu_o = _dot(wi, n), _dot(wo, n)
-        cos_ar = np.clip(_mirror_cos(wi, wo, n, mu_i), 0.0, 1.0)
-        lobe = (p + 2.0) / (2.0 * np.pi) * np.power(cos_ar, p)
-        value = kd / np.pi + ks * lobe[:, None]
-        return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
+
+    def lobe(c, p, mu_i):
+        return (p + 2.0) / (2.0 * np.pi) * np.power(c, p)
+
+    return _power_lobe(wi, wo, n, kd, ks, p, "mirror", lobe, kd_over_pi=True)
 
 
 def blinn_phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
     """``f = kd + ks·cos_th^p / mu_i``."""
-    wi, wo, n = _arrays(wi, wo, n)
-    kd, ks = _rgb(kd, wi.dtype), _rgb(ks, wi.dtype)
-    with np.errstate(all="ignore"):
-        mu_i, mu_o = _dot(wi, n), _dot(wo, n)
-        cos_th, _, _ = _half(wi, wo, n)
-        lobe = np.power(np.clip(cos_th, 0.0, 1.0), float(p)) / mu_i
-        value = kd + ks * lobe[:, None]
-        return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
+
+    def lobe(c, p, mu_i):
+        return np.power(c, p) / mu_i
+
+    return _power_lobe(wi, wo, n, kd, ks, p, "half", lobe, kd_over_pi=False)
 
 
 def modified_blinn_phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
     """``f = kd + ks·cos_th^p``."""
-    wi, wo, n = _arrays(wi, wo, n)
-    kd, ks = _rgb(kd, wi.dtype), _rgb(ks, wi.dtype)
-    with np.errstate(all="ignore"):
-        mu_i, mu_o = _dot(wi, n), _dot(wo, n)
-        cos_th, _, _ = _half(wi, wo, n)
-        lobe = np.power(np.clip(cos_th, 0.0, 1.0), float(p))
-        value = kd + ks * lobe[:, None]
-        return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
+
+    def lobe(c, p, mu_i):
+        return np.power(c, p)
+
+    return _power_lobe(wi, wo, n, kd, ks, p, "half", lobe, kd_over_pi=False)
 
 
 def normalized_blinn_phong(wi, wo, n, *, kd=0.0, ks=1.0, p=32.0) -> np.ndarray:
     """``f = kd/π + ks·(p+8)/(8π)·cos_th^p``."""
-    wi, wo, n = _arrays(wi, wo, n)
-    kd, ks = _rgb(kd, wi.dtype), _rgb(ks, wi.dtype)
-    p = float(p)
-    with np.errstate(all="ignore"):
-        mu_i, mu_o = _dot(wi, n), _dot(wo, n)
-        cos_th, _, _ = _half(wi, wo, n)
-        lobe = (p + 8.0) / (8.0 * np.pi) * np.power(np.clip(cos_th, 0.0, 1.0), p)
-        value = kd / np.pi + ks * lobe[:, None]
-        return np.where(((mu_i > 0) & (mu_o > 0))[:, None], value, 0.0)
+
+    def lobe(c, p, mu_i):
+        return (p + 8.0) / (8.0 * np.pi) * np.power(c, p)
+
+    return _power_lobe(wi, wo, n, kd, ks, p, "half", lobe, kd_over_pi=True)
 
 
 def blinn_phong_fresnel(wi, wo, n, *, kd=0.0, ks=0.04, p=32.0) -> np.ndarray:

@@ -36,6 +36,36 @@ def filament():
     return lut.build(small("filament"), interp_limit=8)
 
 
+def compile_and_run(tmp_path, source: str) -> str:
+    """Compiles the C99 ``source`` in ``tmp_path`` (warnings as errors), runs it and
+    returns its stdout; skips the test where there is no C compiler."""
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler")
+    (tmp_path / "m.c").write_text(source)
+    subprocess.run(
+        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "m"), "m.c", "-lm"],
+        check=True,
+        cwd=tmp_path,
+    )
+    return subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True).stdout
+
+
+def c_lookups(tmp_path, header: str, function: str, pts) -> np.ndarray:
+    """Calls ``function(mu, roughness, o)`` of the C ``header`` in ``tmp_path`` at each
+    ``(mu, roughness)`` of ``pts``; returns the two outputs per point."""
+    calls = "\n".join(
+        f'    {function}({m}f, {a}f, o); printf("%.9g %.9g\\n", o[0], o[1]);' for m, a in pts
+    )
+    out = compile_and_run(
+        tmp_path,
+        f'#include <stdio.h>\n#include "{header}"\nint main(void) {{\n    float o[2];\n'
+        + calls
+        + "\n    return 0;\n}\n",
+    )
+    return np.array([[float(v) for v in line.split()] for line in out.splitlines()])
+
+
 # ------------------------------------------------------------------------------ layouts
 
 
@@ -261,9 +291,6 @@ def test_png_offset_and_scale_recover_the_texels(filament, tmp_path):
 
 
 def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_path):
-    cc = shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
     filament.save(tmp_path / "dfg.h")
     # the last three in the clamped margins, the others between the first and last texels
     pts = [
@@ -275,23 +302,7 @@ def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_pat
         (0.999, 0.9),
         (0.5, 1.0),
     ]
-    calls = "\n".join(
-        f'    filament_dfg_lookup({m}f, {a}f, o); printf("%.9g %.9g\\n", o[0], o[1]);'
-        for m, a in pts
-    )
-    (tmp_path / "main.c").write_text(
-        '#include <stdio.h>\n#include "dfg.h"\nint main(void) {\n    float o[2];\n'
-        + calls
-        + "\n    return 0;\n}\n"
-    )
-    exe = tmp_path / "main"
-    subprocess.run(
-        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(exe), str(tmp_path / "main.c"), "-lm"],
-        check=True,
-        cwd=tmp_path,
-    )
-    out = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
-    got = np.array([[float(x) for x in line.split()] for line in out.splitlines()])
+    got = c_lookups(tmp_path, "dfg.h", "filament_dfg_lookup", pts)
     mu, alpha = np.array(pts).T
     np.testing.assert_allclose(got, filament.lookup(mu, alpha), atol=2e-6)
     # and against the integrals themselves, within the budget the file states
@@ -339,21 +350,13 @@ def test_whole_number_axis_bounds_write_the_same_files_as_floats_and_compile(tmp
         args = {"lo": 0.0, "hi": 1.0, "floor": 0.0, field: bad}
         with pytest.raises(ValueError, match=f"axis {field}: expected a"):
             lut.Axis("mu", 4, "centres", **args)
-    cc = shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
-    (tmp_path / "m.c").write_text(
+    out = compile_and_run(
+        tmp_path,
         '#include <stdio.h>\n#include "i.h"\n#include "fit.h"\nint main(void) {\n'
         "    float o[2], p[2];\n    w_lookup(0.5f, 0.25f, o);\n    w_fit(0.5f, 0.25f, p);\n"
-        '    printf("%.9g %.9g\\n", o[0], p[0]);\n    return 0;\n}\n'
+        '    printf("%.9g %.9g\\n", o[0], p[0]);\n    return 0;\n}\n',
     )
-    subprocess.run(
-        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "m"), "m.c", "-lm"],
-        check=True,
-        cwd=tmp_path,
-    )
-    out = subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True)
-    got = [float(v) for v in out.stdout.split()]
+    got = [float(v) for v in out.split()]
     assert got[0] == pytest.approx(float(a.lookup(0.5, 0.25)[0]), abs=2e-6)
 
 
@@ -645,35 +648,10 @@ def test_polynomial_fit_is_the_least_squares_one_and_its_errors_are_measured(fil
 
 
 def test_fit_as_c_code_evaluates_the_fit(filament, tmp_path):
-    cc = shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
     f = lut.fit(filament, 4)
     f.save(tmp_path / "fit.h")
     pts = [(0.05, 0.01), (0.4, 0.3), (0.9, 0.8)]
-    calls = "\n".join(
-        f'    filament_dfg_fit({m}f, {a}f, o); printf("%.9g %.9g\\n", o[0], o[1]);' for m, a in pts
-    )
-    (tmp_path / "m.c").write_text(
-        '#include <stdio.h>\n#include "fit.h"\nint main(void) {\n    float o[2];\n'
-        + calls
-        + "\n    return 0;\n}\n"
-    )
-    subprocess.run(
-        [
-            cc,
-            "-std=c99",
-            "-Wall",
-            "-Werror",
-            "-o",
-            str(tmp_path / "m"),
-            str(tmp_path / "m.c"),
-            "-lm",
-        ],
-        check=True,
-    )
-    out = subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True).stdout
-    got = np.array([[float(v) for v in line.split()] for line in out.splitlines()])
+    got = c_lookups(tmp_path, "fit.h", "filament_dfg_fit", pts)
     mu, alpha = np.array(pts).T
     np.testing.assert_allclose(got, f(mu, alpha), atol=1e-5)
     with pytest.raises(ValueError, match="not a table"):
@@ -717,35 +695,8 @@ def test_every_axis_quantity_lands_on_its_texels_in_python_and_in_c(tmp_path):
     alpha = 0.05 + 0.85 * np.arange(5) / 4  # ends: k / (n - 1)
     mu = (0.1 + 0.9 * (np.arange(6) + 0.5) / 6) ** 2  # centres of sqrt(mu)
     np.testing.assert_allclose(t.lookup(mu[:, None], alpha[None, :]), t.decoded, atol=1e-12)
-    cc = shutil.which("cc")
-    if cc is None:
-        pytest.skip("no C compiler")
     t.save(tmp_path / "q.h")
-    calls = "\n".join(
-        f'    q_lookup({float(m)!r}f, {float(a)!r}f, o); printf("%.9g %.9g\\n", o[0], o[1]);'
-        for m in mu
-        for a in alpha
-    )
-    (tmp_path / "m.c").write_text(
-        '#include <stdio.h>\n#include "q.h"\nint main(void) {\n    float o[2];\n'
-        + calls
-        + "\n    return 0;\n}\n"
-    )
-    subprocess.run(
-        [
-            cc,
-            "-std=c99",
-            "-Wall",
-            "-Werror",
-            "-o",
-            str(tmp_path / "m"),
-            str(tmp_path / "m.c"),
-            "-lm",
-        ],
-        check=True,
-    )
-    out = subprocess.run([str(tmp_path / "m")], check=True, capture_output=True, text=True).stdout
-    got = np.array([[float(v) for v in line.split()] for line in out.splitlines()])
+    got = c_lookups(tmp_path, "q.h", "q_lookup", [(float(m), float(a)) for m in mu for a in alpha])
     np.testing.assert_allclose(got.reshape(6, 5, 2), t.decoded, atol=2e-6)
 
 

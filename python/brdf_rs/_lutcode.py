@@ -94,6 +94,25 @@ def _axis_code(axis: Axis, var: str, lang: str) -> list[str]:
     ]
 
 
+def _bilinear(name: str, w: int, nc: int, k: int, let: str, u: str, f: str) -> str:
+    """Statements blending channel ``k``'s four texels around ``(x0, y0)`` by ``(fx, fy)``
+    into ``r{k}``: ``let`` declares a value, ``u`` suffixes the integer literals and ``f``
+    the float ones (GLSL and HLSL: ``float``, no suffix; WGSL: ``let``, ``u``)."""
+
+    def texel(row: str, col: str) -> str:
+        return f"{name}_data[({row} * {w}{u} + {col}) * {nc}{u} + {k}{u}]"
+
+    below, right = f"(y0 + 1{u})", f"x0 + 1{u}"
+    return (
+        f"{let} a{k} = {texel('y0', 'x0')};\n"
+        f"    {let} b{k} = {texel('y0', right)};\n"
+        f"    {let} d{k} = {texel(below, 'x0')};\n"
+        f"    {let} e{k} = {texel(below, right)};\n"
+        f"    {let} r{k} = (a{k} * (1.0{f} - fx) + b{k} * fx) * (1.0{f} - fy)"
+        f" + (d{k} * (1.0{f} - fx) + e{k} * fx) * fy;"
+    )
+
+
 def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     lang = {".h": "c", ".glsl": "glsl", ".hlsl": "hlsl", ".wgsl": "wgsl"}[suffix]
     s = lut.spec
@@ -147,63 +166,39 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     if lang in ("glsl", "hlsl"):
         vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
         v2 = "vec2" if lang == "glsl" else "float2"
-        decl = (
-            f"const float {name}_data[{total}] = float[{total}](\n{block});\n"
+        data = (
+            f"const float {name}_data[{total}] = float[{total}](\n{block});\n\n"
             if lang == "glsl"
-            else f"static const float {name}_data[{total}] = {{\n{block}}};\n"
+            else f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
         )
-        fetch = []
-        for k in range(nc):
-            fetch.append(
-                f"float a{k} = {name}_data[(y0 * {w} + x0) * {nc} + {k}];\n"
-                f"    float b{k} = {name}_data[(y0 * {w} + x0 + 1) * {nc} + {k}];\n"
-                f"    float d{k} = {name}_data[((y0 + 1) * {w} + x0) * {nc} + {k}];\n"
-                f"    float e{k} = {name}_data[((y0 + 1) * {w} + x0 + 1) * {nc} + {k}];\n"
-                f"    float r{k} = (a{k} * (1.0{f} - fx) + b{k} * fx) * (1.0{f} - fy)"
-                f" + (d{k} * (1.0{f} - fx) + e{k} * fx) * fy;"
-            )
-        result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
-        return (
-            head
-            + decl
-            + f"\n// Bilinear lookup at mu = cos(theta_v) and {s.param}.\n"
-            + f"{vec} {name}_lookup(float mu, float roughness) {{\n    "
-            + "\n    ".join(col_code + row_code + interp + fetch)
-            + f"\n    return {result};\n}}\n\n"
-            + "// The texture coordinate a hardware bilinear filter reads the same value at.\n"
-            + f"{v2} {name}_uv(float mu, float roughness) {{\n    "
-            + "\n    ".join(col_uv + row_uv)
-            + f"\n    return {v2}({col_in}_t, {row_in}_t);\n}}\n"
+        fetch = [_bilinear(name, w, nc, k, "float", "", f) for k in range(nc)]
+        lookup = f"{vec} {name}_lookup(float mu, float roughness)"
+        uv = f"{v2} {name}_uv(float mu, float roughness)"
+    else:  # WGSL
+        vec = "f32" if nc == 1 else f"vec{nc}<f32>"
+        v2 = "vec2<f32>"
+        data = (
+            f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n{block});\n\n"
         )
-    # WGSL
-    vec = "f32" if nc == 1 else f"vec{nc}<f32>"
-    interp_w = [
-        f"let x0 = min(u32({col_in}_x), {w - 2}u);",
-        f"let y0 = min(u32({row_in}_x), {h - 2}u);",
-        f"let fx = {col_in}_x - f32(x0);",
-        f"let fy = {row_in}_x - f32(y0);",
-    ]
-    fetch = []
-    for k in range(nc):
-        fetch.append(
-            f"let a{k} = {name}_data[(y0 * {w}u + x0) * {nc}u + {k}u];\n"
-            f"    let b{k} = {name}_data[(y0 * {w}u + x0 + 1u) * {nc}u + {k}u];\n"
-            f"    let d{k} = {name}_data[((y0 + 1u) * {w}u + x0) * {nc}u + {k}u];\n"
-            f"    let e{k} = {name}_data[((y0 + 1u) * {w}u + x0 + 1u) * {nc}u + {k}u];\n"
-            f"    let r{k} = (a{k} * (1.0 - fx) + b{k} * fx) * (1.0 - fy)"
-            f" + (d{k} * (1.0 - fx) + e{k} * fx) * fy;"
-        )
+        interp = [
+            f"let x0 = min(u32({col_in}_x), {w - 2}u);",
+            f"let y0 = min(u32({row_in}_x), {h - 2}u);",
+            f"let fx = {col_in}_x - f32(x0);",
+            f"let fy = {row_in}_x - f32(y0);",
+        ]
+        fetch = [_bilinear(name, w, nc, k, "let", "u", "") for k in range(nc)]
+        lookup = f"fn {name}_lookup(mu: f32, roughness: f32) -> {vec}"
+        uv = f"fn {name}_uv(mu: f32, roughness: f32) -> {v2}"
     result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
     return (
         head
-        + f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n"
-        + f"{block});\n\n"
+        + data
         + f"// Bilinear lookup at mu = cos(theta_v) and {s.param}.\n"
-        + f"fn {name}_lookup(mu: f32, roughness: f32) -> {vec} {{\n    "
-        + "\n    ".join(col_code + row_code + interp_w + fetch)
+        + f"{lookup} {{\n    "
+        + "\n    ".join(col_code + row_code + interp + fetch)
         + f"\n    return {result};\n}}\n\n"
         + "// The texture coordinate a hardware bilinear filter reads the same value at.\n"
-        + f"fn {name}_uv(mu: f32, roughness: f32) -> vec2<f32> {{\n    "
+        + f"{uv} {{\n    "
         + "\n    ".join(col_uv + row_uv)
-        + f"\n    return vec2<f32>({col_in}_t, {row_in}_t);\n}}\n"
+        + f"\n    return {v2}({col_in}_t, {row_in}_t);\n}}\n"
     )

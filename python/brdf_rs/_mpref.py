@@ -457,6 +457,10 @@ def _conductor_fresnel(g: _Geometry, eta: mpf, k: mpf) -> mpf:
     return +value
 
 
+def _conductor_channel(g: _Geometry, c: int, eta: Colour, k: Colour) -> mpf:
+    return _conductor_fresnel(g, eta[c], k[c])
+
+
 def _fresnel_variant(
     g: _Geometry, kd: Colour, lobe: Colour, fresnel: Callable[[int], mpf]
 ) -> Colour:
@@ -473,14 +477,19 @@ _ONE = (mpf(1), mpf(1), mpf(1))
 _ZERO = (mpf(0), mpf(0), mpf(0))
 
 
-def _ggx_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha: mpf) -> Colour:
-    lobe = _ggx(g, _ZERO, _ONE, alpha)
-    return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
+def _with_fresnel(
+    lobe: Callable[[_Geometry, Colour, Colour, mpf], Colour],
+    fresnel: Callable[..., mpf],
+) -> Callable[..., Colour]:
+    """The model ``kd/π + F·lobe``: ``lobe`` (``_ggx`` or ``_beckmann``) at ``kd = 0``,
+    ``ks = 1``, and ``F = fresnel(g, channel, **its parameters)``; called as
+    ``(g, kd=..., alpha=..., **the Fresnel term's parameters)``."""
 
+    def model(g: _Geometry, kd: Colour, alpha: mpf, **terms: Any) -> Colour:
+        base = lobe(g, _ZERO, _ONE, alpha)
+        return _fresnel_variant(g, kd, base, lambda c: fresnel(g, c, **terms))
 
-def _beckmann_conductor(g: _Geometry, kd: Colour, eta: Colour, k: Colour, alpha: mpf) -> Colour:
-    lobe = _beckmann(g, _ZERO, _ONE, alpha)
-    return _fresnel_variant(g, kd, lobe, lambda c: _conductor_fresnel(g, eta[c], k[c]))
+    return model
 
 
 def _f82_fresnel(g: _Geometry, f0: mpf, f82: mpf) -> mpf:
@@ -494,14 +503,8 @@ def _f82_fresnel(g: _Geometry, f0: mpf, f82: mpf) -> mpf:
     return max(mpf(0), value)
 
 
-def _ggx_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf) -> Colour:
-    lobe = _ggx(g, _ZERO, _ONE, alpha)
-    return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
-
-
-def _beckmann_f82(g: _Geometry, kd: Colour, f0: Colour, f82: Colour, alpha: mpf) -> Colour:
-    lobe = _beckmann(g, _ZERO, _ONE, alpha)
-    return _fresnel_variant(g, kd, lobe, lambda c: _f82_fresnel(g, f0[c], f82[c]))
+def _f82_channel(g: _Geometry, c: int, f0: Colour, f82: Colour) -> mpf:
+    return _f82_fresnel(g, f0[c], f82[c])
 
 
 def _gen_schlick_fresnel(g: _Geometry, f0: mpf, f90: mpf, exponent: mpf) -> mpf:
@@ -509,18 +512,8 @@ def _gen_schlick_fresnel(g: _Geometry, f0: mpf, f90: mpf, exponent: mpf) -> mpf:
     return f0 + (f90 - f0) * _power(g.one_minus_cos_b, exponent)
 
 
-def _ggx_gen_schlick(
-    g: _Geometry, kd: Colour, f0: Colour, f90: Colour, exponent: mpf, alpha: mpf
-) -> Colour:
-    lobe = _ggx(g, _ZERO, _ONE, alpha)
-    return _fresnel_variant(g, kd, lobe, lambda c: _gen_schlick_fresnel(g, f0[c], f90[c], exponent))
-
-
-def _beckmann_gen_schlick(
-    g: _Geometry, kd: Colour, f0: Colour, f90: Colour, exponent: mpf, alpha: mpf
-) -> Colour:
-    lobe = _beckmann(g, _ZERO, _ONE, alpha)
-    return _fresnel_variant(g, kd, lobe, lambda c: _gen_schlick_fresnel(g, f0[c], f90[c], exponent))
+def _gen_schlick_channel(g: _Geometry, c: int, f0: Colour, f90: Colour, exponent: mpf) -> mpf:
+    return _gen_schlick_fresnel(g, f0[c], f90[c], exponent)
 
 
 #: Estevez & Kulla's fit of the Charlie sheen's ``Λ``: ``(a, b, c, d, e)`` at roughness 1
@@ -787,14 +780,23 @@ _MODELS: dict[str, _Model] = {
     "torrance_sparrow": _Model("A", _torrance_sparrow, {**_LOBE, "eta": 1.5}),
     "ggx": _Model("A", _ggx, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
     "beckmann": _Model("A", _beckmann, {"kd": 0.0, "ks": 1.0, "alpha": 0.5}),
-    "ggx_conductor": _Model("A", _ggx_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}),
-    "beckmann_conductor": _Model(
-        "A", _beckmann_conductor, _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}
+    "ggx_conductor": _Model(
+        "A", _with_fresnel(_ggx, _conductor_channel), _CONDUCTOR_DEFAULTS, kinds={"eta": _COLOUR}
     ),
-    "ggx_f82": _Model("A", _ggx_f82, _F82_DEFAULTS),
-    "beckmann_f82": _Model("A", _beckmann_f82, _F82_DEFAULTS),
-    "ggx_gen_schlick": _Model("A", _ggx_gen_schlick, _GEN_SCHLICK_DEFAULTS),
-    "beckmann_gen_schlick": _Model("A", _beckmann_gen_schlick, _GEN_SCHLICK_DEFAULTS),
+    "beckmann_conductor": _Model(
+        "A",
+        _with_fresnel(_beckmann, _conductor_channel),
+        _CONDUCTOR_DEFAULTS,
+        kinds={"eta": _COLOUR},
+    ),
+    "ggx_f82": _Model("A", _with_fresnel(_ggx, _f82_channel), _F82_DEFAULTS),
+    "beckmann_f82": _Model("A", _with_fresnel(_beckmann, _f82_channel), _F82_DEFAULTS),
+    "ggx_gen_schlick": _Model(
+        "A", _with_fresnel(_ggx, _gen_schlick_channel), _GEN_SCHLICK_DEFAULTS
+    ),
+    "beckmann_gen_schlick": _Model(
+        "A", _with_fresnel(_beckmann, _gen_schlick_channel), _GEN_SCHLICK_DEFAULTS
+    ),
     "ward": _Model(
         "A",
         _ward,

@@ -100,6 +100,14 @@ pub fn format_index(index: &[usize]) -> String {
     }
 }
 
+/// Writes ` (did you mean "name"?)` after an unknown name that has a close match.
+fn did_you_mean(f: &mut fmt::Formatter<'_>, suggestion: &Option<String>) -> fmt::Result {
+    match suggestion {
+        Some(s) => write!(f, " (did you mean {s:?}?)"),
+        None => Ok(()),
+    }
+}
+
 /// Formats a float the way Python prints it (`nan`, `inf`, `-1.0`, `1e-300`).
 pub fn format_float(x: f64) -> String {
     if x.is_nan() {
@@ -132,9 +140,7 @@ impl fmt::Display for BrdfError {
                 known,
             } => {
                 write!(f, "unknown model {name:?}")?;
-                if let Some(s) = suggestion {
-                    write!(f, " (did you mean {s:?}?)")?;
-                }
+                did_you_mean(f, suggestion)?;
                 write!(f, "; known models: {}", known.join(", "))
             }
             BrdfError::UnknownParameter {
@@ -144,9 +150,7 @@ impl fmt::Display for BrdfError {
                 known,
             } => {
                 write!(f, "{model}: unknown parameter {name:?}")?;
-                if let Some(s) = suggestion {
-                    write!(f, " (did you mean {s:?}?)")?;
-                }
+                did_you_mean(f, suggestion)?;
                 if known.is_empty() {
                     write!(f, "; {model} takes no parameters")
                 } else {

@@ -255,50 +255,40 @@ fn pooled_with_previous(se: [f64; 3], previous: Option<[f64; 3]>) -> [f64; 3] {
 
 type CellFn = fn(f64, f64, &[f64], u64, &AlbedoOptions, &Progress) -> CellResult;
 
-fn cell_baseline<K: Kernel>(
-    mu: f64,
-    phi: f64,
-    slots: &[f64],
-    cell: u64,
-    options: &AlbedoOptions,
-    progress: &Progress,
-) -> CellResult {
-    // SAFETY: `loops::Baseline` uses only the target's baseline instructions, which
-    // every CPU the crate was compiled for runs.
-    unsafe { integrate_cell::<K, loops::Baseline>(mu, phi, slots, cell, options, progress) }
+/// Defines `$name`: [`integrate_cell`] with the loops of `loops::$isa`, compiled with the
+/// attributes given (the instruction set's `target_feature`, none for the baseline).
+macro_rules! isa_cell {
+    ($(#[$attr:meta])* $name:ident => $isa:ident) => {
+        $(#[$attr])*
+        fn $name<K: Kernel>(
+            mu: f64,
+            phi: f64,
+            slots: &[f64],
+            cell: u64,
+            options: &AlbedoOptions,
+            progress: &Progress,
+        ) -> CellResult {
+            // SAFETY: `loops::$isa` runs the instruction set this function is compiled
+            // with (the target's baseline, or the features of its `target_feature`, the
+            // `simd` list of that variant). The baseline runs on every CPU the crate was
+            // compiled for; the others have one caller, `integrate_cell_isa`, which calls
+            // them only holding the `Isa` token of their instruction set.
+            unsafe { integrate_cell::<K, loops::$isa>(mu, phi, slots, cell, options, progress) }
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-fn cell_avx2<K: Kernel>(
-    mu: f64,
-    phi: f64,
-    slots: &[f64],
-    cell: u64,
-    options: &AlbedoOptions,
-    progress: &Progress,
-) -> CellResult {
-    // SAFETY: `loops::Avx2` runs the features this function is compiled with
-    // (`simd::AVX2_FEATURES`); calling it at all needed them, and its one caller,
-    // `integrate_cell_isa`, does so only holding an `Isa::Avx2` token.
-    unsafe { integrate_cell::<K, loops::Avx2>(mu, phi, slots, cell, options, progress) }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-fn cell_avx512<K: Kernel>(
-    mu: f64,
-    phi: f64,
-    slots: &[f64],
-    cell: u64,
-    options: &AlbedoOptions,
-    progress: &Progress,
-) -> CellResult {
-    // SAFETY: `loops::Avx512` runs the features this function is compiled with
-    // (`simd::AVX512_FEATURES`); `integrate_cell_isa` calls it only holding an
-    // `Isa::Avx512` token.
-    unsafe { integrate_cell::<K, loops::Avx512>(mu, phi, slots, cell, options, progress) }
-}
+isa_cell!(cell_baseline => Baseline);
+isa_cell!(
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    cell_avx2 => Avx2
+);
+isa_cell!(
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    cell_avx512 => Avx512
+);
 
 /// Integrates one cell with the loop compiled for `isa` (whose token proves the CPU
 /// supports it).

@@ -31,26 +31,20 @@ impl<'a> CellGrid<'a> {
         given: Vec<(&'a str, ArrayViewD<'a, f64>)>,
         ids: Option<&'a [u64]>,
     ) -> Result<CellGrid<'a>, BrdfError> {
-        if let Some(pos) = mu.iter().position(|&m| !(0.0..=1.0).contains(&m)) {
-            let index = params::unravel(pos, mu.shape());
-            return Err(BrdfError::OutOfRange {
-                name: "mu".into(),
-                value: mu[ndarray::IxDyn(&index)],
-                index,
-                valid: "in [0, 1] (the cosine of the incidence angle)".into(),
-            });
-        }
+        all_valid(
+            &mu,
+            "mu",
+            |m| (0.0..=1.0).contains(&m),
+            "in [0, 1] (the cosine of the incidence angle)",
+        )?;
         let mut others = vec![("mu", mu.shape().to_vec())];
         if let Some(phi) = &phi {
-            if let Some(pos) = phi.iter().position(|p| !p.is_finite()) {
-                let index = params::unravel(pos, phi.shape());
-                return Err(BrdfError::OutOfRange {
-                    name: "phi".into(),
-                    value: phi[ndarray::IxDyn(&index)],
-                    index,
-                    valid: "finite (the azimuth of wi in radians, from the tangent)".into(),
-                });
-            }
+            all_valid(
+                phi,
+                "phi",
+                f64::is_finite,
+                "finite (the azimuth of wi in radians, from the tangent)",
+            )?;
             others.push(("phi", phi.shape().to_vec()));
         }
         let params = ParamRows::new(kind.spec(), given, &others)?;
@@ -74,6 +68,28 @@ impl<'a> CellGrid<'a> {
             params,
             ids,
         })
+    }
+}
+
+/// `Ok` where every element of `values` is `ok`; else the out-of-range error of the first
+/// that is not, for the argument `name` that must be `valid`.
+fn all_valid(
+    values: &ArrayViewD<'_, f64>,
+    name: &str,
+    ok: impl Fn(f64) -> bool,
+    valid: &str,
+) -> Result<(), BrdfError> {
+    match values.iter().position(|&x| !ok(x)) {
+        None => Ok(()),
+        Some(pos) => {
+            let index = params::unravel(pos, values.shape());
+            Err(BrdfError::OutOfRange {
+                name: name.into(),
+                value: values[ndarray::IxDyn(&index)],
+                index,
+                valid: valid.into(),
+            })
+        }
     }
 }
 

@@ -129,6 +129,35 @@ pub(super) trait ClosedFormLobe {
     }
 }
 
+/// Calls `$each!(variant, place)` for `warp`: the variant rebuilt from its fields, so
+/// that each arm's loop is compiled for one warp, and the frame its samples are local to
+/// (`normal`, `mirror` or `half`). The one table of which warp samples in which frame.
+macro_rules! per_warp {
+    ($warp:expr, $each:ident) => {
+        match $warp {
+            Warp::UniformHemisphere => $each!(Warp::UniformHemisphere, normal),
+            Warp::CosineHemisphere => $each!(Warp::CosineHemisphere, normal),
+            Warp::CosineUniform { cosine } => $each!(Warp::CosineUniform { cosine }, normal),
+            Warp::PhongLobe { p } => $each!(Warp::PhongLobe { p }, mirror),
+            Warp::BlinnHalf { p } => $each!(Warp::BlinnHalf { p }, half),
+            Warp::BlinnStratum { p, v_lo, width } => {
+                $each!(Warp::BlinnStratum { p, v_lo, width }, half)
+            }
+            Warp::PhongStratum { p, v_lo, width } => {
+                $each!(Warp::PhongStratum { p, v_lo, width }, mirror)
+            }
+            Warp::GgxVisible { alpha } => $each!(Warp::GgxVisible { alpha }, half),
+            Warp::BeckmannHalf { alpha_x, alpha_y } => {
+                $each!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
+            }
+            Warp::BeckmannVisible { alpha } => $each!(Warp::BeckmannVisible { alpha }, half),
+            Warp::AnisotropicPhongHalf { nu, nv } => {
+                $each!(Warp::AnisotropicPhongHalf { nu, nv }, half)
+            }
+        }
+    };
+}
+
 /// One loop per warp and fold, so each loop body is straight-line code. Local frames:
 /// the normal's is the world frame; the Phong lobe's is the mirror direction's; half
 /// vectors are reflected about.
@@ -173,27 +202,7 @@ fn directions(
             }
         };
     }
-    match warp {
-        Warp::UniformHemisphere => both_folds!(Warp::UniformHemisphere, normal),
-        Warp::CosineHemisphere => both_folds!(Warp::CosineHemisphere, normal),
-        Warp::CosineUniform { cosine } => both_folds!(Warp::CosineUniform { cosine }, normal),
-        Warp::PhongLobe { p } => both_folds!(Warp::PhongLobe { p }, mirror),
-        Warp::BlinnHalf { p } => both_folds!(Warp::BlinnHalf { p }, half),
-        Warp::BlinnStratum { p, v_lo, width } => {
-            both_folds!(Warp::BlinnStratum { p, v_lo, width }, half)
-        }
-        Warp::PhongStratum { p, v_lo, width } => {
-            both_folds!(Warp::PhongStratum { p, v_lo, width }, mirror)
-        }
-        Warp::GgxVisible { alpha } => both_folds!(Warp::GgxVisible { alpha }, half),
-        Warp::BeckmannHalf { alpha_x, alpha_y } => {
-            both_folds!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
-        }
-        Warp::BeckmannVisible { alpha } => both_folds!(Warp::BeckmannVisible { alpha }, half),
-        Warp::AnisotropicPhongHalf { nu, nv } => {
-            both_folds!(Warp::AnisotropicPhongHalf { nu, nv }, half)
-        }
-    }
+    per_warp!(warp, both_folds)
 }
 
 /// The directions with `wi` drawn per point, `φ = (π/2)·u2` (the quarter `[0, π/2)`
@@ -234,27 +243,7 @@ fn directions_averaged(
             (wo, reflected_pdf($s.pdf, wo.dot($s.dir)))
         }};
     }
-    match warp {
-        Warp::UniformHemisphere => average_loop!(Warp::UniformHemisphere, normal),
-        Warp::CosineHemisphere => average_loop!(Warp::CosineHemisphere, normal),
-        Warp::CosineUniform { cosine } => average_loop!(Warp::CosineUniform { cosine }, normal),
-        Warp::PhongLobe { p } => average_loop!(Warp::PhongLobe { p }, mirror),
-        Warp::BlinnHalf { p } => average_loop!(Warp::BlinnHalf { p }, half),
-        Warp::BlinnStratum { p, v_lo, width } => {
-            average_loop!(Warp::BlinnStratum { p, v_lo, width }, half)
-        }
-        Warp::PhongStratum { p, v_lo, width } => {
-            average_loop!(Warp::PhongStratum { p, v_lo, width }, mirror)
-        }
-        Warp::GgxVisible { alpha } => average_loop!(Warp::GgxVisible { alpha }, half),
-        Warp::BeckmannHalf { alpha_x, alpha_y } => {
-            average_loop!(Warp::BeckmannHalf { alpha_x, alpha_y }, half)
-        }
-        Warp::BeckmannVisible { alpha } => average_loop!(Warp::BeckmannVisible { alpha }, half),
-        Warp::AnisotropicPhongHalf { nu, nv } => {
-            average_loop!(Warp::AnisotropicPhongHalf { nu, nv }, half)
-        }
-    }
+    per_warp!(warp, average_loop)
 }
 
 /// One method of [`Loops`]: it calls `$body` through an out-of-line function compiled

@@ -226,6 +226,20 @@ mod tests {
         }
     }
 
+    /// The options of a 2^16-sample run for each sequence (outer) and each of `samplers`.
+    fn each_sequence_with(samplers: &[SamplerChoice]) -> impl Iterator<Item = AlbedoOptions> + '_ {
+        [Sequence::Sobol, Sequence::Random]
+            .into_iter()
+            .flat_map(move |sequence| {
+                samplers.iter().map(move |&sampler| AlbedoOptions {
+                    samples: 1 << 16,
+                    sequence,
+                    sampler,
+                    ..Default::default()
+                })
+            })
+    }
+
     #[test]
     fn closed_forms() {
         let opts = AlbedoOptions {
@@ -313,26 +327,19 @@ mod tests {
             let r = (eta - 1.0) / (eta + 1.0);
             let want = torrance_sparrow_normal(p, r * r);
             let base = [("kd", 0.0), ("ks", 1.0), ("p", p), ("eta", eta)];
-            for sequence in [Sequence::Sobol, Sequence::Random] {
-                for sampler in [
-                    SamplerChoice::Auto,
-                    SamplerChoice::Uniform,
-                    SamplerChoice::Cosine,
-                ] {
-                    let opts = AlbedoOptions {
-                        samples: 1 << 16,
-                        sequence,
-                        sampler,
-                        ..Default::default()
-                    };
-                    let got = albedo_one("torrance_sparrow", 1.0, &base, opts);
-                    let label = format!("p={p} eta={eta} {sequence:?} {sampler:?}");
-                    assert!(got.stderr[0] > 0.0, "{label}: {got:?}");
-                    assert_within(got, want, 5.0, &label);
-                    if sampler == SamplerChoice::Auto && p == 100.0 && eta == 1.5 {
-                        // The control leaves the spread of the tail, of probability 4e-7.
-                        assert!(got.stderr[0] < 1e-8 * want, "{label}: {got:?} vs {want}");
-                    }
+            let samplers = [
+                SamplerChoice::Auto,
+                SamplerChoice::Uniform,
+                SamplerChoice::Cosine,
+            ];
+            for opts in each_sequence_with(&samplers) {
+                let got = albedo_one("torrance_sparrow", 1.0, &base, opts);
+                let label = format!("p={p} eta={eta} {:?} {:?}", opts.sequence, opts.sampler);
+                assert!(got.stderr[0] > 0.0, "{label}: {got:?}");
+                assert_within(got, want, 5.0, &label);
+                if opts.sampler == SamplerChoice::Auto && p == 100.0 && eta == 1.5 {
+                    // The control leaves the spread of the tail, of probability 4e-7.
+                    assert!(got.stderr[0] < 1e-8 * want, "{label}: {got:?} vs {want}");
                 }
             }
         }
@@ -350,21 +357,15 @@ mod tests {
                 ..Default::default()
             },
         );
-        for sequence in [Sequence::Sobol, Sequence::Random] {
-            for sampler in [
-                SamplerChoice::Uniform,
-                SamplerChoice::Cosine,
-                SamplerChoice::Importance,
-            ] {
-                let opts = AlbedoOptions {
-                    samples: 1 << 16,
-                    sequence,
-                    sampler,
-                    ..Default::default()
-                };
-                let r = albedo_one("torrance_sparrow", 0.4, &base, opts);
-                assert_within(r, want.value[0], 5.0, &format!("{sequence:?} {sampler:?}"));
-            }
+        let samplers = [
+            SamplerChoice::Uniform,
+            SamplerChoice::Cosine,
+            SamplerChoice::Importance,
+        ];
+        for opts in each_sequence_with(&samplers) {
+            let r = albedo_one("torrance_sparrow", 0.4, &base, opts);
+            let label = format!("{:?} {:?}", opts.sequence, opts.sampler);
+            assert_within(r, want.value[0], 5.0, &label);
         }
     }
 
