@@ -16,6 +16,11 @@ A scene is a TOML file (or the same structure as a dict)::
     ks = 0.05
     p = 50
 
+    [materials.velvet]            # a family-A BRDF under a sheen layer (optional):
+    model = "lambert"             # weight·f_sheen + (1 − weight·E_sheen(n·v))·f_base
+    kd = [0.12, 0.01, 0.02]
+    sheen = { model = "charlie_sheen", ks = [1, 0.35, 0.4], alpha = 0.2, weight = 1 }
+
     [materials.toon]              # family-B terms: a light adds L·s(l, v) for each
     diffuse = { model = "toon_diffuse", thresholds = [0.3], colors = [0.1, 0.6] }
     specular = { model = "toon_specular", threshold = 0.95 }
@@ -198,27 +203,7 @@ def render(
 
 
 def _material_core(where: _scene_schema.Where, material: Mapping[str, Any]) -> dict[str, Any]:
-    m = _scene_schema.check_material(where, material)
-    if "brdf" in m:
-        t = m["brdf"]
-        return {
-            "brdf": {
-                "model": t["model"],
-                "params": {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()},
-            }
-        }
-    out: dict[str, Any] = {}
-    for slot in ("diffuse", "specular"):
-        t = m[slot]
-        out[slot] = (
-            None
-            if t is None
-            else {
-                "model": t["model"],
-                "params": {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()},
-            }
-        )
-    return out
+    return _scene_schema.material_core(_scene_schema.check_material(where, material))
 
 
 def _vectors(name: str, value: Any) -> np.ndarray:
@@ -316,8 +301,9 @@ def shade(
     """Shades your own G-buffer with one material: linear radiance, float32 ``(..., 3)``.
 
     Args:
-        material: as a ``[materials.NAME]`` table: ``{"model": ..., params}`` (family A)
-            or ``{"diffuse": {...}, "specular": {...}}`` (family B).
+        material: as a ``[materials.NAME]`` table: ``{"model": ..., params}`` (family A,
+            with an optional ``"sheen": {"model": ..., "weight": ..., params}`` layer) or
+            ``{"diffuse": {...}, "specular": {...}}`` (family B).
         n: surface normals, shape ``(..., 3)`` (normalized here).
         v: directions toward the viewer; ``n``, ``v``, ``positions`` and ``tangent``
             broadcast together (NumPy rules) and the result has their shape.

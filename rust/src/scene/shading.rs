@@ -29,6 +29,8 @@ use crate::models::toon_diffuse::MAX_THRESHOLDS;
 use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
 use crate::simd::{Isa, isa};
 
+use super::sheen::SheenLayer;
+
 /// Pixels per segment: the unit of work the renderer shades at once (one row is cut into
 /// segments). A batch of pixel-light pairs never holds more.
 pub const SEGMENT: usize = 256;
@@ -100,7 +102,7 @@ impl Term {
     }
 
     /// Returns the slots of parameter `name` (empty if the model has none).
-    fn param_slots(&self, name: &str) -> std::ops::Range<usize> {
+    pub fn param_slots(&self, name: &str) -> std::ops::Range<usize> {
         self.kind
             .spec()
             .param(name)
@@ -118,6 +120,9 @@ pub enum MaterialDesc {
         diffuse: Option<Term>,
         specular: Option<Term>,
     },
+    /// A family-A BRDF under a sheen layer ([`super::sheen`]): `weight·f_sheen +
+    /// (1 − weight·E_sheen(n·v))·f_base`.
+    Layered { base: Term, sheen: SheenLayer },
 }
 
 impl MaterialDesc {
@@ -138,6 +143,10 @@ impl MaterialDesc {
         };
         match self {
             MaterialDesc::Brdf(t) => family_of(t, Family::A, "model"),
+            MaterialDesc::Layered { base, sheen } => {
+                family_of(base, Family::A, "model")?;
+                SheenLayer::new(sheen.term.clone(), sheen.weight).map(|_| ())
+            }
             MaterialDesc::Shading { diffuse, specular } => {
                 if let Some(t) = diffuse {
                     family_of(t, Family::B, "diffuse")?;
@@ -164,6 +173,7 @@ impl MaterialDesc {
     fn any_term(&self, uses: impl Fn(&Term) -> bool) -> bool {
         match self {
             MaterialDesc::Brdf(t) => uses(t),
+            MaterialDesc::Layered { base, sheen } => uses(base) || uses(&sheen.term),
             MaterialDesc::Shading { diffuse, specular } => {
                 diffuse.as_ref().is_some_and(&uses) || specular.as_ref().is_some_and(&uses)
             }
@@ -180,6 +190,8 @@ pub enum Role {
     Diffuse,
     /// A specular term (family B), or a family-A model without its diffuse term.
     Specular,
+    /// A sheen layer's lobe (weighted by its coverage).
+    Sheen,
 }
 
 impl Role {
@@ -189,6 +201,7 @@ impl Role {
             Role::Brdf => "brdf",
             Role::Diffuse => "diffuse",
             Role::Specular => "specular",
+            Role::Sheen => "sheen",
         }
     }
 }
@@ -278,10 +291,16 @@ pub fn family_a_diffuse(kind: ModelKind) -> Option<DiffuseTerm> {
 pub struct PartDesc {
     pub term: Term,
     pub role: Role,
+    /// A base term under a sheen layer: its value is scaled by `1 − weight·E(n·v)`.
+    pub under_sheen: bool,
 }
 
 /// Returns the kernels a material needs to render `component`, zero-weight terms left out;
 /// an error for a diffuse term that is not a kernel of its own (`ashikhmin_shirley`).
+///
+/// A sheen layer's lobe comes first (with the specular terms: `--only specular` renders
+/// it, `--only diffuse` does not), then the base's parts, marked as under the layer. A
+/// layer without coverage (`weight = 0`) leaves the base's parts as they are.
 pub fn material_parts(
     material: &MaterialDesc,
     component: Component,
@@ -289,10 +308,15 @@ pub fn material_parts(
     let mut parts = Vec::new();
     let mut push = |term: Term, role: Role| {
         if !is_zero_weight(&term) {
-            parts.push(PartDesc { term, role });
+            parts.push(PartDesc {
+                term,
+                role,
+                under_sheen: false,
+            });
         }
     };
     match material {
+        MaterialDesc::Layered { base, sheen } => return layered_parts(base, sheen, component),
         MaterialDesc::Shading { diffuse, specular } => {
             if component != Component::Specular {
                 if let Some(t) = diffuse {
@@ -350,6 +374,32 @@ pub fn material_parts(
             }
         },
     }
+    Ok(parts)
+}
+
+/// The parts of a family-A model under a sheen layer (see [`material_parts`]).
+fn layered_parts(
+    base: &Term,
+    sheen: &SheenLayer,
+    component: Component,
+) -> Result<Vec<PartDesc>, BrdfError> {
+    let base_parts = material_parts(&MaterialDesc::Brdf(base.clone()), component)?;
+    if sheen.is_absent() {
+        return Ok(base_parts);
+    }
+    let mut parts = Vec::new();
+    let lobe = sheen.weighted_term();
+    if component != Component::Diffuse && !is_zero_weight(&lobe) {
+        parts.push(PartDesc {
+            term: lobe,
+            role: Role::Sheen,
+            under_sheen: false,
+        });
+    }
+    parts.extend(base_parts.into_iter().map(|p| PartDesc {
+        under_sheen: true,
+        ..p
+    }));
     Ok(parts)
 }
 
@@ -488,6 +538,8 @@ pub struct Part {
     pub cosine_weighted: bool,
     /// What the part is for lights behind the surface.
     pub unlit: Unlit,
+    /// A base term under a sheen layer (its batch is scaled first).
+    pub under_sheen: bool,
     kernel: Box<dyn BatchKernel>,
 }
 
@@ -504,6 +556,7 @@ impl Part {
             role: desc.role,
             cosine_weighted: desc.term.kind.spec().family == Family::A,
             unlit: unlit_behaviour(&desc.term),
+            under_sheen: desc.under_sheen,
             kernel,
         }
     }
@@ -793,7 +846,8 @@ mod tests {
                 parts,
                 vec![PartDesc {
                     term: ms.clone(),
-                    role: Role::Specular
+                    role: Role::Specular,
+                    under_sheen: false,
                 }]
             );
         }
