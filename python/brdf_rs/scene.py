@@ -178,7 +178,8 @@ def render(
         scene: a :class:`Scene`, a path to a TOML file, the name of an example scene
             (:func:`example_scenes`), or a dict of the same structure.
         only: ``"diffuse"`` or ``"specular"`` renders that component alone (the other's
-            kernels never run); a family-A model's diffuse term is its ``kd`` term.
+            kernels never run); a family-A model's diffuse term is its ``kd`` term. A
+            sheen layer's lobe counts as specular; the base's terms stay under the layer.
         tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
         exposure: stops, any finite number (default: the scene's, or 0 with
             ``tonemap="none"``); as in :func:`tonemap`, 0 stays 0 and nothing is NaN.
@@ -188,7 +189,8 @@ def render(
             ``pairs_out_of_range`` and ``pairs_backfacing`` (culled unless a term is
             nonzero there) and ``pairs_constant`` (shaded by a constant, no kernel),
             ``evaluations`` of kernels, and ``parts``: per material part its
-            ``material``, ``role``, ``model`` and ``evaluations``.
+            ``material``, ``role`` (``"brdf"``, ``"diffuse"``, ``"specular"`` or
+            ``"sheen"``: a sheen layer's lobe), ``model`` and ``evaluations``.
     """
     scene = _scene_schema.as_scene(scene)
     core = scene.to_core()
