@@ -7,7 +7,9 @@ directional lights whose intensities are the weights of a product quadrature ove
 hemisphere (Gauss-Legendre in cos θ, midpoints in φ), so the pixel's radiance is the
 layered BRDF's directional albedo at the view direction, and prints its range over view
 cosines for each sheen model and roughness. The departure from 1 is the quadrature's
-error on the sheen lobe plus the layer's table interpolation.
+error on the sheen lobe plus the layer's table interpolation, except where the lobe's own
+albedo ``E`` (``brdf_rs.albedo``, last column) passes 1: the base's factor ``1 − E``
+stops at 0 there and the layered albedo is the lobe's.
 
     python scripts/sheen_layer_furnace.py [--n-mu 64] [--n-phi 128]
 """
@@ -53,13 +55,17 @@ def main() -> None:
     base = {"model": "lambert", "kd": 1.0}
     print(f"view cosines {VIEW_MUS}; quadrature {args.n_mu} x {args.n_phi} lights")
     print(f"base alone: albedo {brdf_rs.shade(base, n, v, lights)[:, 0].round(5).tolist()}")
-    print("| sheen model | alpha | min albedo | max albedo |")
-    print("|---|---|---|---|")
+    print("| sheen model | alpha | min albedo | max albedo | lobe's max E |")
+    print("|---|---|---|---|---|")
     for model in _spec.sheen_layers():
         for alpha in ALPHAS:
             layered = {**base, "sheen": {"model": model, "ks": 1.0, "alpha": alpha}}
             a = brdf_rs.shade(layered, n, v, lights)[:, 0]
-            print(f"| {model} | {alpha:g} | {a.min():.4f} | {a.max():.4f} |")
+            e = brdf_rs.albedo(model, np.array(VIEW_MUS), kd=0.0, ks=1.0, alpha=alpha)
+            print(
+                f"| {model} | {alpha:g} | {a.min():.4f} | {a.max():.4f} |"
+                f" {e.value[:, 0].max():.4f} |"
+            )
 
 
 if __name__ == "__main__":

@@ -219,3 +219,23 @@ def test_the_sheen_example_scene_renders_quickly():
     assert len(models) >= 2
     image = brdf_rs.render(scene.with_resolution(64, 32))
     assert image.shape == (32, 64, 3) and image.max() > 0.1
+
+
+def test_where_the_lobe_reflects_more_than_one_the_base_goes_dark_not_negative():
+    """A sharp Charlie lobe's albedo passes 1 at grazing views: the base's factor
+    ``1 − weight·E`` stops at 0 there, so a red base under a cyan layer keeps a red
+    channel of 0, never below."""
+    mus = np.array([0.002, 0.005, 0.01, 0.02])
+    model = LAYERS[1]
+    e = brdf_rs.albedo(model, mus, kd=0.0, ks=1.0, alpha=0.01, samples=1 << 12)
+    assert e.value[:, 0].max() > 1.2
+    layered = {
+        "model": "lambert",
+        "kd": [1.0, 0.0, 0.0],
+        "sheen": _layer(model, ks=[0.0, 1.0, 1.0], alpha=0.01),
+    }
+    n = np.array([0.0, 0.0, 1.0])
+    v = np.array([[math.sqrt(1 - m * m), 0.0, m] for m in mus])
+    out = brdf_rs.shade(layered, n, v, _hemisphere_lights(16, 32))
+    assert np.all(out >= 0), out
+    assert out[0, 0] == 0.0 and out[0, 1] > 0.5

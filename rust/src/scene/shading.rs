@@ -836,6 +836,62 @@ mod tests {
     }
 
     #[test]
+    fn a_sheen_layer_goes_first_and_its_base_under_it() {
+        let base = term(ModelKind::Ggx, &[("kd", vec![0.4]), ("alpha", vec![0.3])]);
+        let lobe = term(
+            ModelKind::CharlieSheen,
+            &[("ks", vec![0.8, 0.4, 0.4]), ("alpha", vec![0.3])],
+        );
+        let layered = |weight: f64| MaterialDesc::Layered {
+            base: base.clone(),
+            sheen: SheenLayer::new(lobe.clone(), weight).unwrap(),
+        };
+        for component in [Component::Both, Component::Diffuse, Component::Specular] {
+            let plain = material_parts(&MaterialDesc::Brdf(base.clone()), component).unwrap();
+            // No coverage: exactly the base's parts.
+            assert_eq!(material_parts(&layered(0.0), component).unwrap(), plain);
+            let parts = material_parts(&layered(0.5), component).unwrap();
+            let (sheen, under): (Vec<_>, Vec<_>) = parts.iter().partition(|p| !p.under_sheen);
+            assert_eq!(under.len(), plain.len());
+            for (u, p) in under.iter().zip(&plain) {
+                assert_eq!((&u.term, u.role), (&p.term, p.role));
+            }
+            if component == Component::Diffuse {
+                assert!(sheen.is_empty());
+            } else {
+                assert_eq!(parts[0].role, Role::Sheen);
+                assert_eq!(sheen.len(), 1);
+                let ks = lobe.param_slots("ks");
+                assert_eq!(sheen[0].term.slots[ks], [0.4, 0.2, 0.2]);
+            }
+        }
+        // A black layer still covers the base: no lobe, the base under it.
+        let black = term(ModelKind::CharlieSheen, &[("ks", vec![0.0])]);
+        let m = MaterialDesc::Layered {
+            base: base.clone(),
+            sheen: SheenLayer::new(black, 1.0).unwrap(),
+        };
+        let parts = material_parts(&m, Component::Both).unwrap();
+        assert!(parts.iter().all(|p| p.under_sheen) && !parts.is_empty());
+        // What a layer refuses, and a family-B base.
+        let with_kd = term(ModelKind::CharlieSheen, &[("kd", vec![0.1])]);
+        for (t, w, want) in [
+            (lobe.clone(), 1.5, "sheen.weight"),
+            (lobe.clone(), f64::NAN, "sheen.weight"),
+            (with_kd, 1.0, "sheen.kd"),
+            (base.clone(), 1.0, "sheen.model"),
+        ] {
+            let err = SheenLayer::new(t, w).unwrap_err().to_string();
+            assert!(err.contains(want), "{err}");
+        }
+        let shading = MaterialDesc::Layered {
+            base: term(ModelKind::LambertShading, &[("kd", vec![0.5])]),
+            sheen: SheenLayer::new(lobe, 1.0).unwrap(),
+        };
+        assert!(shading.check().is_err());
+    }
+
+    #[test]
     fn parts_of_the_newer_models() {
         let ms = term(ModelKind::GgxMs, &[("ks", vec![0.5])]);
         let m = MaterialDesc::Brdf(ms.clone());

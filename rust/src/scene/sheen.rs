@@ -150,14 +150,17 @@ fn cache() -> &'static Mutex<HashMap<Key, Arc<[f32]>>> {
 }
 
 /// Returns the albedo table of `kind` at roughness `alpha` (`kd = 0`, `ks = 1`), from the
-/// cache or integrated now.
+/// cache or integrated now, each value held to [0, 1]: the Charlie lobes' albedo exceeds
+/// 1 at grazing angles for small roughness (docs/models.md), and the base's factor
+/// `1 − weight·E` stops at 0 there rather than turning negative.
 pub fn table(kind: ModelKind, alpha: f64) -> Result<Arc<[f32]>, BrdfError> {
     let key = (kind, alpha.to_bits());
     if let Some(t) = cache().lock().ok().and_then(|c| c.get(&key).cloned()) {
         return Ok(t);
     }
     let values = integrate_table(kind, alpha)?;
-    let t: Arc<[f32]> = values.iter().map(|&x| x as f32).collect();
+    let held = |x: f64| if x > 0.0 { x.min(1.0) } else { 0.0 };
+    let t: Arc<[f32]> = values.iter().map(|&x| held(x) as f32).collect();
     if let Ok(mut c) = cache().lock() {
         if c.len() >= CACHE_LIMIT {
             c.clear();
@@ -206,7 +209,10 @@ mod tests {
     }
 
     #[test]
-    fn tables_are_albedos_and_cached() {
+    fn tables_are_albedos_held_to_one_and_cached() {
+        // The Charlie lobe's own albedo passes 1 at grazing angles when it is sharp.
+        let raw = integrate_table(ModelKind::CharlieSheen, 1e-3).unwrap();
+        assert!(raw[0] > 1.0, "{raw:?}");
         for kind in LAYER_MODELS {
             for alpha in [1e-3, 0.05, 0.5, 1.0] {
                 let t = table(kind, alpha).unwrap();
@@ -223,6 +229,11 @@ mod tests {
             let f = s.factor(mu);
             assert!((0.0..=1.0).contains(&f), "{mu}: {f}");
         }
+        let sharp = Scaling {
+            weight: 1.0,
+            table: table(ModelKind::CharlieSheen, 1e-3).unwrap(),
+        };
+        assert_eq!(sharp.factor(1e-6), 0.0);
         // At the nodes the interpolation returns the table.
         for k in 0..NODES {
             let mu = node(k) as f32;
