@@ -150,13 +150,13 @@ def shade_reference(material, n, v, p, t, lights):
 
 
 #: A sheen layer's albedo table: the sheen lobe's albedo at unit colour (brdf_rs.albedo,
-#: 2^14 samples) at 64 view cosines evenly spaced in sqrt(mu), interpolated linearly.
+#: 2^12 samples) at 64 view cosines evenly spaced in sqrt(mu), interpolated linearly.
 SHEEN_NODES = ((np.arange(64) + 0.5) / 64) ** 2
 
 
 @functools.cache
 def _sheen_table(model, alpha):
-    r = brdf_rs.albedo(model, SHEEN_NODES, kd=0.0, ks=1.0, alpha=alpha, samples=1 << 14)
+    r = brdf_rs.albedo(model, SHEEN_NODES, kd=0.0, ks=1.0, alpha=alpha, samples=1 << 12)
     return r.value[:, 0]
 
 

@@ -10,8 +10,10 @@
 //! reach, and those with `n·l <= 0` for parts that are zero there, are culled — if none
 //! is left the light costs nothing more for this segment; the survivors are packed into
 //! a batch per material and each of the material's parts runs its kernel over the
-//! batch. A part that is one constant colour for lights behind the surface (a toon dark
-//! band) gets `L·colour` added there without a kernel.
+//! batch (for a material under a sheen layer: the layer's lobe, then the base's parts on
+//! the batch scaled by the layer's `1 − weight·E(n·v)`). A part that is one constant
+//! colour for lights behind the surface (a toon dark band) gets `L·colour` added there
+//! without a kernel.
 //!
 //! Every pixel's value is the same sum in the same order (parts in order, lights in
 //! order) whatever the thread count: output is deterministic.

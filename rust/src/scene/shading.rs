@@ -1,9 +1,9 @@
 //! Materials: which kernels a material needs, which it can skip, and the batch loop that
 //! evaluates one kernel over the pixel-light pairs that survived culling.
 //!
-//! A material is one family-A BRDF (a light contributes `L·f(l, v)·(n·l)`) or a pair of
-//! family-B shading terms, diffuse and specular (a light contributes `L·s(l, v)`), as
-//! docs/models.md defines them. Preparing a material turns it into *parts*, each one kernel
+//! A material is one family-A BRDF (a light contributes `L·f(l, v)·(n·l)`), optionally
+//! under a sheen layer ([`super::sheen`]), or a pair of family-B shading terms, diffuse
+//! and specular (a light contributes `L·s(l, v)`), as docs/models.md defines them. Preparing a material turns it into *parts*, each one kernel
 //! with its prepared constants ([`Kernel::prepare`] runs once per part, never per pixel):
 //!
 //! - a part whose colour parameters are all zero is dropped ([`is_zero_weight`]): a
@@ -11,6 +11,9 @@
 //! - a family-A model whose specular colours are zero is evaluated as its diffuse term
 //!   alone ([`family_a_diffuse`]: `lambert` with `kd` or `π·kd`), so it too costs what
 //!   Lambert costs; the same split renders `--only diffuse` / `--only specular`;
+//! - a sheen layer's lobe is a part of its own, and the base's parts are marked as under
+//!   the layer: the renderer scales their batch by `1 − weight·E(n·v)` before they run;
+//!   a layer with no coverage is dropped;
 //! - each part knows what it is for lights behind the surface ([`unlit_behaviour`]):
 //!   zero (such lights are culled before any kernel runs), a constant (a toon dark band:
 //!   added without a kernel), or varying (the kernel runs).
