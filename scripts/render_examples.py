@@ -7,6 +7,7 @@ docs/gallery.png        the shading assignment's terms on spheres
 docs/gallery_diffuse.png, docs/gallery_specular.png   the same, --only diffuse / specular
 docs/hdr_clamp.png, docs/hdr_reinhard.png, docs/hdr_aces.png   one over-bright scene,
                         three output transforms
+docs/sheen.png          sheen layers: velvet and cloth spheres without and with their layer
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ JOBS = [
     ("hdr_clamp.png", "hdr", {"tonemap": "clamp"}),
     ("hdr_reinhard.png", "hdr", {"tonemap": "reinhard"}),
     ("hdr_aces.png", "hdr", {"tonemap": "aces"}),
+    ("sheen.png", "sheen", {}),
 ]
 
 

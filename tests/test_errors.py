@@ -451,6 +451,41 @@ def test_the_core_converts_a_scene_without_ever_panicking():
             core.render_scene(scene, "both")
 
 
+def test_the_core_converts_a_sheen_layer_without_ever_panicking():
+    """The same for a material's sheen layer: every key of ``{"model", "params",
+    "weight"}`` removed or set to each odd value."""
+    layer = {"model": "charlie_sheen", "ks": [0.9, 0.5, 0.5], "alpha": 0.3, "weight": 0.8}
+    base = brdf_rs.parse_scene(_scene(**{"materials.m.sheen": layer})).to_core()
+    base["camera"]["resolution"] = [3, 2]
+    sheen = base["materials"][0]["sheen"]
+    assert sheen["weight"] == 0.8
+    refused = 0
+    for path, value in _core_scene_variants(sheen):
+        try:
+            image, _ = core.render_scene(base, "both")
+        except (TypeError, ValueError):
+            refused += 1
+        else:
+            assert image.shape[2] == 3 and np.isfinite(image).all(), (path, value)
+    assert refused > 30
+    cases = [
+        ({**sheen, "model": "ggx"}, r"materials\[0\]\.sheen\.model: ggx is not a sheen model"),
+        ({**sheen, "weight": 2.0}, r"materials\[0\]\.sheen\.weight: expected a number in"),
+        (
+            {**sheen, "params": {**sheen["params"], "kd": np.array(0.5)}},
+            r"materials\[0\]\.sheen\.kd: a sheen layer has no diffuse term",
+        ),
+    ]
+    for layer, pattern in cases:
+        materials = [{**base["materials"][0], "sheen": layer}, base["materials"][1]]
+        with pytest.raises(ValueError, match=pattern):
+            core.render_scene({**base, "materials": materials}, "both")
+    # Over family-B terms, a layer is refused by name.
+    materials = [base["materials"][0], {**base["materials"][1], "sheen": sheen}]
+    with pytest.raises(ValueError, match=r"materials\[1\]\.sheen: a sheen layer goes over"):
+        core.render_scene({**base, "materials": materials}, "both")
+
+
 def test_scene_tables_checks_its_numbers_first(tmp_path):
     scene = _scene()
     with pytest.raises(ValueError, match=r"^mu_count: expected an integer from 1 to 1048576"):

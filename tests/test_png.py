@@ -159,7 +159,7 @@ def test_table_preview_load_names_the_file_and_the_problem(tmp_path):
 
 def test_example_scenes_ship_in_the_package_and_render_by_name(tmp_path, monkeypatch):
     examples = brdf_rs.example_scenes()
-    assert set(examples) == {"gallery", "hdr", "rtr_fig_7_38"}
+    assert set(examples) == {"gallery", "hdr", "rtr_fig_7_38", "sheen"}
     package = __import__("pathlib").Path(brdf_rs.__file__).parent
     assert all(p.parent == package / "example_scenes" for p in examples.values())
     monkeypatch.chdir(tmp_path)  # no file of that name here: the name means the example
@@ -177,6 +177,6 @@ def test_a_misspelt_example_name_lists_the_examples():
     with pytest.raises(
         brdf_rs.SceneError,
         match=r"^galery: cannot read the scene: .*\(nor an example scene: gallery, hdr,"
-        r" rtr_fig_7_38\); did you mean 'gallery'\?$",
+        r" rtr_fig_7_38, sheen\); did you mean 'gallery'\?$",
     ):
         brdf_rs.load_scene("galery")

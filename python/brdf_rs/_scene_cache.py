@@ -108,7 +108,9 @@ def scene_tables(
     is damaged, cut short or holds another table is built again (with a warning on the
     ``brdf_rs`` logger), never used. Tables are written atomically, so processes sharing
     a cache never see a half-written one. Family-B shading terms are not BRDFs and
-    have no albedo: they are skipped.
+    have no albedo: they are skipped. A material's sheen layer is not included: the table
+    is its model's (the layered albedo at view cosine ``mu`` is ``weight·E_sheen(mu)·ks +
+    (1 − weight·E_sheen(mu))·R(mu)``, docs/scenes.md).
 
     ``progress(material, cells_done, cells)`` is called while a table is built.
     """

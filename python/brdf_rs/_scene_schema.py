@@ -41,6 +41,7 @@ __all__ = [
     "check_material",
     "example_scenes",
     "load_scene",
+    "material_core",
     "parse_scene",
     "tomllib",
 ]
@@ -324,9 +325,39 @@ def _camera(where: Where, value: Any) -> dict[str, Any]:
     return camera
 
 
+def _sheen_layer(where: Where, value: Any) -> dict[str, Any]:
+    """Validates a sheen layer ``{model = ..., weight = ..., ks = ..., alpha = ...}``:
+    returns ``{"model", "params", "weight"}``."""
+    layers = _spec.sheen_layers()
+    if not isinstance(value, Mapping):
+        raise where.expected(
+            "a table: sheen = {model = ..., weight = ..., and the model's ks and alpha}", value
+        )
+    model = _required(where, value, "model", f"a sheen model: {', '.join(layers)}")
+    if model not in layers:
+        close = difflib.get_close_matches(str(model), list(layers), n=1, cutoff=0.6)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise (where / "model").error(
+            f"{_arrays.show(model)} is not a sheen model{hint}; a sheen layer takes: "
+            + ", ".join(layers)
+        )
+    if "kd" in value:
+        raise (where / "kd").error(
+            "a sheen layer has no diffuse term of its own: the base's diffuse term lies"
+            " under it (give kd to the material's model)"
+        )
+    params = [p["name"] for p in _spec.specs()[model]["params"] if p["name"] != "kd"]
+    table = _table(where, value, ["model", "weight", *params])
+    weight = _plain(table.pop("weight", 1.0))
+    if not _is_number(weight) or not 0 <= weight <= 1:
+        raise (where / "weight").expected("a number in [0, 1] (the layer's coverage)", weight)
+    return {**_term(where, table, family="A", slot=None), "weight": float(weight)}
+
+
 def check_material(where: Where, value: Any) -> dict[str, Any]:
-    """A ``[materials.NAME]`` table checked: ``{"brdf": term}`` (family A) or
-    ``{"diffuse": term | None, "specular": term | None}`` (family B)."""
+    """A ``[materials.NAME]`` table checked: ``{"brdf": term, "sheen": layer | None}``
+    (family A, with an optional sheen layer) or ``{"diffuse": term | None, "specular":
+    term | None}`` (family B)."""
     if not isinstance(value, Mapping):
         raise where.expected("a table: model = ... (family A) or diffuse/specular = {...}", value)
     if "model" in value:
@@ -336,7 +367,15 @@ def check_material(where: Where, value: Any) -> dict[str, Any]:
                     "a material is either one family-A model (model = ...) or family-B"
                     " terms (diffuse = {...}, specular = {...}), not both"
                 )
-        return {"brdf": _term(where, value, family="A", slot=None)}
+        base = {k: v for k, v in value.items() if k != "sheen"}
+        brdf = _term(where, base, family="A", slot=None)
+        sheen = _sheen_layer(where / "sheen", value["sheen"]) if "sheen" in value else None
+        return {"brdf": brdf, "sheen": sheen}
+    if "sheen" in value:
+        raise (where / "sheen").error(
+            "a sheen layer goes over a family-A model (model = ...); family-B shading terms"
+            " (diffuse = {...}, specular = {...}) take none"
+        )
     table = _table(where, value, ["model", "diffuse", "specular"])
     if not table:
         raise where.error(
@@ -347,6 +386,25 @@ def check_material(where: Where, value: Any) -> dict[str, Any]:
         slot: _term(where / slot, table[slot], family="B", slot=slot) if slot in table else None
         for slot in ("diffuse", "specular")
     }
+
+
+def _term_core(t: Mapping[str, Any] | None) -> dict[str, Any] | None:
+    if t is None:
+        return None
+    params = {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()}
+    return {"model": t["model"], "params": params}
+
+
+def material_core(m: Mapping[str, Any]) -> dict[str, Any]:
+    """A checked material (:func:`check_material`) as the plain structure the core
+    renders."""
+    if "brdf" in m:
+        sheen = m.get("sheen")
+        layer = None
+        if sheen is not None:
+            layer = {**(_term_core(sheen) or {}), "weight": sheen["weight"]}
+        return {"brdf": _term_core(m["brdf"]), "sheen": layer}
+    return {"diffuse": _term_core(m["diffuse"]), "specular": _term_core(m["specular"])}
 
 
 def _object(where: Where, value: Any, materials: Mapping[str, Any]) -> dict[str, Any]:
@@ -444,8 +502,9 @@ def check_lights(where: Where, value: Any) -> list[dict[str, Any]]:
 class Scene:
     """A checked scene. Build one with :func:`load_scene` or :func:`parse_scene`.
 
-    ``materials`` maps each name to ``{"brdf": {"model", "params"}}`` (family A) or
-    ``{"diffuse": term | None, "specular": term | None}`` (family B); ``objects`` and
+    ``materials`` maps each name to ``{"brdf": {"model", "params"}, "sheen": layer |
+    None}`` (family A; a layer is ``{"model", "params", "weight"}``) or ``{"diffuse":
+    term | None, "specular": term | None}`` (family B); ``objects`` and
     ``lights`` are lists of dicts; ``output`` holds ``tonemap``, ``exposure`` and
     ``background``; ``source`` names the file (for messages).
     """
@@ -486,19 +545,7 @@ class Scene:
         names = list(self.materials)
         index = {name: i for i, name in enumerate(names)}
 
-        def term(t: dict[str, Any] | None) -> dict[str, Any] | None:
-            if t is None:
-                return None
-            params = {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()}
-            return {"model": t["model"], "params": params}
-
-        materials = []
-        for name in names:
-            m = self.materials[name]
-            if "brdf" in m:
-                materials.append({"brdf": term(m["brdf"])})
-            else:
-                materials.append({"diffuse": term(m["diffuse"]), "specular": term(m["specular"])})
+        materials = [material_core(self.materials[name]) for name in names]
         objects = [{**o, "material": index[o["material"]]} for o in self.objects]
         return {
             "camera": self.camera,
@@ -551,7 +598,7 @@ def example_scenes() -> dict[str, Path]:
     """The example scenes that ship with the package: ``{name: path of its TOML file}``.
 
     :func:`load_scene`, :func:`render` and ``brdf-rs render`` take a name (``"gallery"``,
-    ``"hdr"``, ``"rtr_fig_7_38"``) in place of a path; the files are a starting point
+    ``"hdr"``, ``"rtr_fig_7_38"``, ``"sheen"``) in place of a path; the files are a starting point
     for scenes of your own."""
     return {p.stem: p for p in sorted(_EXAMPLES.glob("*.toml"))}
 

@@ -164,6 +164,12 @@ def with_exact() -> dict[str, ExactNormalization]:
     return {name: s["exact"] for name, s in specs().items() if s["exact"] is not None}
 
 
+@cache
+def sheen_layers() -> tuple[str, ...]:
+    """The models a scene material's sheen layer takes (``sheen = {model = ...}``)."""
+    return tuple(_core.sheen_layer_models())
+
+
 def in_slot(slot: str) -> tuple[str, ...]:
     """The family-B terms a material's ``slot`` (``"diffuse"``, ``"specular"``) takes."""
     return tuple(name for name, s in specs().items() if s["scene_slot"] in (slot, "both"))

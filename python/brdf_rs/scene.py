@@ -16,6 +16,11 @@ A scene is a TOML file (or the same structure as a dict)::
     ks = 0.05
     p = 50
 
+    [materials.velvet]            # a family-A BRDF under a sheen layer (optional):
+    model = "lambert"             # weight·f_sheen + (1 − weight·E_sheen(n·v))·f_base
+    kd = [0.12, 0.01, 0.02]
+    sheen = { model = "charlie_sheen", ks = [1, 0.35, 0.4], alpha = 0.2, weight = 1 }
+
     [materials.toon]              # family-B terms: a light adds L·s(l, v) for each
     diffuse = { model = "toon_diffuse", thresholds = [0.3], colors = [0.1, 0.6] }
     specular = { model = "toon_specular", threshold = 0.95 }
@@ -173,7 +178,8 @@ def render(
         scene: a :class:`Scene`, a path to a TOML file, the name of an example scene
             (:func:`example_scenes`), or a dict of the same structure.
         only: ``"diffuse"`` or ``"specular"`` renders that component alone (the other's
-            kernels never run); a family-A model's diffuse term is its ``kd`` term.
+            kernels never run); a family-A model's diffuse term is its ``kd`` term. A
+            sheen layer's lobe counts as specular; the base's terms stay under the layer.
         tonemap: ``"clamp"``, ``"reinhard"``, ``"aces"`` or ``"none"``.
         exposure: stops, any finite number (default: the scene's, or 0 with
             ``tonemap="none"``); as in :func:`tonemap`, 0 stays 0 and nothing is NaN.
@@ -183,7 +189,8 @@ def render(
             ``pairs_out_of_range`` and ``pairs_backfacing`` (culled unless a term is
             nonzero there) and ``pairs_constant`` (shaded by a constant, no kernel),
             ``evaluations`` of kernels, and ``parts``: per material part its
-            ``material``, ``role``, ``model`` and ``evaluations``.
+            ``material``, ``role`` (``"brdf"``, ``"diffuse"``, ``"specular"`` or
+            ``"sheen"``: a sheen layer's lobe), ``model`` and ``evaluations``.
     """
     scene = _scene_schema.as_scene(scene)
     core = scene.to_core()
@@ -198,27 +205,7 @@ def render(
 
 
 def _material_core(where: _scene_schema.Where, material: Mapping[str, Any]) -> dict[str, Any]:
-    m = _scene_schema.check_material(where, material)
-    if "brdf" in m:
-        t = m["brdf"]
-        return {
-            "brdf": {
-                "model": t["model"],
-                "params": {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()},
-            }
-        }
-    out: dict[str, Any] = {}
-    for slot in ("diffuse", "specular"):
-        t = m[slot]
-        out[slot] = (
-            None
-            if t is None
-            else {
-                "model": t["model"],
-                "params": {k: np.asarray(v, dtype=np.float64) for k, v in t["params"].items()},
-            }
-        )
-    return out
+    return _scene_schema.material_core(_scene_schema.check_material(where, material))
 
 
 def _vectors(name: str, value: Any) -> np.ndarray:
@@ -316,8 +303,9 @@ def shade(
     """Shades your own G-buffer with one material: linear radiance, float32 ``(..., 3)``.
 
     Args:
-        material: as a ``[materials.NAME]`` table: ``{"model": ..., params}`` (family A)
-            or ``{"diffuse": {...}, "specular": {...}}`` (family B).
+        material: as a ``[materials.NAME]`` table: ``{"model": ..., params}`` (family A,
+            with an optional ``"sheen": {"model": ..., "weight": ..., params}`` layer) or
+            ``{"diffuse": {...}, "specular": {...}}`` (family B).
         n: surface normals, shape ``(..., 3)`` (normalized here).
         v: directions toward the viewer; ``n``, ``v``, ``positions`` and ``tangent``
             broadcast together (NumPy rules) and the result has their shape.

@@ -648,7 +648,8 @@ mod brdf_rs_ext {
 
     #[pymodule_export]
     use super::scene::{
-        encode_srgb8, render_scene, scene_counters, shade_gbuffer, tonemap_inplace,
+        encode_srgb8, render_scene, scene_counters, shade_gbuffer, sheen_layer_models,
+        tonemap_inplace,
     };
 
     #[pymodule_export]

@@ -22,7 +22,8 @@ use crate::error::BrdfError;
 use crate::models::ModelKind;
 use crate::scene::render::{COUNTERS, GBuffer, RenderStats};
 use crate::scene::{
-    Camera, Component, Light, MaterialDesc, Object, Projection, Scene, Term, ToneMap, tonemap,
+    Camera, Component, Light, MaterialDesc, Object, Projection, Scene, SheenLayer, Term, ToneMap,
+    tonemap,
 };
 
 /// Returns `d[key]` converted, or an error naming `path.key` and what was expected.
@@ -92,9 +93,37 @@ fn term(d: &Bound<'_, PyDict>, path: &str) -> PyResult<Term> {
     Term::new(kind, views).map_err(at(path))
 }
 
+/// A sheen layer: `{"model", "params", "weight"}` (`weight` 1 when absent).
+fn sheen_layer(d: &Bound<'_, PyDict>, path: &str) -> PyResult<SheenLayer> {
+    let weight: f64 = optional(d, "weight", path, "a number in [0, 1]")?.unwrap_or(1.0);
+    let term = term(d, path)?;
+    SheenLayer::new(term, weight).map_err(|e| {
+        // The layer's messages name the key from `sheen.`: the material's path goes first.
+        let text = e.to_string();
+        let text = text.strip_prefix("sheen").unwrap_or(&text);
+        PyErr::from(BrdfError::InvalidArgument(format!("{path}{text}")))
+    })
+}
+
 fn material(d: &Bound<'_, PyDict>, path: &str) -> PyResult<MaterialDesc> {
+    let sheen = match d.get_item("sheen")? {
+        Some(v) if !v.is_none() => {
+            let p = format!("{path}.sheen");
+            Some(sheen_layer(&dict(&v, &p)?, &p)?)
+        }
+        _ => None,
+    };
     Ok(if let Some(brdf) = d.get_item("brdf")? {
-        MaterialDesc::Brdf(term(&dict(&brdf, path)?, path)?)
+        let base = term(&dict(&brdf, path)?, path)?;
+        match sheen {
+            Some(sheen) => MaterialDesc::Layered { base, sheen },
+            None => MaterialDesc::Brdf(base),
+        }
+    } else if sheen.is_some() {
+        return Err(PyValueError::new_err(format!(
+            "{path}.sheen: a sheen layer goes over a family-A model (brdf); family-B \
+             shading terms take none"
+        )));
     } else {
         let part = |role: &str| -> PyResult<Option<Term>> {
             match d.get_item(role)? {
@@ -322,6 +351,15 @@ pub fn shade_gbuffer<'py>(
     let array = numpy::ndarray::Array::from_shape_vec(vec![out.len() / 3, 3], out)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok((array.into_pyarray(py), stats_dict(py, &stats)?))
+}
+
+/// The models a scene material's sheen layer takes.
+#[pyfunction]
+pub fn sheen_layer_models() -> Vec<&'static str> {
+    crate::scene::sheen::LAYER_MODELS
+        .iter()
+        .map(|k| k.name())
+        .collect()
 }
 
 /// Applies `2^exposure` and a tone map to a float32 array, in place.

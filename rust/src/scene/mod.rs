@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod lights;
 pub mod render;
 pub mod shading;
+pub mod sheen;
 pub mod tonemap;
 
 pub use camera::{Camera, Projection};
@@ -27,4 +28,5 @@ pub use geometry::{Object, Shape, TangentField};
 pub use lights::Light;
 pub use render::{GBuffer, PartStats, RenderStats, Scene, render, render_polled, shade};
 pub use shading::{Component, MaterialDesc, Role, Term};
+pub use sheen::SheenLayer;
 pub use tonemap::ToneMap;

@@ -10,8 +10,10 @@
 //! reach, and those with `n·l <= 0` for parts that are zero there, are culled — if none
 //! is left the light costs nothing more for this segment; the survivors are packed into
 //! a batch per material and each of the material's parts runs its kernel over the
-//! batch. A part that is one constant colour for lights behind the surface (a toon dark
-//! band) gets `L·colour` added there without a kernel.
+//! batch (for a material under a sheen layer: the layer's lobe, then the base's parts on
+//! the batch scaled by the layer's `1 − weight·E(n·v)`). A part that is one constant
+//! colour for lights behind the surface (a toon dark band) gets `L·colour` added there
+//! without a kernel.
 //!
 //! Every pixel's value is the same sum in the same order (parts in order, lights in
 //! order) whatever the thread count: output is deterministic.
@@ -26,6 +28,7 @@ use super::lights::{Light, LightField};
 use super::shading::{
     Accumulator, Batch, Component, MaterialDesc, Part, Role, SEGMENT, Unlit, material_parts,
 };
+use super::sheen::Scaling;
 use crate::error::BrdfError;
 use crate::models::ModelKind;
 use crate::parallel;
@@ -197,6 +200,8 @@ struct Prepared {
     any_front: bool,
     /// The sum of the parts' constant values for lights behind the surface, if any.
     unlit_constant: Option<[f32; 3]>,
+    /// A sheen layer's scaling of the parts under it (its albedo table built once here).
+    sheen: Option<Scaling>,
 }
 
 /// Prepares the materials in `used` (others stay `None`: never prepared).
@@ -236,8 +241,15 @@ fn prepare(
                 }
             }
         }
+        let sheen = match desc {
+            MaterialDesc::Layered { sheen, .. } if parts.iter().any(|p| p.under_sheen) => {
+                Some(Scaling::prepare(sheen)?)
+            }
+            _ => None,
+        };
         out.push(Some(Prepared {
-            cosine_weighted: matches!(desc, MaterialDesc::Brdf(_)),
+            cosine_weighted: matches!(desc, MaterialDesc::Brdf(_) | MaterialDesc::Layered { .. }),
+            sheen,
             any_varies: parts.iter().any(|p| p.unlit == Unlit::Varies),
             any_front: parts.iter().any(|p| p.unlit != Unlit::Varies),
             unlit_constant: constant,
@@ -413,8 +425,15 @@ impl Scratch {
                     if self.batch.len == 0 {
                         continue;
                     }
+                    let mut scaled = false;
                     for (i, part) in material.parts.iter().enumerate() {
                         if (part.unlit != Unlit::Varies) == front_only {
+                            if part.under_sheen && !scaled {
+                                if let Some(sheen) = &material.sheen {
+                                    scale_under_sheen(&mut self.batch, sheen);
+                                }
+                                scaled = true;
+                            }
                             part.shade(&self.batch, &mut self.acc);
                             self.stats.parts[material.first_stat + i].evaluations +=
                                 self.batch.len as u64;
@@ -480,6 +499,19 @@ impl Scratch {
                 b.t[c][k] = self.tangent[c][j];
                 b.weight[c][k] = intensity[c] * scale;
             }
+        }
+    }
+}
+
+/// Multiplies each pair's weight by a sheen layer's `1 − weight·E(n·v)`: the batch then
+/// shades the parts under the layer.
+#[inline(always)]
+fn scale_under_sheen(b: &mut Batch, sheen: &Scaling) {
+    for k in 0..b.len.min(SEGMENT) {
+        let mu_o = b.n[0][k] * b.wo[0][k] + b.n[1][k] * b.wo[1][k] + b.n[2][k] * b.wo[2][k];
+        let f = sheen.factor(mu_o);
+        for c in 0..3 {
+            b.weight[c][k] *= f;
         }
     }
 }

@@ -1,9 +1,9 @@
 //! Materials: which kernels a material needs, which it can skip, and the batch loop that
 //! evaluates one kernel over the pixel-light pairs that survived culling.
 //!
-//! A material is one family-A BRDF (a light contributes `L·f(l, v)·(n·l)`) or a pair of
-//! family-B shading terms, diffuse and specular (a light contributes `L·s(l, v)`), as
-//! docs/models.md defines them. Preparing a material turns it into *parts*, each one kernel
+//! A material is one family-A BRDF (a light contributes `L·f(l, v)·(n·l)`), optionally
+//! under a sheen layer ([`super::sheen`]), or a pair of family-B shading terms, diffuse
+//! and specular (a light contributes `L·s(l, v)`), as docs/models.md defines them. Preparing a material turns it into *parts*, each one kernel
 //! with its prepared constants ([`Kernel::prepare`] runs once per part, never per pixel):
 //!
 //! - a part whose colour parameters are all zero is dropped ([`is_zero_weight`]): a
@@ -11,6 +11,9 @@
 //! - a family-A model whose specular colours are zero is evaluated as its diffuse term
 //!   alone ([`family_a_diffuse`]: `lambert` with `kd` or `π·kd`), so it too costs what
 //!   Lambert costs; the same split renders `--only diffuse` / `--only specular`;
+//! - a sheen layer's lobe is a part of its own, and the base's parts are marked as under
+//!   the layer: the renderer scales their batch by `1 − weight·E(n·v)` before they run;
+//!   a layer with no coverage is dropped;
 //! - each part knows what it is for lights behind the surface ([`unlit_behaviour`]):
 //!   zero (such lights are culled before any kernel runs), a constant (a toon dark band:
 //!   added without a kernel), or varying (the kernel runs).
@@ -28,6 +31,8 @@ use crate::models::spec::{DiffuseTerm, SceneUse};
 use crate::models::toon_diffuse::MAX_THRESHOLDS;
 use crate::models::{Directions, Family, Kernel, KernelVisitor, ModelKind};
 use crate::simd::{Isa, isa};
+
+use super::sheen::SheenLayer;
 
 /// Pixels per segment: the unit of work the renderer shades at once (one row is cut into
 /// segments). A batch of pixel-light pairs never holds more.
@@ -100,7 +105,7 @@ impl Term {
     }
 
     /// Returns the slots of parameter `name` (empty if the model has none).
-    fn param_slots(&self, name: &str) -> std::ops::Range<usize> {
+    pub fn param_slots(&self, name: &str) -> std::ops::Range<usize> {
         self.kind
             .spec()
             .param(name)
@@ -118,6 +123,9 @@ pub enum MaterialDesc {
         diffuse: Option<Term>,
         specular: Option<Term>,
     },
+    /// A family-A BRDF under a sheen layer ([`super::sheen`]): `weight·f_sheen +
+    /// (1 − weight·E_sheen(n·v))·f_base`.
+    Layered { base: Term, sheen: SheenLayer },
 }
 
 impl MaterialDesc {
@@ -138,6 +146,10 @@ impl MaterialDesc {
         };
         match self {
             MaterialDesc::Brdf(t) => family_of(t, Family::A, "model"),
+            MaterialDesc::Layered { base, sheen } => {
+                family_of(base, Family::A, "model")?;
+                SheenLayer::new(sheen.term.clone(), sheen.weight).map(|_| ())
+            }
             MaterialDesc::Shading { diffuse, specular } => {
                 if let Some(t) = diffuse {
                     family_of(t, Family::B, "diffuse")?;
@@ -164,6 +176,7 @@ impl MaterialDesc {
     fn any_term(&self, uses: impl Fn(&Term) -> bool) -> bool {
         match self {
             MaterialDesc::Brdf(t) => uses(t),
+            MaterialDesc::Layered { base, sheen } => uses(base) || uses(&sheen.term),
             MaterialDesc::Shading { diffuse, specular } => {
                 diffuse.as_ref().is_some_and(&uses) || specular.as_ref().is_some_and(&uses)
             }
@@ -180,6 +193,8 @@ pub enum Role {
     Diffuse,
     /// A specular term (family B), or a family-A model without its diffuse term.
     Specular,
+    /// A sheen layer's lobe (weighted by its coverage).
+    Sheen,
 }
 
 impl Role {
@@ -189,6 +204,7 @@ impl Role {
             Role::Brdf => "brdf",
             Role::Diffuse => "diffuse",
             Role::Specular => "specular",
+            Role::Sheen => "sheen",
         }
     }
 }
@@ -278,10 +294,16 @@ pub fn family_a_diffuse(kind: ModelKind) -> Option<DiffuseTerm> {
 pub struct PartDesc {
     pub term: Term,
     pub role: Role,
+    /// A base term under a sheen layer: its value is scaled by `1 − weight·E(n·v)`.
+    pub under_sheen: bool,
 }
 
 /// Returns the kernels a material needs to render `component`, zero-weight terms left out;
 /// an error for a diffuse term that is not a kernel of its own (`ashikhmin_shirley`).
+///
+/// A sheen layer's lobe comes first (with the specular terms: `--only specular` renders
+/// it, `--only diffuse` does not), then the base's parts, marked as under the layer. A
+/// layer without coverage (`weight = 0`) leaves the base's parts as they are.
 pub fn material_parts(
     material: &MaterialDesc,
     component: Component,
@@ -289,10 +311,15 @@ pub fn material_parts(
     let mut parts = Vec::new();
     let mut push = |term: Term, role: Role| {
         if !is_zero_weight(&term) {
-            parts.push(PartDesc { term, role });
+            parts.push(PartDesc {
+                term,
+                role,
+                under_sheen: false,
+            });
         }
     };
     match material {
+        MaterialDesc::Layered { base, sheen } => return layered_parts(base, sheen, component),
         MaterialDesc::Shading { diffuse, specular } => {
             if component != Component::Specular {
                 if let Some(t) = diffuse {
@@ -350,6 +377,32 @@ pub fn material_parts(
             }
         },
     }
+    Ok(parts)
+}
+
+/// The parts of a family-A model under a sheen layer (see [`material_parts`]).
+fn layered_parts(
+    base: &Term,
+    sheen: &SheenLayer,
+    component: Component,
+) -> Result<Vec<PartDesc>, BrdfError> {
+    let base_parts = material_parts(&MaterialDesc::Brdf(base.clone()), component)?;
+    if sheen.is_absent() {
+        return Ok(base_parts);
+    }
+    let mut parts = Vec::new();
+    let lobe = sheen.weighted_term();
+    if component != Component::Diffuse && !is_zero_weight(&lobe) {
+        parts.push(PartDesc {
+            term: lobe,
+            role: Role::Sheen,
+            under_sheen: false,
+        });
+    }
+    parts.extend(base_parts.into_iter().map(|p| PartDesc {
+        under_sheen: true,
+        ..p
+    }));
     Ok(parts)
 }
 
@@ -488,6 +541,8 @@ pub struct Part {
     pub cosine_weighted: bool,
     /// What the part is for lights behind the surface.
     pub unlit: Unlit,
+    /// A base term under a sheen layer (its batch is scaled first).
+    pub under_sheen: bool,
     kernel: Box<dyn BatchKernel>,
 }
 
@@ -504,6 +559,7 @@ impl Part {
             role: desc.role,
             cosine_weighted: desc.term.kind.spec().family == Family::A,
             unlit: unlit_behaviour(&desc.term),
+            under_sheen: desc.under_sheen,
             kernel,
         }
     }
@@ -783,6 +839,62 @@ mod tests {
     }
 
     #[test]
+    fn a_sheen_layer_goes_first_and_its_base_under_it() {
+        let base = term(ModelKind::Ggx, &[("kd", vec![0.4]), ("alpha", vec![0.3])]);
+        let lobe = term(
+            ModelKind::CharlieSheen,
+            &[("ks", vec![0.8, 0.4, 0.4]), ("alpha", vec![0.3])],
+        );
+        let layered = |weight: f64| MaterialDesc::Layered {
+            base: base.clone(),
+            sheen: SheenLayer::new(lobe.clone(), weight).unwrap(),
+        };
+        for component in [Component::Both, Component::Diffuse, Component::Specular] {
+            let plain = material_parts(&MaterialDesc::Brdf(base.clone()), component).unwrap();
+            // No coverage: exactly the base's parts.
+            assert_eq!(material_parts(&layered(0.0), component).unwrap(), plain);
+            let parts = material_parts(&layered(0.5), component).unwrap();
+            let (sheen, under): (Vec<_>, Vec<_>) = parts.iter().partition(|p| !p.under_sheen);
+            assert_eq!(under.len(), plain.len());
+            for (u, p) in under.iter().zip(&plain) {
+                assert_eq!((&u.term, u.role), (&p.term, p.role));
+            }
+            if component == Component::Diffuse {
+                assert!(sheen.is_empty());
+            } else {
+                assert_eq!(parts[0].role, Role::Sheen);
+                assert_eq!(sheen.len(), 1);
+                let ks = lobe.param_slots("ks");
+                assert_eq!(sheen[0].term.slots[ks], [0.4, 0.2, 0.2]);
+            }
+        }
+        // A black layer still covers the base: no lobe, the base under it.
+        let black = term(ModelKind::CharlieSheen, &[("ks", vec![0.0])]);
+        let m = MaterialDesc::Layered {
+            base: base.clone(),
+            sheen: SheenLayer::new(black, 1.0).unwrap(),
+        };
+        let parts = material_parts(&m, Component::Both).unwrap();
+        assert!(parts.iter().all(|p| p.under_sheen) && !parts.is_empty());
+        // What a layer refuses, and a family-B base.
+        let with_kd = term(ModelKind::CharlieSheen, &[("kd", vec![0.1])]);
+        for (t, w, want) in [
+            (lobe.clone(), 1.5, "sheen.weight"),
+            (lobe.clone(), f64::NAN, "sheen.weight"),
+            (with_kd, 1.0, "sheen.kd"),
+            (base.clone(), 1.0, "sheen.model"),
+        ] {
+            let err = SheenLayer::new(t, w).unwrap_err().to_string();
+            assert!(err.contains(want), "{err}");
+        }
+        let shading = MaterialDesc::Layered {
+            base: term(ModelKind::LambertShading, &[("kd", vec![0.5])]),
+            sheen: SheenLayer::new(lobe, 1.0).unwrap(),
+        };
+        assert!(shading.check().is_err());
+    }
+
+    #[test]
     fn parts_of_the_newer_models() {
         let ms = term(ModelKind::GgxMs, &[("ks", vec![0.5])]);
         let m = MaterialDesc::Brdf(ms.clone());
@@ -793,7 +905,8 @@ mod tests {
                 parts,
                 vec![PartDesc {
                     term: ms.clone(),
-                    role: Role::Specular
+                    role: Role::Specular,
+                    under_sheen: false,
                 }]
             );
         }
