@@ -808,3 +808,39 @@ def test_dtype_rules_of_the_other_functions_ignore_byte_order(rng):
         )
         assert brdf_rs.tonemap(np.ones((1, 1, 3), order + "f8")).dtype == np.float32
         assert brdf_rs.tonemap(np.ones((1, 1, 3), order + "f4")).dtype == np.float32
+
+
+def test_arrays_of_more_than_32_dimensions_are_refused_by_name():
+    """NumPy 2 allows 64 dimensions, the core's array views 32: every entry point refuses
+    more with a ValueError naming the argument (a view of more panicked)."""
+    deep = np.ones((1,) * 63 + (3,))
+    w = [0.2, -0.3, 1.0]
+    calls = {
+        "wi": lambda: brdf_rs.eval("ggx", deep, w),
+        "wo": lambda: brdf_rs.Model("ggx").eval(w, deep, check=False),
+        "n": lambda: brdf_rs.eval("ggx", w, w, deep.astype(np.float32)),
+        "alpha": lambda: brdf_rs.eval("ggx", w, w, alpha=np.full((1,) * 64, 0.3)),
+        "out": lambda: brdf_rs.eval("ggx", w, w, out=np.empty((1,) * 63 + (3,))),
+        "mu": lambda: brdf_rs.albedo("ggx", np.full((1,) * 64, 0.5), samples=64),
+    }
+    for name, call in calls.items():
+        with pytest.raises(ValueError, match=rf"^{name}: an array of 64 dimensions"):
+            call()
+    with pytest.raises(ValueError, match=r"^wi: an array of 64 dimensions"):
+        brdf_rs.sample("ggx", deep, np.full((1,) * 63 + (2,), 0.5))
+    with pytest.raises(ValueError, match=r"^wi: an array of 64 dimensions"):
+        brdf_rs.pdf("ggx", deep, w)
+    # 32 dimensions still work.
+    assert brdf_rs.eval("ggx", np.ones((1,) * 31 + (3,)), w).shape == (1,) * 31 + (3,)
+
+
+def test_check_and_normalized_must_be_bools_named_in_the_error():
+    w, v = [0.0, 0.3, 1.0], [0.2, -0.3, 1.0]
+    with pytest.raises(TypeError, match=r"^check: expected True or False, got str"):
+        brdf_rs.eval("ggx", w, v, check="no")
+    with pytest.raises(TypeError, match=r"^normalized: expected True or False, got float"):
+        brdf_rs.eval("ggx", w, v, normalized=1.5)
+    with pytest.raises(TypeError, match=r"^check: expected True or False, got str"):
+        brdf_rs.Model("ggx").eval(w, v, check="x")
+    # NumPy bools are bools.
+    assert brdf_rs.eval("ggx", w, v, check=np.bool_(True)).shape == (3,)

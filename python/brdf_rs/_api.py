@@ -73,6 +73,10 @@ def eval(
     """
     if precision != "accurate" and precision != "fast":
         _arrays.choice("precision", precision, PRECISIONS)
+    if (check is not True and check is not False) or (
+        normalized is not True and normalized is not False
+    ):
+        _arrays.flags(check=check, normalized=normalized)
     if isinstance(normalization, str) and normalization == "approximate":
         # The common call (float arrays or 3-lists, numbers and colours) read in Rust;
         # None where an argument needs the conversions below (same results, same errors).
@@ -120,6 +124,10 @@ def _check_out(out: object, dtype: type[np.floating]) -> None:
         raise TypeError(
             f"out: expected dtype {np.dtype(dtype).name} in native byte order (the result's:"
             f" float32 only when every direction is float32), got {out.dtype}"
+        )
+    if out.ndim > _arrays.MAX_NDIM:
+        raise ValueError(
+            f"out: an array of {out.ndim} dimensions; at most {_arrays.MAX_NDIM} are supported"
         )
 
 
@@ -194,6 +202,10 @@ class Model:
         out: np.ndarray | None = None,
     ) -> np.ndarray:
         """Evaluates the model; arguments as :func:`brdf_rs.eval`."""
+        if (check is not True and check is not False) or (
+            normalized is not True and normalized is not False
+        ):
+            _arrays.flags(check=check, normalized=normalized)
         if self._fast is not None:
             # The common call read in Rust with the parameters laid out at __init__; None
             # where an argument needs the conversions below (same results, same errors).

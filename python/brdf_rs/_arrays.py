@@ -40,6 +40,11 @@ def _first_unconvertible(array: np.ndarray) -> tuple[tuple[int, ...], Any]:
     return (), array  # pragma: no cover - only called after a conversion failed
 
 
+#: The most dimensions an array may have: the core's array views take at most 32 (NumPy 2
+#: allows 64).
+MAX_NDIM = 32
+
+
 def as_numeric(name: str, value: Any) -> np.ndarray:
     """Returns ``value`` as a NumPy array of real numbers, or raises ``TypeError`` (not
     numbers) or ``ValueError`` (a number beyond float64's range), naming ``name``."""
@@ -47,6 +52,10 @@ def as_numeric(name: str, value: Any) -> np.ndarray:
         array = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
         raise TypeError(f"{name}: expected an array of numbers ({exc})") from None
+    if array.ndim > MAX_NDIM:
+        raise ValueError(
+            f"{name}: an array of {array.ndim} dimensions; at most {MAX_NDIM} are supported"
+        )
     kind = array.dtype.kind
     if kind in _NUMERIC_KINDS:
         return array
@@ -70,6 +79,14 @@ def as_numeric(name: str, value: Any) -> np.ndarray:
                 f"{where}: expected a real number, got {type(bad).__name__} {show(bad)}"
             ) from None
     raise TypeError(f"{name}: expected real numbers, got dtype {array.dtype}")
+
+
+def flags(**given: Any) -> None:
+    """Raises ``TypeError`` naming the first of ``given`` that is not a bool (or NumPy
+    bool)."""
+    for name, value in given.items():
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"{name}: expected True or False, got {type(value).__name__}")
 
 
 def model_name(model: Any) -> str:

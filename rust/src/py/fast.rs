@@ -11,7 +11,7 @@
 //! every error is the general path's.
 
 use ndarray::{ArrayD, ArrayViewD, IxDyn};
-use numpy::{Element, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn};
+use numpy::{Element, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
@@ -75,10 +75,10 @@ impl<'py> Direction<'py> {
             return Some(Direction::Absent);
         }
         if let Ok(a) = obj.cast::<PyArrayDyn<f64>>() {
-            return a.try_readonly().ok().map(Direction::F64);
+            return viewable(a).then(|| a.try_readonly().ok().map(Direction::F64))?;
         }
         if let Ok(a) = obj.cast::<PyArrayDyn<f32>>() {
-            return a.try_readonly().ok().map(Direction::F32);
+            return viewable(a).then(|| a.try_readonly().ok().map(Direction::F32))?;
         }
         let row = numbers(obj, 3)?;
         <[f64; 3]>::try_from(row).ok().map(Direction::Row)
@@ -147,7 +147,14 @@ fn out_array<'py, F: Element>(
     if out.is_none() {
         return Some(None);
     }
-    out.cast::<PyArrayDyn<F>>().ok().map(|a| Some(a.clone()))
+    let a = out.cast::<PyArrayDyn<F>>().ok()?;
+    viewable(a).then(|| Some(a.clone()))
+}
+
+/// Whether rust-numpy can view the array: at most 32 dimensions (NumPy 2 allows 64, and a
+/// view of more panics). The general path refuses larger ones, naming the argument.
+fn viewable<T: Element>(a: &Bound<'_, PyArrayDyn<T>>) -> bool {
+    a.ndim() <= 32
 }
 
 /// `normalized` and `check` as the general path reads them, and the tier (`precision`,
@@ -177,7 +184,7 @@ fn param<'py>(value: &Bound<'py, PyAny>) -> Option<Param<'py>> {
         return Some(Param::Values(ArrayD::from_elem(IxDyn(&[]), x)));
     }
     if let Ok(a) = value.cast::<PyArrayDyn<f64>>() {
-        return a.try_readonly().ok().map(Param::Array);
+        return viewable(a).then(|| a.try_readonly().ok().map(Param::Array))?;
     }
     // Lists of parameters are short (colours, toon thresholds): a long list is an array
     // of per-element values, converted by the general path.
