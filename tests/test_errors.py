@@ -844,3 +844,23 @@ def test_check_and_normalized_must_be_bools_named_in_the_error():
         brdf_rs.Model("ggx").eval(w, v, check="x")
     # NumPy bools are bools.
     assert brdf_rs.eval("ggx", w, v, check=np.bool_(True)).shape == (3,)
+
+
+def test_ashikhmin_shirley_takes_the_largest_exponents():
+    """nu and nv may be any finite value: the normalization takes two square roots, not
+    the root of (nu + 1)(nv + 1), which overflowed into NaN from about 1e154 each."""
+    w, v = [0.0, 0.3, 1.0], [0.2, -0.3, 1.0]
+    for dtype, big in ((np.float64, 1e200), (np.float32, 2e19)):
+        got = brdf_rs.eval(
+            "ashikhmin_shirley", np.asarray(w, dtype), np.asarray(v, dtype), nu=big, nv=big
+        )
+        want = brdf_rs.reference.eval("ashikhmin_shirley", w, v, nu=big, nv=big)
+        np.testing.assert_allclose(got, want, rtol=1e-6)
+    mirror = brdf_rs.eval(
+        "ashikhmin_shirley", [0.3, 0.4, 0.5], [-0.3, -0.4, 0.5], nu=1e200, nv=1e200
+    )
+    assert np.all(np.isfinite(mirror)) and np.all(mirror > 1e197)
+    table = brdf_rs.albedo("ashikhmin_shirley", [0.5], nu=1e200, nv=1e200, samples=64)
+    assert np.all(np.isfinite(table.value)) and np.all(np.isfinite(table.stderr))
+    _, weight, pdf = brdf_rs.sample("ashikhmin_shirley", w, [0.5, 0.5], nu=1e200, nv=1e200)
+    assert np.isfinite(pdf) and np.all(np.isfinite(weight))

@@ -73,10 +73,9 @@ def eval(
     """
     if precision != "accurate" and precision != "fast":
         _arrays.choice("precision", precision, PRECISIONS)
-    if (check is not True and check is not False) or (
-        normalized is not True and normalized is not False
-    ):
-        _arrays.flags(check=check, normalized=normalized)
+    if check.__class__ is not bool or normalized.__class__ is not bool:
+        # Reachable from untyped callers, whatever the annotations say.
+        _arrays.flags(check=check, normalized=normalized)  # type: ignore[unreachable]
     if isinstance(normalization, str) and normalization == "approximate":
         # The common call (float arrays or 3-lists, numbers and colours) read in Rust;
         # None where an argument needs the conversions below (same results, same errors).
@@ -202,10 +201,9 @@ class Model:
         out: np.ndarray | None = None,
     ) -> np.ndarray:
         """Evaluates the model; arguments as :func:`brdf_rs.eval`."""
-        if (check is not True and check is not False) or (
-            normalized is not True and normalized is not False
-        ):
-            _arrays.flags(check=check, normalized=normalized)
+        if check.__class__ is not bool or normalized.__class__ is not bool:
+            # Reachable from untyped callers, whatever the annotations say.
+            _arrays.flags(check=check, normalized=normalized)  # type: ignore[unreachable]
         if self._fast is not None:
             # The common call read in Rust with the parameters laid out at __init__; None
             # where an argument needs the conversions below (same results, same errors).

@@ -926,7 +926,7 @@ def ashikhmin_shirley(
     exponent = (nu * a * a + nv * b * b) / s2 if s2 > 0.0 else (nu + nv) / 2.0
     cos_th, one_minus = _clamped_cosine(n, h)
     k_dot_h = _cos_b(wi, wo)
-    norm = math.sqrt((nu + 1.0) * (nv + 1.0)) / (8.0 * math.pi)
+    norm = math.sqrt(nu + 1.0) * math.sqrt(nv + 1.0) / (8.0 * math.pi)
     lobe = _product_quotient(
         (norm,), (k_dot_h, max(mu_i, mu_o)), power=(cos_th, exponent, one_minus)
     )

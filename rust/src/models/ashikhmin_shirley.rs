@@ -119,7 +119,8 @@ impl Kernel for AshikhminShirley {
             rs,
             nu,
             nv,
-            norm: ((nu + F::ONE) * (nv + F::ONE)).sqrt() * F::from_f64(0.125) * F::FRAC_1_PI,
+            // Two roots, not the root of the product, which overflows from nu·nv ≈ 1.8e308.
+            norm: (nu + F::ONE).sqrt() * (nv + F::ONE).sqrt() * F::from_f64(0.125) * F::FRAC_1_PI,
         }
     }
 

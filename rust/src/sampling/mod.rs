@@ -366,7 +366,7 @@ impl Warp {
                 let e = nu * c * c + nv * s * s;
                 let omc = one_minus_root(v, e + 1.0);
                 let cos = 1.0 - omc;
-                let pdf = ((nu + 1.0) * (nv + 1.0)).sqrt() * 0.5 * FRAC_1_PI * (v / cos);
+                let pdf = ((nu + 1.0).sqrt() * (nv + 1.0).sqrt()) * 0.5 * FRAC_1_PI * (v / cos);
                 spherical(cos, omc, (s, c), pdf)
             }
             Warp::BeckmannVisible { alpha } => {
@@ -427,7 +427,7 @@ impl Warp {
                 } else {
                     0.5 * (nu + nv)
                 };
-                ((nu + 1.0) * (nv + 1.0)).sqrt()
+                ((nu + 1.0).sqrt() * (nv + 1.0).sqrt())
                     * 0.5
                     * FRAC_1_PI
                     * pow_unit_f64(c, one_minus_cos, e)
