@@ -123,6 +123,7 @@ pub fn lambda_of_c<F: Real>(c: F) -> F {
 /// `1 + 3e_n + (e_i + e_o)/2 + 2e_h` ([`microfacet_length_correction`]); `h` is the
 /// corrected half vector ([`half_vector_exact`]).
 /// `f32` keeps `sin²θh = (1 − cos θh)(1 + cos θh)` of the clamped cosine.
+///
 /// The fast tier leaves the length errors out, as `ggx`'s does ([`ggx::length_errors`]).
 #[inline(always)]
 pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, Cosine<F>, bool) {

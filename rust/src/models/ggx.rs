@@ -84,10 +84,10 @@ pub struct Prepared<F> {
 /// rounded unit vectors' length errors `e = |w|² − 1` ([`Real::length_error`]), which
 /// moved the value by up to 5 ulps, come out as the factor `1 + 3e_n + (e_i + e_o)/2 +
 /// 2e_h`; `h` is the corrected half vector ([`half_vector_exact`]).
-#[inline(always)]
 ///
 /// The fast tier (`P` is [`crate::math::FastPow`]) leaves the length errors out
 /// ([`length_errors`]).
+#[inline(always)]
 pub fn lobe<F: Real, P: PowUnit>(
     d: &Directions<F>,
     alpha2: F,
@@ -121,8 +121,8 @@ pub fn lobe<F: Real, P: PowUnit>(
 
 /// The length errors `e = |w|² − 1` of `n`, `wi` and `wo` ([`Real::length_error`]) that the
 /// microfacet lobes divide out, or `None` in the fast tier (`P::FAST`): they move the
-/// value by a few ulps, far inside that tier's bound, and cost as much as the rest of
-/// the lobe. `f32`'s are zero ([`Real::EXACT_LENGTHS`]) and fold away either way.
+/// value by a few ulps, far inside that tier's bound, and cost about a quarter of the
+/// lobe. `f32`'s are zero ([`Real::EXACT_LENGTHS`]) and fold away either way.
 #[inline(always)]
 pub fn length_errors<F: Real, P: PowUnit>(d: &Directions<F>) -> Option<[F; 3]> {
     if P::FAST {
