@@ -124,8 +124,9 @@ def label(name: str, width: int = 14) -> str:
 
 
 def curve_of(spec: dict[str, Any]) -> tuple[str, list[float]] | None:
-    """The (parameter, values) the albedo curves vary, or None (family B)."""
-    if spec["family"] != "A":
+    """The (parameter, values) the albedo curves vary, or None (family B, and the
+    transmitting models, whose albedo over the whole sphere the curves do not draw)."""
+    if spec["family"] != "A" or spec["transmission"]:
         return None
     names = [p["name"] for p in spec["params"]]
     for name, values in CURVES.items():
@@ -135,6 +136,12 @@ def curve_of(spec: dict[str, Any]) -> tuple[str, list[float]] | None:
 
 
 def family_line(spec: dict[str, Any]) -> str:
+    if spec["transmission"]:
+        return (
+            "Family A, transmitting: a BSDF `f(wi, wo)` in 1/sr, **without** the cosine"
+            " factor, defined on the whole sphere: reflection where both directions are on"
+            " the same side of the surface, transmission where they are on opposite sides."
+        )
     if spec["family"] == "A":
         return (
             "Family A: a BRDF `f(wi, wo)` in 1/sr, **without** the cosine factor; 0 unless"
@@ -155,7 +162,7 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         "",
         family_line(spec),
         "",
-        f"![{name} on a sphere](img/{name}_sphere.png)",
+        *([] if spec["transmission"] else [f"![{name} on a sphere](img/{name}_sphere.png)"]),
         f"![{name}: lobe in the plane of incidence](img/{name}_lobe.png)",
         "",
         "## Formula",
@@ -199,9 +206,13 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         "",
         "## Pictures",
         "",
-        f"**Sphere**: {_call(showcase) or 'the defaults'}{base}. Orthographic view, a white"
-        " key light from the upper right and a 30% fill from the left (intensity π for"
-        f" family A, 1 for family B), ACES tone map{fibres}.",
+        (
+            "No sphere: scenes render reflecting models only."
+            if spec["transmission"]
+            else f"**Sphere**: {_call(showcase) or 'the defaults'}{base}. Orthographic view,"
+            " a white key light from the upper right and a 30% fill from the left"
+            f" (intensity π for family A, 1 for family B), ACES tone map{fibres}."
+        ),
         "",
         f"**Lobe**: the same parameters; `wo` sweeps the plane of incidence, the light"
         f" arrives from the left at θi = {', '.join(f'{a:g}°' for a in LOBE_ANGLES)} (dotted"
@@ -227,6 +238,12 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
             f" ({_call(fixed) or 'no others'}), computed by `brdf_rs.albedo_table` with ±2"
             " standard-error bands; the dotted line is R = 1 (energy conservation). The albedo"
             " axis is logarithmic when the curves span more than a factor of 30.",
+            "",
+        ]
+    elif spec["transmission"]:
+        lines += [
+            "No albedo curve: the curves draw the albedo over the hemisphere above the"
+            " surface, and this model's is over the whole sphere.",
             "",
         ]
     else:
@@ -291,7 +308,9 @@ these terms.
 
 - **Family A** models return the BRDF `f(wi, wo)` in 1/sr, **without** the cosine factor,
   and 0 unless both directions are above the surface. A light of radiance-scale `L`
-  reflects `L·f(wi, wo)·cos θi`.
+  reflects `L·f(wi, wo)·cos θi`. The transmitting models (`transmission` in
+  `brdf_rs.models()`: the rough dielectrics) are BSDFs defined on the whole sphere of
+  `wi` and `wo`, not 0 below the surface; scenes refuse them.
 - **Family B** models return the scan-line shading term `s(l, v)` of the shading
   assignment, which **includes** the light's cosine (`l = wi`, `v = wo`).
 - Directional albedo: `R(μ) = ∫ f(wi, wo)·cos θo dωo` over the hemisphere, μ = cos θi
@@ -486,10 +505,11 @@ def main() -> None:
         spec = specs[name]
         params = SHOWCASE.get(name, {})
         base = {"base": SPECULAR_BASE} if spec["scene_slot"] == "specular" else {}
-        sphere = plot.render_sphere(name, size=res["sphere"], **base, **params)
-        brdf_rs.save_image(img / f"{name}_sphere.png", sphere)
-        small = plot.render_sphere(name, size=res["overview"], **base, **params)
-        overview[spec["family"]].append((small, label(name)))
+        if not spec["transmission"]:  # scenes refuse transmitting models
+            sphere = plot.render_sphere(name, size=res["sphere"], **base, **params)
+            brdf_rs.save_image(img / f"{name}_sphere.png", sphere)
+            small = plot.render_sphere(name, size=res["overview"], **base, **params)
+            overview[spec["family"]].append((small, label(name)))
         plot.polar_lobe(name, LOBE_ANGLES, path=img / f"{name}_lobe.png", dpi=res["dpi"], **params)
         curve = curve_of(spec)
         if curve is not None:

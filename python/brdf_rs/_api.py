@@ -273,6 +273,8 @@ def models() -> dict[str, _spec.ModelSpec]:
     parameters whose all being zero makes the model zero), ``scene_slot`` (where a scene
     material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
     ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
+    ``transmission`` (whether it transmits: defined on the whole sphere, not zero below
+    the surface),
     ``powers`` (whether it raises something to a power), ``fast_tier`` (whether
     ``precision="fast"`` changes it: powers, or microfacet length corrections),
     ``exact`` (its ``normalization="exact"``: how the factor is

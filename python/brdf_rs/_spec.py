@@ -85,6 +85,9 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
+    #: Whether it transmits: defined on the whole sphere of ``wi`` and ``wo`` (a BSDF),
+    #: not zero unless both directions are above the surface; scenes refuse it.
+    transmission: bool
     #: Whether its kernel raises something to a power.
     powers: bool
     #: Whether ``precision="fast"`` computes it differently (only in float64): it has

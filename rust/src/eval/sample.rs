@@ -291,6 +291,12 @@ pub fn pdf(
 }
 
 fn family_a(kind: ModelKind) -> Result<(), BrdfError> {
+    if kind.spec().transmission {
+        return Err(BrdfError::InvalidArgument(format!(
+            "{}: sampling a transmitting model is not supported yet",
+            kind.name()
+        )));
+    }
     if kind.spec().family == Family::A {
         Ok(())
     } else {

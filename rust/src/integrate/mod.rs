@@ -169,6 +169,12 @@ pub fn albedo<C: Cells>(
             kind.name()
         )));
     }
+    if kind.spec().transmission {
+        return Err(BrdfError::InvalidArgument(format!(
+            "{}: albedo over the whole sphere (transmission) is not supported yet",
+            kind.name()
+        )));
+    }
     options.validate(cells.count())?;
     kind.visit(RunAlbedo {
         cells,

@@ -51,6 +51,20 @@ impl<F: Real> Conductor<F> {
             eta2: eta * eta,
         }
     }
+
+    /// Returns `a` where `first`, else `b`, field by field (a branch-free select: the
+    /// rough dielectrics pick the channel of the side `wi` lies on).
+    #[inline(always)]
+    pub fn select(first: bool, a: &Self, b: &Self) -> Self {
+        let pick = |x: F, y: F| if first { x } else { y };
+        Conductor {
+            e_re: pick(a.e_re, b.e_re),
+            e_im: pick(a.e_im, b.e_im),
+            e2: pick(a.e2, b.e2),
+            eta2_re: pick(a.eta2_re, b.eta2_re),
+            eta2: pick(a.eta2, b.eta2),
+        }
+    }
 }
 
 /// Returns the principal square root `(re, im)` of `x + i·y` for `y ≥ 0` (so `re, im ≥ 0`)
@@ -89,8 +103,10 @@ fn complex_sqrt<F: Real>(x: F, y: F) -> (F, F, F) {
 /// `|w|²` is the modulus of `w²`, and the largest intermediate is `|e|² ≈ |η̃|⁴` (1e28 for
 /// `eta`, `k` in [`INDEX_RANGE`]). `e = 0` (`η̃ = 1`, no interface) gives 0 at every `μ`.
 ///
-/// `μ = 1` gives `|η̃ − 1|²/|η̃ + 1|²`; `μ → 0` gives 1 (unless `η̃ = 1`); `k = 0` with
-/// `eta > 1` is the exact dielectric reflectance.
+/// `μ = 1` gives `|η̃ − 1|²/|η̃ + 1|²`; `μ → 0` gives 1 (unless `η̃ = 1`); `k = 0` is the
+/// exact dielectric reflectance for every `eta`: below 1, past the critical angle
+/// (`w² < 0`, `w` imaginary) both moduli are exactly 1 in exact arithmetic, total internal
+/// reflection (the rough dielectrics' Fresnel term).
 #[inline(always)]
 pub fn conductor<F: Real>(ch: &Conductor<F>, cos_b: Cosine<F>) -> F {
     let mu = cos_b.cos;
@@ -242,6 +258,28 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn k_zero_below_one_is_the_dielectric_reflectance_with_total_internal_reflection() {
+        for eta in [1.0 / 1.5, 1.0 / 1.05, 0.1] {
+            for i in 0..=200 {
+                let mu = f64::from(i) / 200.0;
+                let got = conductor(&Conductor::new(eta, 0.0), cosine(mu));
+                let sin2_t = (1.0 - mu * mu) / (eta * eta);
+                if sin2_t >= 1.0 + 1e-12 {
+                    assert!((got - 1.0).abs() <= 1e-14, "eta={eta} mu={mu}: {got}");
+                } else if sin2_t < 1.0 - 1e-9 {
+                    let want = dielectric(mu, eta);
+                    assert!(
+                        (got - want).abs() <= 1e-12 * want.max(1e-3),
+                        "eta={eta} mu={mu}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+        // eta = 1: no interface.
+        assert_eq!(conductor(&Conductor::new(1.0, 0.0), cosine(0.3)), 0.0);
     }
 
     #[test]

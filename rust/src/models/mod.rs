@@ -10,6 +10,7 @@
 
 pub mod albedo;
 pub mod defaults;
+pub mod dielectric;
 pub mod fresnel;
 pub mod lobes;
 pub mod microfacet_fresnel;
@@ -257,6 +258,8 @@ declare_models! {
     BeckmannF82 => beckmann_f82::BeckmannF82,
     GgxGenSchlick => ggx_gen_schlick::GgxGenSchlick,
     BeckmannGenSchlick => beckmann_gen_schlick::BeckmannGenSchlick,
+    GgxDielectric => ggx_dielectric::GgxDielectric,
+    BeckmannDielectric => beckmann_dielectric::BeckmannDielectric,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,
     CharlieSheen => charlie_sheen::CharlieSheen,

@@ -70,6 +70,7 @@ pub const SHEEN_SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: true,
+    transmission: false,
     exact: None,
 };
 

@@ -311,6 +311,11 @@ pub struct ModelSpec {
     pub energy_table: bool,
     /// Its `normalization="exact"`, for models that have one.
     pub exact: Option<ExactNormalization>,
+    /// Whether the model transmits: defined on the whole sphere of `wi` and `wo` (the
+    /// rough dielectrics), not zero unless both directions are above the surface as
+    /// every other family-A model is. Its albedo integrates over the whole sphere, and
+    /// scenes (which shade reflection only) refuse it.
+    pub transmission: bool,
 }
 
 /// A model's `normalization="exact"`: a factor `c` of the lobe's shape parameters

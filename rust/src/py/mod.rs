@@ -327,6 +327,7 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         };
         d.set_item("dfg", dfg)?;
         d.set_item("energy_table", spec.energy_table)?;
+        d.set_item("transmission", spec.transmission)?;
         d.set_item("powers", kind.powers())?;
         d.set_item("fast_tier", kind.fast_tier())?;
         let exact = match spec.exact {

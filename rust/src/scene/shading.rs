@@ -144,10 +144,25 @@ impl MaterialDesc {
                 )))
             }
         };
+        // Scenes shade reflection only (lights and viewer on n's side of the surface).
+        let reflects = |t: &Term| {
+            if t.kind.spec().transmission {
+                Err(BrdfError::InvalidArgument(format!(
+                    "model: {} transmits (a BSDF); scenes render reflecting models only",
+                    t.kind.name()
+                )))
+            } else {
+                Ok(())
+            }
+        };
         match self {
-            MaterialDesc::Brdf(t) => family_of(t, Family::A, "model"),
+            MaterialDesc::Brdf(t) => {
+                family_of(t, Family::A, "model")?;
+                reflects(t)
+            }
             MaterialDesc::Layered { base, sheen } => {
                 family_of(base, Family::A, "model")?;
+                reflects(base)?;
                 SheenLayer::new(sheen.term.clone(), sheen.weight).map(|_| ())
             }
             MaterialDesc::Shading { diffuse, specular } => {
@@ -235,8 +250,8 @@ pub enum Unlit {
     Varies,
 }
 
-/// Returns what a term is for lights behind the surface. Every family-A model is zero
-/// there (zero unless `mu_i > 0`), and so is every family-B term but `toon_diffuse`,
+/// Returns what a term is for lights behind the surface. Every family-A model that does
+/// not transmit is zero there (zero unless `mu_i > 0`), and so is every family-B term but `toon_diffuse`,
 /// whose bands count thresholds against the signed `n·l` (docs/models.md): when no threshold
 /// lies in `(−1, 0]` every `n·l` in `[−1, 0]` falls in the same band, whose colour (read
 /// from the kernel itself at `n·l = −1`) is the term's constant value there.
@@ -261,6 +276,9 @@ pub fn unlit_behaviour(term: &Term) -> Unlit {
                 colour => Unlit::Constant(colour),
             }
         }
+        // A transmitting model (which `MaterialDesc::check` keeps out of scenes) is not
+        // zero behind the surface.
+        _ if term.kind.spec().transmission => Unlit::Varies,
         _ => Unlit::Zero,
     }
 }
@@ -704,6 +722,10 @@ mod tests {
                 continue;
             }
             let t = term(kind, &toon_required(kind));
+            if kind.spec().transmission {
+                assert_eq!(unlit_behaviour(&t), Unlit::Varies, "{}", kind.name());
+                continue;
+            }
             assert_eq!(unlit_behaviour(&t), Unlit::Zero, "{}", kind.name());
             for _ in 0..2000 {
                 assert_eq!(eval64(&t, &behind(&mut rng)), [0.0; 3], "{}", kind.name());
