@@ -982,6 +982,8 @@ def _dielectric_fresnel(c: float, r: float) -> tuple[float, float]:
     ``1 − F`` is :func:`_dielectric_transmittance` with ``g = r·c_t``.
     """
     e = (r - 1.0) * (r + 1.0)
+    if e == 0.0:
+        return 0.0, 1.0  # r = 1: no interface
     g2 = e + c * c
     if g2 < 0.0:
         return 1.0, 0.0
