@@ -307,19 +307,52 @@ these terms.
 ## Units and what `f` includes
 
 - **Family A** models return the BRDF `f(wi, wo)` in 1/sr, **without** the cosine factor,
-  and 0 unless both directions are above the surface. A light of radiance-scale `L`
-  reflects `L·f(wi, wo)·cos θi`. The transmitting models (`transmission` in
-  `brdf_rs.models()`: the rough dielectrics) are BSDFs defined on the whole sphere of
-  `wi` and `wo`, not 0 below the surface; scenes refuse them.
+  and 0 unless both directions are above the surface (the rough dielectrics excepted:
+  [below](#the-whole-sphere-rough-dielectrics)). A light of radiance-scale `L` reflects
+  `L·f(wi, wo)·cos θi`.
 - **Family B** models return the scan-line shading term `s(l, v)` of the shading
   assignment, which **includes** the light's cosine (`l = wi`, `v = wo`).
 - Directional albedo: `R(μ) = ∫ f(wi, wo)·cos θo dωo` over the hemisphere, μ = cos θi
-  (family A only). A table's `stderr` is the standard error of each cell; how far it can
-  be trusted, and its one known limit, is in [error_bars.md](error_bars.md).
+  (family A only; the whole sphere for the rough dielectrics). A table's `stderr` is the
+  standard error of each cell; how far it can be trusted, and its one known limit, is in
+  [error_bars.md](error_bars.md).
 - Angles on the command line and in `brdf_rs.plot` are in degrees; everything else takes
   cosines or vectors, except the azimuth `phi` of `brdf_rs.albedo` and
   `brdf_rs.albedo_table`: radians, measured from the tangent counterclockwise about `n`,
   `wi = (sin θi cos φ, sin θi sin φ, μ)` (only the anisotropic models depend on it).
+
+## The whole sphere: rough dielectrics
+
+`ggx_dielectric` and `beckmann_dielectric` are BSDFs: they reflect and transmit, and
+`brdf_rs.models()[name]["transmission"]` is true for them (false for every other
+model). What changes for them:
+
+- `f` still excludes the cosine, and `wi`, `wo` still point away from the surface; but
+  `f` is defined on the **whole sphere** of both: `wi` and `wo` on the same side
+  (either side) is a reflection, on opposite sides a transmission. It is 0 only where
+  `mu_i = 0` or `mu_o = 0`, or where no microfacet explains the pair.
+- `eta` is the relative index `eta_below/eta_above`, "below" being the side opposite
+  `n`; the medium a direction lies in has index 1 above and `eta` below. `eta < 1`
+  means the denser medium is on `n`'s side.
+- **Radiance transport.** `f` carries radiance from `wi` to the viewer at `wo`: a
+  transmitted value includes the factor `eta_o²` (the index of `wo`'s medium), as
+  radiance entering a denser medium is concentrated. So `f` is reciprocal in the form
+  `f(wi, wo)/eta_o² = f(wo, wi)/eta_i²`, not `f(wi, wo) = f(wo, wi)` (reflections, with
+  `eta_i = eta_o`, are symmetric).
+- **Albedo.** `brdf_rs.albedo` and `brdf_rs.albedo_table` integrate
+  `∫ f(wi, wo)·|cos θo| dωo` over the whole sphere of `wo`, with `wi` fixed above the
+  surface at cosine `mu` (light from inside a glass body: `eta < 1`). With the `eta_o²`
+  factor this is the fraction of the incident energy scattered: at most 1 for
+  `ks = kt = 1`. `component=` chooses the part: `"total"` (the default), `"reflection"`
+  (`wo` above) or `"transmission"` (`wo` below). `"transmission"` for a model that does
+  not transmit, or any other value, is refused with a message naming `component`.
+- **eta = 1** is valid and means no interface: nothing is reflected and the light goes
+  straight through, a delta at `wo = −wi`. `eval` gives 0 for every pair (the delta is
+  not a function value); `albedo` gives reflection 0 and transmission `kt`, exactly;
+  `sample` draws `wo = −wi` with weight `kt` and reports its density as `inf`, while
+  `pdf()` reports 0 for every direction.
+- **Scenes** shade reflection only (lights and viewer on `n`'s side): a scene refuses a
+  transmitting model by name.
 
 ## Colours
 

@@ -35,6 +35,9 @@ SPECS = brdf_rs.models()
 MODEL_NAMES = list(SPECS)
 FAMILY_A = [m for m in MODEL_NAMES if SPECS[m]["family"] == "A"]
 FAMILY_B = [m for m in MODEL_NAMES if SPECS[m]["family"] == "B"]
+#: Family-A models defined on the whole sphere (BSDFs that transmit: the rough
+#: dielectrics), not 0 below the surface; tests/test_dielectric.py covers what is theirs.
+TRANSMISSION = [m for m in MODEL_NAMES if SPECS[m].get("transmission")]
 #: Models with a pure-Python reference (the multiple-scattering lobes interpolate tables
 #: computed by brdf-rs itself; they are tested by the white furnace instead).
 REFERENCE_MODELS = [m for m in MODEL_NAMES if not m.endswith("_ms")]

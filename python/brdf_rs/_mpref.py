@@ -410,10 +410,14 @@ def _ggx_lambda(tan2: mpf, alpha: mpf) -> mpf:
     return x / (2 * (1 + mpmath.sqrt(1 + x)))
 
 
-def _ggx(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+def _ggx_ndf(cos_th: mpf, sin2_th: mpf, alpha: mpf) -> mpf:
+    """``α²/(π(sin²θh + α² cos²θh)²)`` (= ``α²/(π(cos²θh(α² − 1) + 1)²)``)."""
     a2 = alpha * alpha
-    cos_th = g.cos_th
-    ndf = a2 / (mpmath.pi * (g.sin2_th + a2 * cos_th * cos_th) ** 2)
+    return a2 / (mpmath.pi * (sin2_th + a2 * cos_th * cos_th) ** 2)
+
+
+def _ggx(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    ndf = _ggx_ndf(g.cos_th, g.sin2_th, alpha)
     lambda_i = _ggx_lambda(_tan2(g.cross_i, g.a), alpha)
     lambda_o = _ggx_lambda(_tan2(g.cross_o, g.b), alpha)
     return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
@@ -429,17 +433,144 @@ def _beckmann_lambda(cross: int, dot: int, alpha: mpf) -> mpf:
     return -mpmath.erfc(c) / 2 + mpmath.exp(-c * c) / (2 * c * mpmath.sqrt(mpmath.pi))
 
 
-def _beckmann(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+def _beckmann_ndf(cos_th: mpf, sin2_th: mpf, alpha: mpf) -> mpf:
+    """``exp(−tan²θh/α²)/(π α² cos⁴θh)``; 0 at ``cos_th = 0``."""
     a2 = alpha * alpha
-    cos2 = g.cos_th * g.cos_th
-    exponent = g.sin2_th / (cos2 * a2) if cos2 != 0 else mpf(0)
+    cos2 = cos_th * cos_th
+    exponent = sin2_th / (cos2 * a2) if cos2 != 0 else mpf(0)
     if cos2 == 0 or exponent > _DEAD:
-        ndf = mpf(0)  # exp(-exponent) is below every float format, whatever divides it
-    else:
-        ndf = mpmath.exp(-exponent) / (mpmath.pi * a2 * cos2 * cos2)
+        return mpf(0)  # exp(-exponent) is below every float format, whatever divides it
+    return mpmath.exp(-exponent) / (mpmath.pi * a2 * cos2 * cos2)
+
+
+def _beckmann(g: _Geometry, kd: Colour, ks: Colour, alpha: mpf) -> Colour:
+    ndf = _beckmann_ndf(g.cos_th, g.sin2_th, alpha)
     lambda_i = _beckmann_lambda(g.cross_i, g.a, alpha)
     lambda_o = _beckmann_lambda(g.cross_o, g.b, alpha)
     return _microfacet(g, kd, ks, ndf, lambda_i, lambda_o)
+
+
+# Rough dielectrics: the whole sphere -----------------------------------------------------
+
+
+def _dielectric_fresnel(c: mpf, r: mpf) -> mpf:
+    """The exact unpolarized dielectric reflectance ``F(c, r)`` as docs/models.md writes
+    it: ``g² = r² − 1 + c²``, ``F = 1`` if ``g² < 0`` (total internal reflection), else
+    ``½((g − c)/(g + c))²(1 + ((c(g + c) − 1)/(c(g − c) + 1))²)``, at 40 more digits than
+    the working precision (``g − c`` cancels as ``r → 1``)."""
+    with mpmath.extradps(40):
+        g2 = r * r - 1 + c * c
+        if g2 < 0:
+            return mpf(1)
+        g = mpmath.sqrt(g2)
+        if g + c == 0:
+            return mpf(1)
+        first = ((g - c) / (g + c)) ** 2
+        second = ((c * (g + c) - 1) / (c * (g - c) + 1)) ** 2
+        value = first * (1 + second) / 2
+    return +value
+
+
+def _index_integers(eta: mpf) -> tuple[int, int]:
+    """``(A, B)``: integers with ``A/B = eta`` exactly (``eta`` a binary float): the two
+    media's indices, 1 and ``eta``, as ``B`` and ``A`` over a common scale ``B``."""
+    man, exp = _man_exp(eta)
+    return (man << exp, 1) if exp >= 0 else (man, 1 << -exp)
+
+
+def _dielectric(
+    g: _Geometry,
+    ks: Colour,
+    kt: Colour,
+    eta: mpf,
+    alpha: mpf,
+    ndf: Callable[[mpf, mpf, mpf], mpf],
+    lambda_of: Callable[[int, int, mpf], mpf],
+) -> Colour:
+    """docs/models.md's rough dielectric, defined on the whole sphere.
+
+    Reflection (``wi``, ``wo`` on one side): ``ks·F(|wi·h|, r_i)·D·G2/(4|mu_i||mu_o|)``.
+    Transmission: ``kt·|wi·h||wo·h|/(|mu_i||mu_o|)·eta_o²(1 − F(|wi·h|, eta_o/eta_i))·D·G2
+    / (eta_i(wi·h) + eta_o(wo·h))²`` with ``h`` along ``s = eta_i ŵi + eta_o ŵo`` turned
+    to ``n``'s side. Every sign the definition branches on (the side of each direction,
+    ``n·s``, ``wi·s``, ``wo·s``, ``s = 0``) is decided exactly from the integer inputs:
+    with ``eta = A/B``, ``eta_i = I/B``, ``eta_o = O/B`` (``I, O`` each ``A`` or ``B``):
+
+    - ``n·s·B|n||wi||wo| = I·(n·wi)|wo| + O·(n·wo)|wi|``,
+    - ``wi·s·B|wi||wo| = I·|wi||wo| + O·(wi·wo)``, ``wo·s·B|wi||wo| = I·(wi·wo) + O·|wi||wo|``,
+    - ``|s|²B²|wi||wo| = (I² + O²)|wi||wo| + 2IO·(wi·wo)``,
+
+    each a sum ``x·sqrt(p) + y·sqrt(q)`` of integers. So at ``eta = 1`` the refraction
+    test fails exactly for every pair (``wi·s`` and ``wo·s`` are then the same number),
+    and ``(eta_i(wi·h) + eta_o(wo·h))² = |s|²`` keeps its digits where ``s`` is short.
+    """
+    zero = (mpf(0), mpf(0), mpf(0))
+    if g.a == 0 or g.b == 0:
+        return zero
+    abs_mu_i, abs_mu_o = abs(g.mu_i), abs(g.mu_o)
+    g2 = 1 / (1 + lambda_of(g.cross_i, abs(g.a), alpha) + lambda_of(g.cross_o, abs(g.b), alpha))
+    above_i, above_o = g.a > 0, g.b > 0
+    if above_i == above_o:
+        # h = normalize(wi + wo), n·h of either sign: D depends on cos²θh and sin²θh only.
+        ndf_value = ndf(g.cos_th, g.sin2_th, alpha)
+        r_i = eta if above_i else 1 / eta
+        fresnel = _dielectric_fresnel(g.cos_b, r_i)
+        lobe = fresnel * ndf_value * g2 / (4 * abs_mu_i * abs_mu_o)
+        return _per_channel(lambda k: k * lobe, ks)
+
+    big_a, big_b = _index_integers(eta)
+    index_i = big_b if above_i else big_a  # eta_i·B
+    index_o = big_b if above_o else big_a  # eta_o·B
+    # n·s, wi·s, wo·s and |s|², each times a positive factor (see above)
+    n_s = (index_i * g.a, g.o_o, index_o * g.b, g.i_i)
+    wi_s = (index_i, g.i_o, index_o * g.c, 1)
+    wo_s = (index_o, g.i_o, index_i * g.c, 1)
+    s_s = (index_i * index_i + index_o * index_o, g.i_o, 2 * index_i * index_o * g.c, 1)
+    if _sign_of_roots(*s_s) == 0:
+        return zero  # s = 0: wo = −wi with eta_i = eta_o, no h
+    side = _sign_of_roots(*n_s)  # h = side·s/|s|
+    if side == 0:
+        return zero  # n·h = 0: h cannot be turned to n's side
+    sign_a = 1 if above_i else -1
+    sign_b = 1 if above_o else -1
+    if side * _sign_of_roots(*wi_s) * sign_a <= 0 or side * _sign_of_roots(*wo_s) * sign_b <= 0:
+        return zero  # (wi·h)·mu_i > 0 and (wo·h)·mu_o > 0 fail: not a refraction through h
+    root_io = mpmath.sqrt(g.i_o)  # |wi||wo|
+    s_scaled = _sum_of_roots(*s_s)  # |s|²·B²·|wi||wo|
+    # |v·h| = |v·s|/|s| for v = wi, wo, n (each with its scale divided out)
+    length = mpmath.sqrt(s_scaled * root_io)  # |s|·B·|wi||wo|
+    cos_i = abs(_sum_of_roots(*wi_s)) / length
+    cos_o = abs(_sum_of_roots(*wo_s)) / length
+    cos_th = abs(_sum_of_roots(*n_s)) / (mpmath.sqrt(g.n_n) * length)
+    with mpmath.extradps(40):
+        sin2_th = +(1 - cos_th * cos_th)
+    eta_i, eta_o = mpf(index_i) / big_b, mpf(index_o) / big_b
+    denominator = s_scaled / (mpf(big_b) * big_b * root_io)  # (eta_i(wi·h) + eta_o(wo·h))²
+    transmitted = 1 - _dielectric_fresnel(cos_i, eta_o / eta_i)
+    lobe = (
+        cos_i
+        * cos_o
+        / (abs_mu_i * abs_mu_o)
+        * eta_o
+        * eta_o
+        * transmitted
+        * ndf(cos_th, sin2_th, alpha)
+        * g2
+        / denominator
+    )
+    return _per_channel(lambda k: k * lobe, kt)
+
+
+def _ggx_lambda_of(cross: int, dot: int, alpha: mpf) -> mpf:
+    return _ggx_lambda(_tan2(cross, dot), alpha)
+
+
+def _ggx_dielectric(g: _Geometry, ks: Colour, kt: Colour, eta: mpf, alpha: mpf) -> Colour:
+    return _dielectric(g, ks, kt, eta, alpha, _ggx_ndf, _ggx_lambda_of)
+
+
+def _beckmann_dielectric(g: _Geometry, ks: Colour, kt: Colour, eta: mpf, alpha: mpf) -> Colour:
+    return _dielectric(g, ks, kt, eta, alpha, _beckmann_ndf, _beckmann_lambda)
 
 
 def _conductor_fresnel(g: _Geometry, eta: mpf, k: mpf) -> mpf:
@@ -727,6 +858,7 @@ _COLOURS = "colour list"
 _KINDS = {
     "kd": _COLOUR,
     "ks": _COLOUR,
+    "kt": _COLOUR,
     "high": _COLOUR,
     "low": _COLOUR,
     "p": _SCALAR,
@@ -760,12 +892,16 @@ class _Model:
     tangent_optional: bool = False
     #: Parameter kinds that differ from ``_KINDS`` (a conductor's ``eta`` is a colour).
     kinds: dict[str, str] = field(default_factory=dict)
+    #: Defined on the whole sphere of ``wi`` and ``wo`` (a BSDF that transmits), not 0
+    #: below the surface as the rest of family A.
+    sphere: bool = False
 
 
 _LOBE = {"kd": 0.0, "ks": 1.0, "p": 32.0}
 _CONDUCTOR_DEFAULTS = {"kd": 0.0, "eta": 0.5, "k": 3.0, "alpha": 0.5}
 _F82_DEFAULTS = {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5}
 _GEN_SCHLICK_DEFAULTS = {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5}
+_DIELECTRIC_DEFAULTS = {"ks": 1.0, "kt": 1.0, "eta": 1.5, "alpha": 0.5}
 
 _MODELS: dict[str, _Model] = {
     "lambert": _Model("A", _lambert, {"kd": 0.5}),
@@ -797,6 +933,8 @@ _MODELS: dict[str, _Model] = {
     "beckmann_gen_schlick": _Model(
         "A", _with_fresnel(_beckmann, _gen_schlick_channel), _GEN_SCHLICK_DEFAULTS
     ),
+    "ggx_dielectric": _Model("A", _ggx_dielectric, _DIELECTRIC_DEFAULTS, sphere=True),
+    "beckmann_dielectric": _Model("A", _beckmann_dielectric, _DIELECTRIC_DEFAULTS, sphere=True),
     "ward": _Model(
         "A",
         _ward,
@@ -877,7 +1015,7 @@ def _evaluate(
         if cache is not None:
             cache[vectors] = geometry
     zero = (mpf(0), mpf(0), mpf(0))
-    if spec.family == "A" and not (geometry.a > 0 and geometry.b > 0):
+    if spec.family == "A" and not spec.sphere and not (geometry.a > 0 and geometry.b > 0):
         return zero
     values = {name: _convert(name, value, spec.kinds) for name, value in params.items()}
     if spec.tangent:

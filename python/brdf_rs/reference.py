@@ -13,7 +13,10 @@ Conventions (the same as in ``docs/models.md``):
   components. Zero-length or non-finite vectors raise :class:`ValueError`.
 - Family A (``lambert`` ... ``torrance_sparrow``) returns the radiometric BRDF
   ``f(wi, wo)`` in 1/sr, *without* the cosine of the light; it is exactly 0 unless
-  ``mu_i > 0`` and ``mu_o > 0``.
+  ``mu_i > 0`` and ``mu_o > 0``. The exceptions are the rough dielectrics
+  (``ggx_dielectric``, ``beckmann_dielectric``), BSDFs defined on the whole sphere of
+  ``wi`` and ``wo`` (reflection on either side, transmission across): 0 only where
+  ``mu_i = 0`` or ``mu_o = 0``.
 - Family B (``lambert_shading`` ... ``kajiya_kay``) returns the scan-line shading term
   ``s(l, v)`` (``l = wi``, ``v = wo``), which *includes* the light's cosine; every
   specular term is 0 when ``n·l <= 0``.
@@ -623,19 +626,13 @@ def _microfacet(
     )
 
 
-def ggx(
-    wi: Sequence[float],
-    wo: Sequence[float],
-    n: Sequence[float],
-    *,
-    kd: Colour,
-    ks: Colour,
-    alpha: float,
-) -> RGB:
-    """GGX: ``D = α²/(π(cos_th²(α²−1)+1)²)``, ``Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2``.
+#: A microfacet distribution as two functions: ``ndf(cos_th, sin²θh)`` is ``D`` and
+#: ``mu_lambda(μ, sin²θ)`` is ``μ·Λ(μ)`` for ``0 < μ <= 1``.
+Distribution = tuple[Callable[[float, float], float], Callable[[float, float], float]]
 
-    The NDF's denominator ``cos_th²(α²−1)+1`` is written ``sin²θh + α²cos²θh`` (equal).
-    """
+
+def _ggx_terms(alpha: float) -> Distribution:
+    """GGX's ``D`` and ``μΛ(μ)`` (see :func:`ggx`)."""
     a2 = alpha * alpha
 
     def ndf(cos_th: float, sin2_th: float) -> float:
@@ -645,20 +642,11 @@ def ggx(
         # μΛ(μ) = (−μ + sqrt(μ² + α²(1−μ²)))/2
         return (math.sqrt(mu * mu + a2 * sin2) - mu) / 2.0
 
-    return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
+    return ndf, mu_lambda
 
 
-def beckmann(
-    wi: Sequence[float],
-    wo: Sequence[float],
-    n: Sequence[float],
-    *,
-    kd: Colour,
-    ks: Colour,
-    alpha: float,
-) -> RGB:
-    """Beckmann: ``D = exp(−tan²θh/α²)/(π α² cos⁴θh)``,
-    ``Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π))``, ``c = μ/(α·sqrt(1−μ²))``."""
+def _beckmann_terms(alpha: float) -> Distribution:
+    """Beckmann's ``D`` and ``μΛ(μ)`` (see :func:`beckmann`)."""
     a2 = alpha * alpha
 
     def ndf(cos_th: float, sin2_th: float) -> float:
@@ -678,6 +666,38 @@ def beckmann(
             2.0 * math.sqrt(math.pi)
         )
 
+    return ndf, mu_lambda
+
+
+def ggx(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
+    """GGX: ``D = α²/(π(cos_th²(α²−1)+1)²)``, ``Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2``.
+
+    The NDF's denominator ``cos_th²(α²−1)+1`` is written ``sin²θh + α²cos²θh`` (equal).
+    """
+    ndf, mu_lambda = _ggx_terms(alpha)
+    return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
+
+
+def beckmann(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
+    """Beckmann: ``D = exp(−tan²θh/α²)/(π α² cos⁴θh)``,
+    ``Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π))``, ``c = μ/(α·sqrt(1−μ²))``."""
+    ndf, mu_lambda = _beckmann_terms(alpha)
     return _microfacet(wi, wo, n, kd, ks, ndf, mu_lambda)
 
 
@@ -943,6 +963,174 @@ def ashikhmin_shirley(
         (0.0 if f_c == 0.0 else f_c * lobe) + rd_c * (1.0 - rs_c) * diffuse
         for rd_c, rs_c, f_c in zip(_rgb(Rd), _rgb(Rs), fresnel, strict=True)
     )
+
+
+# ---------------------------------------------------------------------------------------
+# Rough dielectrics (Walter et al. 2007): defined on the whole sphere of wi and wo
+# ---------------------------------------------------------------------------------------
+
+
+def _dielectric_fresnel(c: float, r: float) -> tuple[float, float]:
+    """Returns ``(F, 1 − F)``: the exact unpolarized Fresnel reflectance of a dielectric
+    interface for the cosine ``c`` (in [0, 1]) on the incident side and the relative index
+    ``r`` = index beyond the interface / index on the incident side (``docs/models.md``).
+
+    ``g² = r² − 1 + c²``; ``g² < 0`` is total internal reflection (``F = 1``). Otherwise
+    ``F = ½((g − c)/(g + c))²(1 + ((c(g + c) − 1)/(c(g − c) + 1))²)`` (Walter et al.'s
+    eq. 22), with ``r² − 1`` formed as ``(r − 1)(r + 1)`` and ``g − c`` as
+    ``(r² − 1)/(g + c)``, so ``F`` keeps its digits as ``r → 1`` (``F = 0`` at ``r = 1``).
+    ``1 − F`` is :func:`_dielectric_transmittance` with ``g = r·c_t``.
+    """
+    e = (r - 1.0) * (r + 1.0)
+    if e == 0.0:
+        return 0.0, 1.0  # r = 1: no interface
+    g2 = e + c * c
+    if g2 < 0.0:
+        return 1.0, 0.0
+    g = math.sqrt(g2)
+    if g + c == 0.0:
+        return 1.0, 0.0  # c = 0 and r = 1: the grazing limit of every r
+    g_minus_c = e / (g + c)
+    ratio = (c * (g + c) - 1.0) / (c * g_minus_c + 1.0)
+    fresnel = min(1.0, 0.5 * (g_minus_c / (g + c)) ** 2 * (1.0 + ratio * ratio))
+    return fresnel, _dielectric_transmittance(c, g / r, 1.0, r)
+
+
+def _dielectric_transmittance(c_i: float, c_t: float, eta_i: float, eta_t: float) -> float:
+    """Returns ``1 − F``, the transmittance of the interface, from the cosines ``c_i``
+    (incident side, index ``eta_i``) and ``c_t`` (refracted side, index ``eta_t``) of a
+    pair that obeys Snell's law: ``½(1 − r_s²) + ½(1 − r_p²)`` with
+    ``1 − r_s² = 4 eta_i c_i eta_t c_t/(eta_i c_i + eta_t c_t)²`` and
+    ``1 − r_p² = 4 eta_i c_i eta_t c_t/(eta_t c_i + eta_i c_t)²``.
+
+    With ``r = eta_t/eta_i`` and ``g = r·c_t`` this is ``1 − F(c_i, r)`` of
+    :func:`_dielectric_fresnel` (``r_s = (c − g)/(c + g)``, ``r_p = (r²c − g)/(r²c + g)``),
+    without its cancellations: neither ``1 − F`` where ``F → 1`` nor ``g² = r² − 1 + c²``
+    near the critical angle, where ``c_t`` (known directly for a refracted pair) is
+    small.
+    """
+    a = eta_i * c_i * eta_t * c_t
+    return min(
+        1.0,
+        2.0 * a * (1.0 / (eta_i * c_i + eta_t * c_t) ** 2 + 1.0 / (eta_t * c_i + eta_i * c_t) ** 2),
+    )
+
+
+def _dielectric(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    ks: Colour,
+    kt: Colour,
+    eta: float,
+    distribution: Distribution,
+) -> RGB:
+    """A rough dielectric interface: reflection ``f_r`` where ``wi``, ``wo`` lie on the
+    same side of the surface, transmission ``f_t`` where they lie on opposite sides
+    (``docs/models.md``, radiance transport). ``eta`` = index below / index above ("below"
+    is the side opposite ``n``); the medium a direction lies in has index 1 above and
+    ``eta`` below.
+
+    ``f_r = ks·F(|wi·h|, r_i)·D(h)·G2/(4|mu_i||mu_o|)``, ``h = normalize(wi + wo)`` on
+    ``n``'s side, ``r_i`` = index of the side opposite ``wi`` / index of ``wi``'s side.
+
+    ``f_t = kt·|wi·h||wo·h|/(|mu_i||mu_o|)·eta_o²·(1 − F(|wi·h|, eta_o/eta_i))·D(h)·G2
+    / (eta_i(wi·h) + eta_o(wo·h))²``, ``h`` = ``−(eta_i wi + eta_o wo)`` normalized and
+    turned to ``n``'s side; 0 unless ``(wi·h)mu_i > 0`` and ``(wo·h)mu_o > 0``.
+
+    ``G2 = 1/(1 + Λ(|mu_i|) + Λ(|mu_o|))`` for both. As in :func:`_microfacet`, ``G2``
+    over ``|mu_i||mu_o|`` is ``1/(m·inner)`` with ``m`` the larger cosine and
+    ``inner = min + (|mu_o|/m)·|mu_i|Λ_i + (|mu_i|/m)·|mu_o|Λ_o`` (finite at grazing
+    angles). The refraction denominator ``(eta_i(wi·h) + eta_o(wo·h))²`` equals
+    ``|eta_i wi + eta_o wo|²`` (``h`` is that vector's direction up to sign), which is
+    computed without cancellation.
+    """
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if mu_i == 0.0 or mu_o == 0.0:
+        return BLACK
+    ndf, mu_lambda = distribution
+    abs_i, abs_o = abs(mu_i), abs(mu_o)
+    l_i = mu_lambda(abs_i, _sin2(n, wi))
+    l_o = mu_lambda(abs_o, _sin2(n, wo))
+    m = max(abs_i, abs_o)
+    inner = min(abs_i, abs_o) + abs_o / m * l_i + abs_i / m * l_o
+    eta_i = 1.0 if mu_i > 0.0 else eta
+    eta_o = 1.0 if mu_o > 0.0 else eta
+
+    if (mu_i > 0.0) == (mu_o > 0.0):
+        # Reflection on wi's side: wi + wo is never 0 here (both on one side of n).
+        h = _half_vector(wi, wo)
+        if h is None:
+            return BLACK
+        d = ndf(abs(_cos(n, h)), _sin2(n, h))  # D(h) = D(−h): the flip changes nothing
+        r_i = eta if mu_i > 0.0 else 1.0 / eta
+        fresnel, _ = _dielectric_fresnel(_cos_b(wi, wo), r_i)
+        lobe = 0.0 if d == 0.0 else d / (4.0 * inner) / m  # D·G2/(4|mu_i||mu_o|)
+        return _three(
+            0.0 if ks_c == 0.0 or fresnel == 0.0 else ks_c * fresnel * lobe for ks_c in _rgb(ks)
+        )
+
+    # Transmission. At eta = 1 the rough lobe is the delta wo = −wi: (wi·h) and (wo·h)
+    # are then equal, so the test below fails for every other pair; returned here at
+    # once so that rounding near wo = −wi cannot let a value through.
+    if eta == 1.0:
+        return BLACK
+    s = (
+        eta_i * wi[0] + eta_o * wo[0],
+        eta_i * wi[1] + eta_o * wo[1],
+        eta_i * wi[2] + eta_o * wo[2],
+    )
+    if s == (0.0, 0.0, 0.0):
+        return BLACK
+    h = _normalize(s)
+    cos_th = _cos(n, h)
+    if cos_th == 0.0:
+        return BLACK  # h cannot be turned to n's side: no microfacet refracts the pair
+    if cos_th < 0.0:
+        h, cos_th = (-h[0], -h[1], -h[2]), -cos_th
+    c_i, c_o = _cos(wi, h), _cos(wo, h)
+    if not (c_i * mu_i > 0.0 and c_o * mu_o > 0.0):
+        return BLACK  # not a refraction through h (a microfacet seen from behind)
+    d = ndf(cos_th, _sin2(n, h))
+    # 1 − F(|wi·h|, eta_o/eta_i): for a refraction through h, g = (eta_o/eta_i)|wo·h|
+    # (Snell's law), so the transmittance is taken from the two cosines.
+    transmitted = _dielectric_transmittance(abs(c_i), abs(c_o), eta_i, eta_o)
+    denominator = _length(s) ** 2  # (eta_i(wi·h) + eta_o(wo·h))²
+    lobe = _product_quotient(
+        (d, abs(c_i), abs(c_o), eta_o * eta_o, transmitted), (inner, m, denominator)
+    )
+    return _three(0.0 if kt_c == 0.0 else kt_c * lobe for kt_c in _rgb(kt))
+
+
+def ggx_dielectric(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    ks: Colour,
+    kt: Colour,
+    eta: float,
+    alpha: float,
+) -> RGB:
+    """A rough dielectric interface with GGX's ``D`` and ``Λ`` (see :func:`_dielectric`);
+    nonzero on the whole sphere of ``wi`` and ``wo``."""
+    return _dielectric(wi, wo, n, ks, kt, eta, _ggx_terms(alpha))
+
+
+def beckmann_dielectric(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    ks: Colour,
+    kt: Colour,
+    eta: float,
+    alpha: float,
+) -> RGB:
+    """A rough dielectric interface with Beckmann's ``D`` and ``Λ`` (see
+    :func:`_dielectric`); nonzero on the whole sphere of ``wi`` and ``wo``."""
+    return _dielectric(wi, wo, n, ks, kt, eta, _beckmann_terms(alpha))
 
 
 # ---------------------------------------------------------------------------------------
@@ -1248,6 +1436,8 @@ MODELS: dict[str, Callable[..., RGB]] = {
         beckmann_f82,
         ggx_gen_schlick,
         beckmann_gen_schlick,
+        ggx_dielectric,
+        beckmann_dielectric,
         ward,
         ashikhmin_shirley,
         charlie_sheen,
@@ -1284,6 +1474,8 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "beckmann_f82": {"kd": 0.0, "f0": 0.8, "f82": 1.0, "alpha": 0.5},
     "ggx_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
     "beckmann_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
+    "ggx_dielectric": {"ks": 1.0, "kt": 1.0, "eta": 1.5, "alpha": 0.5},
+    "beckmann_dielectric": {"ks": 1.0, "kt": 1.0, "eta": 1.5, "alpha": 0.5},
     "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
     "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},
     "charlie_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
