@@ -77,6 +77,7 @@ def albedo(
     cell_ids: np.ndarray | None = None,
     fold_azimuth: bool = True,
     normalization: str = "approximate",
+    component: str = "total",
     **params: Any,
 ) -> Albedo:
     """Directional albedo ``R(mu) = ∫ f(wi, wo)·cos θo dωo`` of a family-A model.
@@ -120,6 +121,11 @@ def albedo(
             the plane of incidence (default), where it holds: isotropic models at any
             ``phi``, anisotropic ones at ``sin φ = 0``; ``False`` covers the full circle.
         normalization: ``"exact"`` for the exactly normalized lobe (see ``eval``).
+        component: the part of the albedo of a model that transmits (``transmission`` in
+            :func:`brdf_rs.models`), integrated over the whole sphere of ``wo``:
+            ``"total"`` (default), ``"reflection"`` (``wo`` above the surface) or
+            ``"transmission"`` (``wo`` below; refused for the models that do not
+            transmit, whose albedo is the reflection).
         **params: the model's parameters (docs/models.md names), scalars or arrays
             broadcasting against ``mu``.
 
@@ -132,7 +138,7 @@ def albedo(
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
     options = {"samples": samples, "sampler": sampler, "sequence": sequence, "seed": seed}
-    options.update(replicates=replicates, tol=tol, max_samples=max_samples)
+    options.update(replicates=replicates, tol=tol, max_samples=max_samples, component=component)
     # Checked before cell_ids (the core converts them again, by the same code).
     options = _options.check(options)
     ids = _options.cell_ids(cell_ids)
@@ -166,6 +172,7 @@ def albedo_table(
     max_samples: int | None = None,
     replicates: int = DEFAULT_REPLICATES,
     progress: Callable[[int, int], None] | None = None,
+    component: str = "total",
     **fixed: Any,
 ) -> Table:
     """Tabulates the directional albedo over a grid of ``axes``.
@@ -176,6 +183,7 @@ def albedo_table(
             ``wi`` in radians from the tangent, counterclockwise about ``n``: see
             :func:`albedo`) and the model's parameters (a colour axis holds grey values).
             The table's shape is the axes' lengths (in order) + (3,).
+        component: the part of a transmitting model's albedo (see :func:`albedo`).
         **fixed: parameters held fixed over the table (``phi=`` a number, default 0, or
             ``"average"`` for the azimuth average), and the options of :func:`albedo`.
 
@@ -209,6 +217,7 @@ def albedo_table(
         replicates=replicates,
         progress=progress,
         cell_ids=ids,
+        component=component,
         **grid,
         **rest,
     )
@@ -227,6 +236,7 @@ def albedo_table(
         "tol": tol,
         "max_samples": max_samples,
         "replicates": replicates,
+        "component": component,
     }
     meta = _grid.table_meta(model, names, rest, options)
     return Table(value, stderr, drawn, coords, meta)

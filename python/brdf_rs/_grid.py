@@ -224,4 +224,10 @@ def table_meta(
         },
         "brdf_rs": __version__,
         "quantity": "directional albedo R(mu): integral of f(wi, wo) cos(theta_o) d(omega_o)",
+        # The part of a transmitting model's albedo (recorded when it is not the total).
+        **(
+            {"component": options["component"]}
+            if options.get("component", "total") != "total"
+            else {}
+        ),
     }

@@ -66,7 +66,7 @@ def cell_ids(ids: Any) -> np.ndarray | None:
 
 def check(given: dict[str, Any]) -> dict[str, Any]:
     """The options of :func:`brdf_rs.albedo` (a dict of ``samples``, ``sampler``,
-    ``sequence``, ``seed``, ``replicates``, ``tol``, ``max_samples``; absent: the
+    ``sequence``, ``seed``, ``replicates``, ``tol``, ``max_samples``, ``component``; absent: the
     default; ``tol`` and ``max_samples`` may be None), converted (integers as ``int``,
     ``tol`` as ``float``; ``tol`` and ``max_samples`` None when not given) or refused
     with an error naming the option.

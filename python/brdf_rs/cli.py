@@ -205,6 +205,7 @@ def cmd_table(args: argparse.Namespace) -> int:
             "seed": args.seed,
             "tol": tol,
             "max_samples": args.max_samples,
+            "component": args.component,
         }
     )
     out = _table_output(args.output, f"albedo_{model}.npz", TABLE_FORMATS, args.plot)
@@ -235,6 +236,7 @@ def cmd_table(args: argparse.Namespace) -> int:
             tol=tol,
             max_samples=args.max_samples,
             progress=progress,
+            component=args.component,
             **params,
         )
     finally:
@@ -1231,6 +1233,12 @@ def _add_table_command(sub: Any) -> None:
         "the saved table's phi axis is in radians, as brdf_rs.albedo_table takes it)",
     )
     _add_params(p, help="fixed name=value")
+    p.add_argument(
+        "--component",
+        default="total",
+        help="for a model that transmits: total (default), reflection (wo above the"
+        " surface) or transmission (wo below), integrated over the whole sphere",
+    )
     _add_integrator(
         p,
         samples=4096,

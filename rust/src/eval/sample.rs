@@ -132,6 +132,50 @@ impl KernelVisitor for Run<'_> {
                 y: n_v.0.cross(x),
                 z: n_v.0,
             };
+            if let Some(dielectric) = K::transmission_sampler(&slots) {
+                // The whole sphere: the generic weight with |n·wo|, 0 for an invalid
+                // draw; at eta = 1 the straight-through delta, weight kt.
+                let ok_u = sampling && row2[0].is_finite() && row2[1].is_finite();
+                let (wo, pdf, valid, ok) = if sampling {
+                    let u = [
+                        row2[0].clamp(0.0, crate::sampling::ONE_BELOW),
+                        row2[1].clamp(0.0, crate::sampling::ONE_BELOW),
+                    ];
+                    let (wo, pdf, valid) = dielectric.sample(wi_v, &frame, u);
+                    (wo, pdf, valid, ok_i && n_v.1 && ok_u)
+                } else {
+                    let (wo, ok_o) = f64::normalize(DVec3::from_array(row2));
+                    let pdf = dielectric.pdf(wi_v, wo, &frame);
+                    (wo, pdf, pdf > 0.0, ok_i && ok_o && n_v.1)
+                };
+                let prepared = K::prepare::<f64, [f64]>(&slots);
+                let d = Directions::<f64> {
+                    wi: wi_v,
+                    wo,
+                    n: n_v.0,
+                    t: t_v,
+                };
+                let f = K::eval::<f64>(&prepared, &d);
+                let mu_o = wo.dot(n_v.0).abs();
+                let delta = pdf == f64::INFINITY;
+                let kt = K::spec().param("kt").map(|p| p.slot);
+                for c in 0..3 {
+                    weight_out[c] = if !ok {
+                        f64::NAN
+                    } else if delta {
+                        kt.map_or(0.0, |slot| slots[slot + c])
+                    } else if valid && pdf > 0.0 {
+                        f[c] * mu_o / pdf
+                    } else {
+                        0.0
+                    };
+                }
+                if sampling {
+                    wo_out.copy_from_slice(&(if ok { wo } else { DVec3::NAN }).to_array());
+                }
+                *pdf_out = if ok { pdf } else { f64::NAN };
+                return;
+            }
             let terms = K::sampling_terms(&slots, wi_v.dot(n_v.0)).unwrap_or_default();
             let mixture = Mixture::new(&terms, sampler);
             let (wo, pdf, ok) = if sampling {
@@ -268,7 +312,7 @@ pub fn sample(
     inputs: Inputs<'_>,
     sampler: SamplerChoice,
 ) -> Result<Output, BrdfError> {
-    family_a(kind)?;
+    family_a(kind, sampler)?;
     kind.visit(Run {
         inputs,
         sampling: true,
@@ -282,7 +326,7 @@ pub fn pdf(
     inputs: Inputs<'_>,
     sampler: SamplerChoice,
 ) -> Result<Output, BrdfError> {
-    family_a(kind)?;
+    family_a(kind, sampler)?;
     kind.visit(Run {
         inputs,
         sampling: false,
@@ -290,10 +334,14 @@ pub fn pdf(
     })
 }
 
-fn family_a(kind: ModelKind) -> Result<(), BrdfError> {
-    if kind.spec().transmission {
+fn family_a(kind: ModelKind, sampler: SamplerChoice) -> Result<(), BrdfError> {
+    // The hemisphere samplers cannot reach the transmitted half of the sphere.
+    if kind.spec().transmission
+        && !matches!(sampler, SamplerChoice::Auto | SamplerChoice::Importance)
+    {
         return Err(BrdfError::InvalidArgument(format!(
-            "{}: sampling a transmitting model is not supported yet",
+            "sampler: {} transmits, and only its own sampler (\"auto\" or \"importance\") \
+             covers the whole sphere",
             kind.name()
         )));
     }

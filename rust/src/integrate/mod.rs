@@ -88,7 +88,7 @@ pub use crate::sampling::SamplerChoice;
 use crate::simd;
 use cell::integrate_cell_isa;
 pub use options::{
-    AlbedoOptions, CellResult, DEFAULT_REPLICATES, MAX_REPLICATES, MAX_SAMPLES_PER_CELL,
+    AlbedoOptions, CellResult, Component, DEFAULT_REPLICATES, MAX_REPLICATES, MAX_SAMPLES_PER_CELL,
     MAX_SAMPLES_PER_REQUEST, MIN_REPLICATES, Progress,
 };
 
@@ -100,6 +100,7 @@ mod ggx;
 mod integrand;
 mod loops;
 mod options;
+mod sphere;
 mod sums;
 
 /// Points per block: the unit of vectorized work.
@@ -169,9 +170,10 @@ pub fn albedo<C: Cells>(
             kind.name()
         )));
     }
-    if kind.spec().transmission {
+    if options.component == Component::Transmission && !kind.spec().transmission {
         return Err(BrdfError::InvalidArgument(format!(
-            "{}: albedo over the whole sphere (transmission) is not supported yet",
+            "component: {} does not transmit (zero below the surface); \
+             component=\"transmission\" is for the models that do",
             kind.name()
         )));
     }

@@ -16,6 +16,38 @@ pub const MIN_REPLICATES: u32 = 2;
 pub const MAX_REPLICATES: u32 = 4096;
 pub const DEFAULT_REPLICATES: u32 = 16;
 
+/// Which part of a transmitting model's albedo over the whole sphere is integrated: `wo`
+/// above the surface (reflection), below it (transmission), or both. For the models that
+/// do not transmit, `Total` and `Reflection` are the same integral (over the hemisphere)
+/// and `Transmission` is refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Component {
+    Total,
+    Reflection,
+    Transmission,
+}
+
+impl Component {
+    /// Every component, in the order of [`Component::NAMES`].
+    pub const ALL: [Component; 3] = [
+        Component::Total,
+        Component::Reflection,
+        Component::Transmission,
+    ];
+    /// Their names, as `component=` takes them.
+    pub const NAMES: [&'static str; 3] = ["total", "reflection", "transmission"];
+
+    /// Returns the name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// Parses `total`, `reflection` or `transmission`.
+    pub fn from_name(name: &str) -> Option<Component> {
+        Self::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
 /// Options of an albedo computation.
 #[derive(Clone, Copy, Debug)]
 pub struct AlbedoOptions {
@@ -37,6 +69,8 @@ pub struct AlbedoOptions {
     pub fold_azimuth: bool,
     /// Estimate the average over the azimuth of `wi` (the cells' `phi` is then unused).
     pub average_azimuth: bool,
+    /// The part of a transmitting model's albedo integrated ([`Component`]).
+    pub component: Component,
 }
 
 impl Default for AlbedoOptions {
@@ -51,6 +85,7 @@ impl Default for AlbedoOptions {
             replicates: DEFAULT_REPLICATES,
             fold_azimuth: true,
             average_azimuth: false,
+            component: Component::Total,
         }
     }
 }

@@ -36,6 +36,8 @@ use super::spec::{
 use super::{Directions, Kernel, ParamSource, beckmann};
 use crate::math::geometry::{clamped_cosine, ggx_mu_lambda, smith_quotient, weighted};
 use crate::math::{PowUnit, Real, Vector3, max};
+use crate::sampling::Warp;
+use crate::sampling::dielectric::DielectricSampler;
 
 crate::param_slots! {
     KS: ColourSlot,
@@ -54,6 +56,8 @@ pub trait Microfacets: 'static {
     fn ndf<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F) -> F;
     /// Returns `μ·Λ(μ)` for `μ ≥ 0` given `sin²θ = |n × w|²`.
     fn mu_lambda<F: Real>(p: &Self::Prepared<F>, mu: F, sin2: F) -> F;
+    /// The warp that draws its visible normals at roughness `alpha`.
+    fn visible_normals(alpha: f64) -> Warp;
 }
 
 /// GGX: `D = α²/(π(sin²θh + α²cos²θh)²)` and `ggx`'s Smith function.
@@ -78,6 +82,10 @@ impl Microfacets for Ggx {
     #[inline(always)]
     fn mu_lambda<F: Real>(p: &(F, F), mu: F, sin2: F) -> F {
         ggx_mu_lambda(mu, sin2, p.0)
+    }
+
+    fn visible_normals(alpha: f64) -> Warp {
+        Warp::GgxVisible { alpha }
     }
 }
 
@@ -105,6 +113,10 @@ impl Microfacets for Beckmann {
     #[inline(always)]
     fn mu_lambda<F: Real>(p: &(F, F), mu: F, sin2: F) -> F {
         beckmann::mu_lambda(mu, sin2, p.0)
+    }
+
+    fn visible_normals(alpha: f64) -> Warp {
+        Warp::BeckmannVisible { alpha }
     }
 }
 
@@ -191,12 +203,17 @@ where
         let reflect = i_above == o_above;
         let eta_i = if i_above { F::ONE } else { pp.eta };
         let eta_o = if o_above { F::ONE } else { pp.eta };
-        // The generalized half vector: wi + wo (reflection), −(eta_i·wi + eta_o·wo).
-        let sum = if reflect {
-            d.wi + d.wo
-        } else {
-            -(d.wi * eta_i + d.wo * eta_o)
-        };
+        // The generalized half vector: wi + wo (reflection, exact where it cancels),
+        // −(eta_i·wi + eta_o·wo), whose products are formed in f64 (exact for f32) so
+        // that a sum that nearly cancels keeps its direction.
+        let across =
+            |a: F, b: F| F::from_f64(-(eta_i.to_f64() * a.to_f64() + eta_o.to_f64() * b.to_f64()));
+        let refracted = F::V3::new(
+            across(d.wi.x(), d.wo.x()),
+            across(d.wi.y(), d.wo.y()),
+            across(d.wi.z(), d.wo.z()),
+        );
+        let sum = if reflect { d.wi + d.wo } else { refracted };
         let (h, len) = F::normalize_length(sum);
         let defined = len > F::ZERO;
         let h = flipped::<F>(h, d.n.dot(h) < F::ZERO);
@@ -219,7 +236,11 @@ where
         // 4|wi·h||wo·h|·eta_o²/(eta_i(wi·h) + eta_o(wo·h))², the denominator being len².
         let scale = (F::TWO * c_i.abs() * eta_o / len) * (F::TWO * c_o.abs() * eta_o / len);
         let physical = c_i * mu_i > F::ZERO && c_o * mu_o > F::ZERO;
-        let valid = defined && mu_i != F::ZERO && mu_o != F::ZERO && (reflect || physical);
+        // eta = 1: no interface, the transmission is the delta wo = −wi (0 as a function
+        // value, also where rounding leaves wi + wo a little off 0).
+        let interface = pp.eta != F::ONE;
+        let valid =
+            defined && mu_i != F::ZERO && mu_o != F::ZERO && (reflect || (physical && interface));
         let reflected = weighted(fr, lobe);
         let transmitted = weighted(ft, lobe) * scale;
         [0, 1, 2].map(|c| {
@@ -229,6 +250,15 @@ where
                 weighted(pp.kt[c], transmitted)
             };
             if valid { v } else { F::ZERO }
+        })
+    }
+
+    /// The visible normals of the distribution, reflection or refraction by Fresnel
+    /// ([`crate::sampling::dielectric`]).
+    fn transmission_sampler(slots: &[f64]) -> Option<DielectricSampler> {
+        Some(DielectricSampler {
+            warp: M::visible_normals(ALPHA.read(slots)),
+            eta: ETA.read(slots),
         })
     }
 }

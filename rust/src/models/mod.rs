@@ -159,6 +159,15 @@ pub trait Kernel: 'static {
         None
     }
 
+    /// The sampler of a transmitting model ([`ModelSpec::transmission`]) for the raw
+    /// parameter slots: `brdf_rs.sample` and `brdf_rs.pdf` draw from it over the whole
+    /// sphere instead of the mixture of [`Kernel::sampling_terms`]. `None` for the rest.
+    fn transmission_sampler(
+        _slots: &[f64],
+    ) -> Option<crate::sampling::dielectric::DielectricSampler> {
+        None
+    }
+
     /// The decomposition `brdf_rs.sample` draws from: [`Kernel::albedo_terms`], except
     /// for models whose albedo terms split a lobe into strata for the integrator
     /// ([`strata`]); those return the whole lobes here (a sampler draws whole lobes).

@@ -15,7 +15,9 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString, PyType};
 
-use crate::integrate::{AlbedoOptions, MAX_REPLICATES, MAX_SAMPLES_PER_CELL, MIN_REPLICATES};
+use crate::integrate::{
+    AlbedoOptions, Component, MAX_REPLICATES, MAX_SAMPLES_PER_CELL, MIN_REPLICATES,
+};
 use crate::sampling::SamplerChoice;
 use crate::sampling::streams::Sequence;
 
@@ -185,7 +187,7 @@ impl std::fmt::Display for Float {
 }
 
 /// The names of the options [`albedo_options`] reads, in the order it checks them.
-const ALBEDO_OPTIONS: [&str; 7] = [
+const ALBEDO_OPTIONS: [&str; 8] = [
     "samples",
     "sampler",
     "sequence",
@@ -193,10 +195,12 @@ const ALBEDO_OPTIONS: [&str; 7] = [
     "replicates",
     "tol",
     "max_samples",
+    "component",
 ];
 
 /// The options of an albedo computation, given as the Python API takes them: a dict of
-/// `samples`, `sampler`, `sequence`, `seed`, `replicates`, `tol` and `max_samples`
+/// `samples`, `sampler`, `sequence`, `seed`, `replicates`, `tol`, `max_samples` and
+/// `component`
 /// (absent: the default; `tol` and `max_samples` may also be None, for not given),
 /// checked in that order.
 /// Returns the options and `max_samples` as given.
@@ -256,6 +260,9 @@ pub(crate) fn albedo_options(given: &Bound<'_, PyDict>) -> PyResult<(AlbedoOptio
         None => None,
     };
     o.max_samples = max_given.unwrap_or_else(|| o.samples.max(1 << 24));
+    if let Some(v) = get("component")? {
+        o.component = Component::ALL[index("component", &v, &Component::NAMES)?];
+    }
     Ok((o, max_given))
 }
 
@@ -281,6 +288,7 @@ pub(crate) fn check_albedo_options<'py>(
     d.set_item("replicates", o.replicates)?;
     d.set_item("tol", o.tol)?;
     d.set_item("max_samples", max_given)?;
+    d.set_item("component", o.component.name())?;
     Ok(d)
 }
 

@@ -9,6 +9,7 @@
 
 pub mod beckmann_visible;
 pub mod bsdf;
+pub mod dielectric;
 pub mod sobol;
 pub mod streams;
 
