@@ -198,6 +198,7 @@ _META_TYPES: dict[str, tuple[str, tuple[type, ...]]] = {
     "replicates": ("a number", (int, float)),
     "tol": ("a number or null", (int, float, type(None))),
     "max_samples": ("a number or null", (int, float, type(None))),
+    "component": ("a string", (str,)),
     "fixed": ("an object", (dict,)),
     "cache_key": ("an object", (dict,)),
 }

@@ -106,8 +106,8 @@ impl Microfacets for Beckmann {
         let c2 = cos_th * cos_th;
         let t = sin2_th / (p.1 * c2);
         let ndf = (-t).exp() / (F::PI * p.1 * c2 * c2);
-        // Far from the peak exp(−t) is 0 before cos⁴ underflows: never 0/0.
-        if t < F::from_f64(700.0) { ndf } else { F::ZERO }
+        // Far from the peak exp(−t) is 0 before cos⁴ underflows: 0/0 is 0 there.
+        if ndf.is_nan() { F::ZERO } else { ndf }
     }
 
     #[inline(always)]
@@ -217,6 +217,22 @@ where
         let (h, len) = F::normalize_length(sum);
         let defined = len > F::ZERO;
         let h = flipped::<F>(h, d.n.dot(h) < F::ZERO);
+        // f32: wi·h and wo·h from the f64 sum (they cancel at the edges of the physical
+        // refractions, and scale the transmitted lobe); f64 as they are.
+        let wide = |v: F::V3| [v.x(), v.y(), v.z()].map(F::to_f64);
+        let (wi64, wo64) = (wide(d.wi), wide(d.wo));
+        let (ei, eo) = if reflect {
+            (1.0, 1.0)
+        } else {
+            (-eta_i.to_f64(), -eta_o.to_f64())
+        };
+        let s: [f64; 3] = std::array::from_fn(|k| ei * wi64[k] + eo * wo64[k]);
+        let dot64 = |w: F::V3| {
+            let ws = [w.x(), w.y(), w.z()].map(F::to_f64);
+            let l = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+            let sign = if d.n.dot(sum) < F::ZERO { -1.0 } else { 1.0 };
+            F::from_f64(sign * (ws[0] * s[0] + ws[1] * s[1] + ws[2] * s[2]) / l)
+        };
         let cos_th = max(d.n.dot(h), F::ZERO);
         let sin2_th = (d.n - h).length_squared() * ((d.n + h).length_squared() * F::from_f64(0.25));
         let ndf = F::flush_subnormal(M::ndf(&pp.lobe, cos_th, sin2_th));
@@ -225,8 +241,11 @@ where
         let l_o = M::mu_lambda(&pp.lobe, a_o, d.n.cross(d.wo).length_squared());
         // D·G2/(4|mu_i||mu_o|).
         let lobe = smith_quotient(ndf, a_i, a_o, l_i, l_o);
-        let c_i = d.wi.dot(h);
-        let c_o = d.wo.dot(h);
+        let (c_i, c_o) = if F::EXACT_LENGTHS {
+            (d.wi.dot(h), d.wo.dot(h))
+        } else {
+            (dot64(d.wi), dot64(d.wo))
+        };
         // F at |wi·h| (with its accurate complement), from wi's side.
         let cos_b = clamped_cosine::<F>(flipped::<F>(h, c_i < F::ZERO), d.wi);
         let channel = fresnel::Conductor::select(i_above, &pp.above, &pp.below);
