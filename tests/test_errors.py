@@ -159,6 +159,7 @@ def test_the_cores_option_converter_refuses_an_unknown_option_and_fills_defaults
         "replicates": brdf_rs._options.DEFAULT_REPLICATES,
         "tol": None,
         "max_samples": None,
+        "component": "total",
     }
 
 

@@ -1236,8 +1236,8 @@ def _add_table_command(sub: Any) -> None:
     p.add_argument(
         "--component",
         default="total",
-        help="for a model that transmits: total (default), reflection (wo above the"
-        " surface) or transmission (wo below), integrated over the whole sphere",
+        help="for a model that transmits: total, reflection (wo above the surface) or"
+        " transmission (wo below), integrated over the whole sphere (default: total)",
     )
     _add_integrator(
         p,
