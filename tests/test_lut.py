@@ -383,6 +383,41 @@ def test_shader_source_validates_with_naga(filament, tmp_path, suffix):
     )
 
 
+@pytest.mark.parametrize("suffix", [".hlsl", ".glsl"])
+def test_shader_source_compiles_with_glslang(filament, tmp_path, suffix):
+    """The HLSL (glslang's HLSL front end, as for Vulkan: a pixel shader that calls the
+    lookup and the texture-coordinate function) and the GLSL compile to SPIR-V, which
+    spirv-val validates."""
+    glslang = shutil.which("glslangValidator")
+    if glslang is None:
+        pytest.skip("glslangValidator (Debian's glslang-tools) is not installed")
+    path = filament.save(tmp_path / f"dfg{suffix}")
+    if suffix == ".hlsl":
+        main = (
+            "float4 main(float4 pos : SV_Position) : SV_Target {\n"
+            "    return float4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
+        )
+        source, flags = path.read_text() + main, ["-D", "-e", "main"]
+    else:
+        main = (
+            "layout(location = 0) out vec4 o;\nvoid main() {\n"
+            "    o = vec4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
+        )
+        source, flags = "#version 450\n" + path.read_text() + main, []
+    shader = tmp_path / f"main{suffix}"
+    shader.write_text(source)
+    spv = tmp_path / "main.spv"
+    result = subprocess.run(
+        [glslang, *flags, "-V", "-S", "frag", str(shader), "-o", str(spv)],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    validator = shutil.which("spirv-val")
+    if validator is not None:
+        subprocess.run([validator, str(spv)], check=True, capture_output=True)
+
+
 # --------------------------------------------------------------- provenance, verify, CLI
 
 
