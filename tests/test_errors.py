@@ -704,6 +704,12 @@ def _one_line_error(result: subprocess.CompletedProcess, code: int = 2) -> str:
         (["energy", "ggx", "--alpha", "0:2:4"], "alpha[0]: alpha = 0.0 is out of range"),
         (["bench", "--threads", "99999999999999999999"], "n: expected an integer from 1 to"),
         (["eval", "ggx", "--wi", "0,0,1", "--wo", "0,0,1", "-p", "alpha=1e999"], "beyond float64"),
+        (
+            ["eval", "ggx", "--wi", "0,0,1", "--wo", "0,0,1", "-p", "alpha=0.1", "-p", "alpha=0.2"],
+            "--param alpha= is given twice",
+        ),
+        (["table", "ggx", "-p", "alpha=0.1", "-p", "alpha=0.2"], "--param alpha= is given twice"),
+        (["table", "ggx", "--axis", "mu=0:1:3", "--axis", "mu=0:1:4"], "--axis mu= is given twice"),
     ],
 )
 def test_cli_checks_everything_before_any_work_in_one_line(tmp_path, args, message):
@@ -713,6 +719,24 @@ def test_cli_checks_everything_before_any_work_in_one_line(tmp_path, args, messa
     line = _one_line_error(result)
     assert message in line, line
     assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_eval_prints_one_rgb_line_per_value_of_a_list_parameter():
+    result = _cli("eval", "ggx", "--wi", "0,0,1", "--wo", "0,0,1", "-p", "alpha=0.1,0.2,0.3")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.strip().splitlines()
+    expected = brdf_rs.eval("ggx", [0, 0, 1], [0, 0, 1], alpha=[0.1, 0.2, 0.3])
+    assert [[float(x) for x in line.split()] for line in lines] == expected.tolist()
+
+
+@pytest.mark.parametrize("value", [None, [0.1, None], np.array([None, 0.2], dtype=object)])
+def test_none_is_not_a_number(value):
+    """NumPy converts None to NaN; a missing value is a type error naming the argument,
+    not an out-of-range NaN."""
+    with pytest.raises(TypeError, match=r"^alpha(\[\d\])?: expected a real number, got NoneType"):
+        brdf_rs.eval("ggx", [0, 0, 1], [0, 0, 1], alpha=value)
+    with pytest.raises(TypeError, match=r"^alpha(\[\d\])?: expected a real number, got NoneType"):
+        brdf_rs.albedo("ggx", 0.5, alpha=value)
 
 
 def test_cli_stress_without_mpmath_says_so_before_a_progress_bar():

@@ -55,3 +55,26 @@ def test_lambert_is_kd_over_pi(pairs):
     np.testing.assert_array_equal(
         got, np.broadcast_to(np.array([0.2, 0.5, 0.9]) / np.pi, got.shape)
     )
+
+
+@pytest.mark.parametrize("alpha", [0.02, 0.1, 1.0])
+@pytest.mark.parametrize("mu_o", [0.03, 0.6, 1.0])
+def test_zeltner_sheen_integrates_to_its_fitted_albedo_over_the_light(alpha, mu_o):
+    """The transformed cosine is a distribution over ``wi`` for a given view: by
+    Gauss-Legendre cubature over the light's hemisphere (an integral the library does not
+    compute), ``∫ f·mu_i dωi = kd + ks·R(mu_o, α)``, with ``R`` the paper's fit (held at 0
+    where the fit dips below), and ``R`` is never negative."""
+    from brdf_rs.reference import _zeltner_albedo
+
+    x, w = np.polynomial.legendre.leggauss(400)
+    theta = (x + 1) * np.pi / 4  # [0, π/2]
+    phi = (x + 1) * np.pi  # [0, 2π]
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    weight = np.outer(w * np.pi / 4, w * np.pi) * np.sin(t)
+    wi = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
+    wo = np.array([np.sqrt(1 - mu_o**2), 0.0, mu_o])
+    f = brdf_rs.eval("zeltner_sheen", wi, wo, kd=0.25, ks=[1.0, 0.5, 0.0], alpha=alpha)
+    total = np.einsum("ijc,ij->c", f * wi[..., 2:], weight)
+    r = _zeltner_albedo(mu_o, alpha)
+    assert r >= 0.0
+    np.testing.assert_allclose(total, 0.25 + np.array([1.0, 0.5, 0.0]) * r, rtol=0, atol=2e-5)

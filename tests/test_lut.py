@@ -14,6 +14,7 @@ import math
 import shutil
 import struct
 import subprocess
+from pathlib import Path
 
 import brdf_rs
 import numpy as np
@@ -381,6 +382,102 @@ def test_shader_source_validates_with_naga(filament, tmp_path, suffix):
         check=True,
         capture_output=True,
     )
+
+
+@pytest.mark.parametrize("suffix", [".hlsl", ".glsl"])
+def test_shader_source_compiles_with_glslang(filament, tmp_path, suffix):
+    """The HLSL (glslang's HLSL front end, as for Vulkan: a pixel shader that calls the
+    lookup and the texture-coordinate function) and the GLSL compile to SPIR-V, which
+    spirv-val validates."""
+    glslang = shutil.which("glslangValidator")
+    if glslang is None:
+        pytest.skip("glslangValidator (Debian's glslang-tools) is not installed")
+    path = filament.save(tmp_path / f"dfg{suffix}")
+    if suffix == ".hlsl":
+        main = (
+            "float4 main(float4 pos : SV_Position) : SV_Target {\n"
+            "    return float4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
+        )
+        source, flags = path.read_text() + main, ["-D", "-e", "main"]
+    else:
+        main = (
+            "layout(location = 0) out vec4 o;\nvoid main() {\n"
+            "    o = vec4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
+        )
+        source, flags = "#version 450\n" + path.read_text() + main, []
+    shader = tmp_path / f"main{suffix}"
+    shader.write_text(source)
+    spv = tmp_path / "main.spv"
+    result = subprocess.run(
+        [glslang, *flags, "-V", "-S", "frag", str(shader), "-o", str(spv)],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    validator = shutil.which("spirv-val")
+    if validator is not None:
+        subprocess.run([validator, str(spv)], check=True, capture_output=True)
+
+
+READER = Path(__file__).resolve().parent / "texture_reader"
+
+
+@pytest.fixture(scope="module")
+def texture_reader():
+    """The KTX2/DDS reader built on the ``ktx2`` and ``ddsfile`` crates (tests/
+    texture_reader): built with cargo on first use; the tests skip without cargo."""
+    cargo = shutil.which("cargo")
+    if cargo is None:
+        pytest.skip("cargo is not installed (it builds the independent KTX2/DDS reader)")
+    built = subprocess.run(
+        [cargo, "build", "--release", "--quiet", "--manifest-path", str(READER / "Cargo.toml")],
+        capture_output=True,
+        text=True,
+    )
+    assert built.returncode == 0, built.stderr
+    return READER / "target" / "release" / "texture_reader"
+
+
+#: DXGI's names for the formats, as the ddsfile crate spells them.
+DXGI_NAMES = {
+    "R16_UNORM": "R16_UNorm",
+    "R16_SFLOAT": "R16_Float",
+    "R32_SFLOAT": "R32_Float",
+    "R16G16_UNORM": "R16G16_UNorm",
+    "R16G16_SFLOAT": "R16G16_Float",
+    "R32G32_SFLOAT": "R32G32_Float",
+    "R32G32B32_SFLOAT": "R32G32B32_Float",
+}
+
+
+@pytest.mark.parametrize("fmt", sorted(lut.FORMATS))
+@pytest.mark.parametrize("suffix", [".ktx2", ".dds"])
+def test_ktx2_and_dds_read_back_with_readers_we_did_not_write(
+    texture_reader, tmp_path, fmt, suffix
+):
+    """Every pixel format in both containers, read by the ``ktx2`` and ``ddsfile`` crates:
+    the format they see (by the container's own code), the size, and every texel equal to
+    the table's decoded values."""
+    if suffix == ".dds" and lut.FORMATS[fmt].dxgi == 0:
+        pytest.skip(f"DXGI has no {fmt}")
+    channels = lut.FORMATS[fmt].channels
+    chosen = ("A", "B", "cloth")[:channels]
+    sheen = "charlie_sheen" if channels == 3 else None
+    spec = dataclasses.replace(
+        small("filament", n=6), kind="dfg", format=fmt, channels=chosen, sheen=sheen
+    )
+    table = lut.build(spec, interp_limit=4)
+    path = table.save(tmp_path / f"t{suffix}")
+    result = subprocess.run([str(texture_reader), str(path)], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    head, *rows = result.stdout.splitlines()
+    name, width, height, n = head.split()
+    assert name == (fmt if suffix == ".ktx2" else DXGI_NAMES[fmt])
+    expected = np.asarray(table.decoded, np.float64).reshape(table.decoded.shape[0], -1)
+    assert (int(height), int(width) * int(n)) == expected.shape
+    assert int(n) == channels
+    got = np.array([[float(v) for v in row.split()] for row in rows])
+    np.testing.assert_array_equal(got, expected)
 
 
 # --------------------------------------------------------------- provenance, verify, CLI

@@ -81,7 +81,7 @@ FRESNEL_VARIANTS = (
     "ggx_gen_schlick",
     "beckmann_gen_schlick",
 )
-SHEEN = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth")
+SHEEN = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth", "zeltner_sheen")
 #: Defined on the whole sphere (they transmit): their sampling tests are in
 #: tests/test_dielectric.py, which histograms the sphere rather than the hemisphere.
 DIELECTRIC = ("ggx_dielectric", "beckmann_dielectric")
@@ -249,6 +249,7 @@ def _chi2_cases() -> list[Case]:
         "charlie_sheen": [(0.05, 0.3, False), (0.5, 1.0, True), (0.95, 0.01, False)],
         "charlie_sheen_neubelt": [(0.5, 0.05, False)],
         "ashikhmin_cloth": [(0.95, 0.5, True), (0.3, 0.8, False), (0.05, 0.05, False)],
+        "zeltner_sheen": [(0.05, 0.3, False), (0.7, 1.0, True)],
     }
     for model, points in sheen_points.items():
         for mu, roughness, mixture in points:

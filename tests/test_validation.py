@@ -431,6 +431,58 @@ def test_a_long_render_answers_ctrl_c():
     assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
 
 
+@pytest.mark.parametrize("what", ["sample", "pdf"])
+def test_long_sampling_answers_ctrl_c(what):
+    rng = np.random.default_rng(2)
+    rows = 1 << 17
+    while True:  # one call of at least 0.3 s
+        wi = np.abs(rng.normal(size=(rows, 3)))
+        second = rng.random((rows, 2)) if what == "sample" else rng.normal(size=(rows, 3))
+        call = functools.partial(getattr(brdf_rs, what), "ggx", wi, second, alpha=0.3, kd=0.5)
+        full = min(_timed(call) for _ in range(2))
+        if full >= 0.3 or rows >= 1 << 24:
+            break
+        rows *= 2
+    if full < 0.3:
+        pytest.skip(f"a {what} of {rows} rows took only {full:.3f} s here")
+    elapsed = _interrupted_after(call, 0.05)
+    assert elapsed is not None
+    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+
+
+@pytest.mark.parametrize("what", ["sample", "pdf", "albedo", "eval"])
+def test_a_broadcast_batch_too_large_to_hold_is_refused_at_once(what):
+    """A broadcast view of 10^12 rows costs no memory to pass, but its results could never
+    be held: the call is refused before any row is read (not after minutes of checks)."""
+    big = (10**6, 10**6)
+    wi = np.broadcast_to(np.array([0.3, 0.0, 1.0]), (*big, 3))
+    calls = {
+        "sample": lambda: brdf_rs.sample(
+            "ggx", wi, np.broadcast_to(np.array([0.3, 0.5]), (*big, 2)), alpha=0.3
+        ),
+        "pdf": lambda: brdf_rs.pdf("ggx", wi, wi, alpha=0.3),
+        "albedo": lambda: brdf_rs.albedo("ggx", np.broadcast_to(np.array(0.5), big), alpha=0.3),
+        "eval": lambda: brdf_rs.eval("ggx", wi, wi, alpha=0.3),
+    }
+    start = time.perf_counter()
+    with pytest.raises((MemoryError, ValueError)):
+        calls[what]()
+    assert time.perf_counter() - start < 5.0
+
+
+def test_a_bad_value_in_a_broadcast_parameter_is_found_at_its_first_index():
+    """The range checks look at a broadcast axis once, and name the first bad index as
+    the check of the full array would."""
+    alpha = np.full((3, 1), 0.3)
+    alpha[1, 0] = -1.0
+    view = np.broadcast_to(alpha, (3, 10**7))
+    with pytest.raises(ValueError, match=r"alpha\[1, 0\] = -1"):
+        brdf_rs.eval("ggx", [0, 0, 1], [0, 0, 1], alpha=view)
+    mu = np.broadcast_to(np.array([0.5, 2.0]), (10**7, 2))
+    with pytest.raises(ValueError, match=r"mu\[0, 1\] = 2"):
+        brdf_rs.albedo("ggx", mu, alpha=0.3)
+
+
 def test_scenes_and_stress_use_evals_range_check():
     """One range check (the Rust spec's), for eval and for the callers that word their own
     errors: closed bounds admit their float32 roundings in both."""

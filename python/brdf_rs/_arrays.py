@@ -33,6 +33,8 @@ FLOAT64_MAX = float(np.finfo(np.float64).max)
 def _first_unconvertible(array: np.ndarray) -> tuple[tuple[int, ...], Any]:
     """The index and value of the first element of an object array that is not a float64."""
     for index in np.ndindex(array.shape):
+        if array[index] is None:
+            return index, None
         try:
             float(array[index])
         except (TypeError, ValueError, OverflowError):
@@ -65,6 +67,9 @@ def as_numeric(name: str, value: Any) -> np.ndarray:
         raise TypeError(f"{name}: expected real numbers, got complex values")
     if kind == "O":
         try:
+            # NumPy converts None to NaN; a missing value is not a number.
+            if any(x is None for x in array.flat):
+                raise TypeError("None")
             return np.asarray(value, dtype=np.float64)
         except (TypeError, ValueError, OverflowError) as exc:
             index, bad = _first_unconvertible(array)

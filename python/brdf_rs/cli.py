@@ -64,6 +64,17 @@ def _param(text: str) -> tuple[str, Any]:
     return name.strip(), numbers[0] if len(numbers) == 1 else numbers
 
 
+def _named(pairs: list[tuple[str, Any]], option: str) -> dict[str, Any]:
+    """The ``name=value`` pairs of a repeatable option as a dict; a name given twice is
+    refused (taking one of the two silently would hide a typo)."""
+    named: dict[str, Any] = {}
+    for name, value in pairs:
+        if name in named:
+            raise UsageError(f"{option} {name}= is given twice; give each name once")
+        named[name] = value
+    return named
+
+
 def _print_json(data: Any) -> None:
     json.dump(data, sys.stdout, indent=1, default=lambda x: np.asarray(x).tolist())
     sys.stdout.write("\n")
@@ -94,12 +105,14 @@ def cmd_models(args: argparse.Namespace) -> int:
 
 
 def cmd_eval(args: argparse.Namespace) -> int:
-    params = dict(args.param)
+    params = _named(args.param, "--param")
     value = _api.eval(args.model, args.wi, args.wo, args.n, tangent=args.tangent, **params)
     if args.json:
         _print_json({"model": args.model, "wi": args.wi, "wo": args.wo, "value": value})
     else:
-        print(" ".join(f"{v:.17g}" for v in value))
+        # One RGB line per value (a list-valued parameter gives several).
+        for rgb in np.reshape(value, (-1, 3)):
+            print(" ".join(f"{v:.17g}" for v in rgb))
     return 0
 
 
@@ -186,8 +199,10 @@ def cmd_table(args: argparse.Namespace) -> int:
     defaulted = args.model is None
     default_model, default_axes, default_params = _default_table()
     model = default_model if defaulted else args.model
-    axes = dict(args.axis) or dict(_axis(a) for a in default_axes[: None if defaulted else 1])
-    params = dict(args.param)
+    axes = _named(args.axis, "--axis") or dict(
+        _axis(a) for a in default_axes[: None if defaulted else 1]
+    )
+    params = _named(args.param, "--param")
     if defaulted and not args.param:
         params = dict(_param(p) for p in default_params)
     if args.phi is not None:
@@ -927,7 +942,7 @@ def cmd_plot_lobe(args: argparse.Namespace) -> int:
         cosine=args.cosine,
         tangent=args.tangent,
         path=path,
-        **dict(args.param),
+        **_named(args.param, "--param"),
     )
     summary = {"model": args.model, "theta_i": theta, "plot": str(path.resolve())}
     if args.json:

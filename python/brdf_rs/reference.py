@@ -1266,6 +1266,60 @@ def ashikhmin_cloth(
     return _sheen(wi, wo, n, kd, ks, lobe)
 
 
+def _zeltner_albedo(mu_o: float, alpha: float) -> float:
+    """The paper's fit of the sheen layer's directional albedo ``R(mu_o, α)``, held at 0
+    where it dips below (for α in about (0.041, 0.132))."""
+    a = alpha
+    s = a * (0.0206607 + 1.58491 * a) / (0.0379424 + a * (1.32227 + a))
+    m = a * (-0.193854 + a * (-1.14885 + a * (1.7932 - 0.95943 * a * a))) / (0.046391 + a)
+    o = a * (0.000654023 + (-0.0207818 + 0.119681 * a) * a) / (1.26264 + a * (-1.92021 + a))
+    return max(0.0, math.exp(-0.5 * ((mu_o - m) / s) ** 2) / (s * math.sqrt(2.0 * math.pi)) + o)
+
+
+def zeltner_sheen(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    kd: Colour,
+    ks: Colour,
+    alpha: float,
+) -> RGB:
+    """Zeltner et al.'s LTC sheen: ``kd/π + ks·R(mu_o, α)·D(wi)/mu_i``, the transformed
+    cosine built in the view's frame as the paper writes it."""
+    wi, wo, n = _frame(wi, wo, n)
+    mu_i, mu_o = _cos(n, wi), _cos(n, wo)
+    if not (mu_i > 0.0 and mu_o > 0.0):
+        return BLACK
+    tangential = (wo[0] - mu_o * n[0], wo[1] - mu_o * n[1], wo[2] - mu_o * n[2])
+    if _length(tangential) > 0.0:
+        x_axis = _normalize(tangential)
+    else:  # wo = n: the lobe is symmetric about n (b = 0), any tangent serves
+        helper = (1.0, 0.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 1.0, 0.0)
+        x_axis = _normalize(_cross(helper, n))
+    y_axis = _cross(n, x_axis)
+    x, y, z = _dot(wi, x_axis), _dot(wi, y_axis), mu_i
+    a = (
+        (2.58126 * mu_o + 0.813703 * alpha)
+        * alpha
+        / (1.0 + 0.310327 * mu_o * mu_o + 2.60994 * mu_o * alpha)
+    )
+    b = (
+        math.sqrt(max(0.0, 1.0 - mu_o))
+        * (alpha - 1.0)
+        * alpha**3
+        / (0.0000254053 + 1.71228 * mu_o - 1.71506 * mu_o * alpha + 1.34174 * alpha * alpha)
+    )
+    # w' = M^-1 w; D(w) = D_o(w'/|w'|)·|M^-1|/|w'|^3 = max(z, 0)/π·(a/|w'|²)².
+    length2 = (a * x + b * z) ** 2 + (a * y) ** 2 + z * z
+    # D(wi)/mu_i with z = mu_i cancelled (z/π would underflow for a subnormal mu_i).
+    lobe = _zeltner_albedo(mu_o, alpha) / math.pi * (a / length2) ** 2
+    return _three(
+        kd_c / math.pi + (0.0 if ks_c == 0.0 else ks_c * lobe)
+        for kd_c, ks_c in zip(_rgb(kd), _rgb(ks), strict=True)
+    )
+
+
 # ---------------------------------------------------------------------------------------
 # Family B: scan-line shading terms s(l, v), including the light's cosine
 # ---------------------------------------------------------------------------------------
@@ -1443,6 +1497,7 @@ MODELS: dict[str, Callable[..., RGB]] = {
         charlie_sheen,
         charlie_sheen_neubelt,
         ashikhmin_cloth,
+        zeltner_sheen,
         lambert_shading,
         oren_nayar_shading,
         toon_diffuse,
@@ -1481,6 +1536,7 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "charlie_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "charlie_sheen_neubelt": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "ashikhmin_cloth": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
+    "zeltner_sheen": {"kd": 0.0, "ks": 1.0, "alpha": 0.5},
     "lambert_shading": {"kd": 0.5},
     "oren_nayar_shading": {"kd": 0.5, "sigma": 0.5},
     "toon_diffuse": {},

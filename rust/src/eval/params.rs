@@ -78,12 +78,26 @@ pub fn unravel(mut pos: usize, shape: &[usize]) -> Vec<usize> {
     idx
 }
 
+/// Returns the index (in `view`'s shape) of the first element, in C order, for which
+/// `bad` holds. Broadcast axes (stride 0, as `numpy.broadcast_to` makes them) are looked
+/// at once, with index 0: their elements are the same memory, and a broadcast view of
+/// 10^12 elements is checked as fast as the array behind it.
+pub fn first_bad<T: Copy>(view: &ArrayViewD<'_, T>, bad: impl Fn(T) -> bool) -> Option<Vec<usize>> {
+    let mut distinct = view.view();
+    for k in 0..view.ndim() {
+        if view.strides()[k] == 0 && view.shape()[k] > 1 {
+            distinct.collapse_axis(ndarray::Axis(k), 0);
+        }
+    }
+    let pos = distinct.iter().position(|&x| bad(x))?;
+    Some(unravel(pos, distinct.shape()))
+}
+
 /// Checks every element of `view` against the parameter's range, closed bounds widened
 /// to their `f32` roundings ([`crate::models::ValidRange::admitting_f32_bounds`]).
 fn check_range<F: Real>(spec: &ParamSpec, view: &ArrayViewD<'_, F>) -> Result<(), BrdfError> {
     let range = spec.range.admitting_f32_bounds();
-    if let Some(pos) = view.iter().position(|x| !range.contains(x.to_f64())) {
-        let index = unravel(pos, view.shape());
+    if let Some(index) = first_bad(view, |x: F| !range.contains(x.to_f64())) {
         let value = view[ndarray::IxDyn(&index)].to_f64();
         return Err(BrdfError::OutOfRange {
             name: spec.name.to_string(),

@@ -48,13 +48,21 @@ fn last_axis(name: &str, view: &ArrayViewD<'_, f64>, len: usize) -> Result<Vec<u
     Ok(shape[..shape.len() - 1].to_vec())
 }
 
-struct Run<'a> {
+struct Run<'a, 'p> {
     inputs: Inputs<'a>,
     sampling: bool,
     sampler: SamplerChoice,
+    poll: Poll<'p>,
 }
 
-impl KernelVisitor for Run<'_> {
+/// Called between parts of a long call; returning false stops it with
+/// [`BrdfError::Interrupted`] (Ctrl-C from Python).
+pub type Poll<'p> = &'p mut dyn FnMut() -> bool;
+
+/// Rows between two polls, in the input checks and in the sampling.
+const POLL_ROWS: usize = 1 << 16;
+
+impl KernelVisitor for Run<'_, '_> {
     type Output = Result<Output, BrdfError>;
 
     fn visit<K: Kernel>(self) -> Result<Output, BrdfError> {
@@ -62,6 +70,7 @@ impl KernelVisitor for Run<'_> {
             inputs,
             sampling,
             sampler,
+            poll,
         } = self;
         let second_len = if sampling { 2 } else { 3 };
         let second_name = if sampling { "u" } else { "wo" };
@@ -94,13 +103,15 @@ impl KernelVisitor for Run<'_> {
         let n = inputs.n.map(|v| Rows::new(v, true, 3, &batch));
         let tangent = inputs.tangent.map(|v| Rows::new(v, true, 3, &batch));
         let sources = [Some(&wi), Some(&second), n.as_ref(), tangent.as_ref()];
-        check_inputs::<K>(&named, &batch, sources, sampling)?;
+        // The outputs first: a batch too large to hold fails at once, before the checks
+        // read every row.
         let mut out = Output {
-            batch,
-            wo: try_filled_vec(3 * count, "sampled directions")?,
+            batch: batch.clone(),
+            wo: try_filled_vec(if sampling { 3 * count } else { 0 }, "sampled directions")?,
             weight: try_filled_vec(3 * count, "sample weights")?,
             pdf: try_filled_vec(count, "pdf values")?,
         };
+        check_inputs::<K>(&named, &batch, sources, sampling, &mut *poll)?;
         let batch = &out.batch.clone();
         let element = |i: usize, wo_out: &mut [f64], weight_out: &mut [f64], pdf_out: &mut f64| {
             let mut slots = Vec::new();
@@ -218,23 +229,54 @@ impl KernelVisitor for Run<'_> {
             *pdf_out = if ok { pdf } else { f64::NAN };
         };
         let chunk = 4096;
-        parallel::install(|| {
-            out.wo
-                .par_chunks_mut(3 * chunk)
-                .zip(out.weight.par_chunks_mut(3 * chunk))
-                .zip(out.pdf.par_chunks_mut(chunk))
-                .enumerate()
-                .for_each(|(c, ((wo, weight), pdf))| {
-                    for j in 0..pdf.len() {
-                        element(
-                            c * chunk + j,
-                            &mut wo[3 * j..3 * j + 3],
-                            &mut weight[3 * j..3 * j + 3],
-                            &mut pdf[j],
-                        );
-                    }
-                })
-        });
+        for part in 0..count.div_ceil(POLL_ROWS) {
+            if part > 0 && !poll() {
+                return Err(BrdfError::Interrupted);
+            }
+            let rows = part * POLL_ROWS..count.min((part + 1) * POLL_ROWS);
+            let (weight, pdf) = (
+                &mut out.weight[3 * rows.start..3 * rows.end],
+                &mut out.pdf[rows.clone()],
+            );
+            let first = rows.start;
+            if sampling {
+                let wo = &mut out.wo[3 * rows.start..3 * rows.end];
+                parallel::install(|| {
+                    wo.par_chunks_mut(3 * chunk)
+                        .zip(weight.par_chunks_mut(3 * chunk))
+                        .zip(pdf.par_chunks_mut(chunk))
+                        .enumerate()
+                        .for_each(|(c, ((wo, weight), pdf))| {
+                            for j in 0..pdf.len() {
+                                element(
+                                    first + c * chunk + j,
+                                    &mut wo[3 * j..3 * j + 3],
+                                    &mut weight[3 * j..3 * j + 3],
+                                    &mut pdf[j],
+                                );
+                            }
+                        })
+                });
+            } else {
+                parallel::install(|| {
+                    weight
+                        .par_chunks_mut(3 * chunk)
+                        .zip(pdf.par_chunks_mut(chunk))
+                        .enumerate()
+                        .for_each(|(c, (weight, pdf))| {
+                            let mut wo = [0.0; 3];
+                            for j in 0..pdf.len() {
+                                element(
+                                    first + c * chunk + j,
+                                    &mut wo,
+                                    &mut weight[3 * j..3 * j + 3],
+                                    &mut pdf[j],
+                                );
+                            }
+                        })
+                });
+            }
+        }
         Ok(out)
     }
 }
@@ -248,6 +290,7 @@ fn check_inputs<K: Kernel>(
     batch: &[usize],
     rows: [Option<&Rows<'_, f64>>; 4],
     sampling: bool,
+    poll: &mut dyn FnMut() -> bool,
 ) -> Result<(), BrdfError> {
     let count: usize = batch.iter().product();
     let projected = K::spec().tangent == TangentUse::Optional;
@@ -261,6 +304,9 @@ fn check_inputs<K: Kernel>(
     let names = ["wi", if sampling { "u" } else { "wo" }, "n", "tangent"];
     let mut r = [[0.0; 3]; 4];
     for i in 0..count {
+        if i > 0 && i % POLL_ROWS == 0 && !poll() {
+            return Err(BrdfError::Interrupted);
+        }
         for (k, source) in rows.iter().enumerate() {
             let Some(source) = source else { continue };
             let comps = if k == 1 && sampling { 2 } else { 3 };
@@ -311,12 +357,14 @@ pub fn sample(
     kind: ModelKind,
     inputs: Inputs<'_>,
     sampler: SamplerChoice,
+    poll: Poll<'_>,
 ) -> Result<Output, BrdfError> {
     family_a(kind, sampler)?;
     kind.visit(Run {
         inputs,
         sampling: true,
         sampler,
+        poll,
     })
 }
 
@@ -325,12 +373,14 @@ pub fn pdf(
     kind: ModelKind,
     inputs: Inputs<'_>,
     sampler: SamplerChoice,
+    poll: Poll<'_>,
 ) -> Result<Output, BrdfError> {
     family_a(kind, sampler)?;
     kind.visit(Run {
         inputs,
         sampling: false,
         sampler,
+        poll,
     })
 }
 

@@ -79,17 +79,14 @@ fn all_valid(
     ok: impl Fn(f64) -> bool,
     valid: &str,
 ) -> Result<(), BrdfError> {
-    match values.iter().position(|&x| !ok(x)) {
+    match params::first_bad(values, |x| !ok(x)) {
         None => Ok(()),
-        Some(pos) => {
-            let index = params::unravel(pos, values.shape());
-            Err(BrdfError::OutOfRange {
-                name: name.into(),
-                value: values[ndarray::IxDyn(&index)],
-                index,
-                valid: valid.into(),
-            })
-        }
+        Some(index) => Err(BrdfError::OutOfRange {
+            name: name.into(),
+            value: values[ndarray::IxDyn(&index)],
+            index,
+            valid: valid.into(),
+        }),
     }
 }
 

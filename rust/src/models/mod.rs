@@ -274,6 +274,7 @@ declare_models! {
     CharlieSheen => charlie_sheen::CharlieSheen,
     CharlieSheenNeubelt => charlie_sheen_neubelt::CharlieSheenNeubelt,
     AshikhminCloth => ashikhmin_cloth::AshikhminCloth,
+    ZeltnerSheen => zeltner_sheen::ZeltnerSheen,
     LambertShading => lambert_shading::LambertShading,
     OrenNayarShading => oren_nayar_shading::OrenNayarShading,
     ToonDiffuse => toon_diffuse::ToonDiffuse,

@@ -210,13 +210,13 @@ pub struct Dd<F> {
 }
 
 impl<F: Real> Dd<F> {
-    const fn new(hi: F, lo: F) -> Self {
+    pub const fn new(hi: F, lo: F) -> Self {
         Dd { hi, lo }
     }
 
     /// `a + b` exactly, as a [`Dd`].
     #[inline(always)]
-    fn two_sum(a: F, b: F) -> Self {
+    pub fn two_sum(a: F, b: F) -> Self {
         let s = a + b;
         let bb = s - a;
         Dd::new(s, (a - (s - bb)) + (b - bb))
@@ -225,7 +225,7 @@ impl<F: Real> Dd<F> {
     /// `a·b` exactly, as a [`Dd`] (Veltkamp's split; the factors here are far from
     /// overflow).
     #[inline(always)]
-    fn two_prod(a: F, b: F) -> Self {
+    pub fn two_prod(a: F, b: F) -> Self {
         let split = F::from_f64(if F::DTYPE == "float64" {
             134_217_729.0 // 2^27 + 1
         } else {
@@ -249,19 +249,19 @@ impl<F: Real> Dd<F> {
     }
 
     #[inline(always)]
-    fn add(self, other: Self) -> Self {
+    pub fn plus(self, other: Self) -> Self {
         let s = Dd::two_sum(self.hi, other.hi);
         Dd::new(s.hi, s.lo + (self.lo + other.lo)).renormalized()
     }
 
     #[inline(always)]
-    fn mul(self, other: Self) -> Self {
+    pub fn times(self, other: Self) -> Self {
         let p = Dd::two_prod(self.hi, other.hi);
         Dd::new(p.hi, p.lo + (self.hi * other.lo + self.lo * other.hi)).renormalized()
     }
 
     #[inline(always)]
-    fn div(self, other: Self) -> Self {
+    pub fn over(self, other: Self) -> Self {
         let q = self.hi / other.hi;
         // The remainder self − q·other, exactly to first order.
         let p = Dd::two_prod(q, other.hi);
@@ -270,13 +270,19 @@ impl<F: Real> Dd<F> {
     }
 
     #[inline(always)]
-    fn neg(self) -> Self {
+    pub fn negated(self) -> Self {
         Dd::new(F::ZERO - self.hi, F::ZERO - self.lo)
+    }
+
+    /// The value rounded to the width (`hi`).
+    #[inline(always)]
+    pub fn value(self) -> F {
+        self.hi
     }
 
     /// `e^(hi + lo)` rounded once more: `e^hi·(1 + lo)`.
     #[inline(always)]
-    fn exp(self) -> F {
+    pub fn exp(self) -> F {
         let e = self.hi.exp();
         e + e * self.lo
     }
@@ -325,7 +331,7 @@ const AT_0: [(f64, f64); 5] = [
 impl<F: Real> LambdaFit<F> {
     pub fn new(alpha: F) -> Self {
         let u = Dd::two_sum(F::ONE, F::ZERO - alpha);
-        let t = u.mul(u);
+        let t = u.times(u);
         // The decimal as the width's nearest value and the rest (f32 keeps the part of
         // the f64 value it rounds away).
         let dd = |(hi, lo): (f64, f64)| {
@@ -335,7 +341,7 @@ impl<F: Real> LambdaFit<F> {
         // p1 + t·(p0 − p1).
         let [a, b, c, d, e] = std::array::from_fn(|k| {
             let p1 = dd(AT_1[k]);
-            p1.add(t.mul(dd(AT_0[k]).add(p1.neg())))
+            p1.plus(t.times(dd(AT_0[k]).plus(p1.negated())))
         });
         let mut fit = LambdaFit {
             a,
@@ -346,7 +352,7 @@ impl<F: Real> LambdaFit<F> {
             twice_half: Dd::new(F::ZERO, F::ZERO),
         };
         let half = fit.l::<SeriesPow>(F::HALF, F::HALF);
-        fit.twice_half = half.add(half);
+        fit.twice_half = half.plus(half);
         fit
     }
 
@@ -360,9 +366,9 @@ impl<F: Real> LambdaFit<F> {
         let one = Dd::new(F::ONE, F::ZERO);
         let x = Dd::new(x, F::ZERO);
         self.a
-            .div(one.add(self.b.mul(x_c)))
-            .add(self.d.mul(x))
-            .add(self.e)
+            .over(one.plus(self.b.times(x_c)))
+            .plus(self.d.times(x))
+            .plus(self.e)
     }
 
     /// `Λ(μ)`, with `μ` clamped to [0, 1] (a rounded cosine may be 1 + ε; below the
@@ -375,7 +381,11 @@ impl<F: Real> LambdaFit<F> {
         let x = if low { mu } else { F::ONE - mu };
         let one_minus_x = if low { F::ONE - mu } else { mu };
         let l = self.l::<P>(x, one_minus_x);
-        let l = if low { l } else { self.twice_half.add(l.neg()) };
+        let l = if low {
+            l
+        } else {
+            self.twice_half.plus(l.negated())
+        };
         l.exp()
     }
 }

@@ -517,14 +517,16 @@ fn sampling_call<'py>(
             .map(|(k, a)| (k.as_str(), a.as_array()))
             .collect(),
     };
-    let run = || {
+    let mut signals = SignalPoll::new();
+    let result = py.detach(|| {
+        let poll = &mut || signals.poll();
         if sampling {
-            eval::sample::sample(kind, inputs, sampler)
+            eval::sample::sample(kind, inputs, sampler, poll)
         } else {
-            eval::sample::pdf(kind, inputs, sampler)
+            eval::sample::pdf(kind, inputs, sampler, poll)
         }
-    };
-    Ok(py.detach(run)?)
+    });
+    signals.finish(result)
 }
 
 fn shaped<'py>(
