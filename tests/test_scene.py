@@ -150,8 +150,9 @@ def shade_reference(material, n, v, p, t, lights):
 
 
 #: A sheen layer's albedo table: the sheen lobe's albedo at unit colour (brdf_rs.albedo,
-#: 2^12 samples) at 64 view cosines evenly spaced in sqrt(mu), interpolated linearly.
-SHEEN_NODES = ((np.arange(64) + 0.5) / 64) ** 2
+#: 2^12 samples) at 64 view cosines evenly spaced in sqrt(mu) from 0 (taken at 1e-6) to
+#: 1, interpolated linearly.
+SHEEN_NODES = np.maximum(np.arange(64) / 63, 1e-3) ** 2
 
 
 @functools.cache
@@ -162,7 +163,7 @@ def _sheen_table(model, alpha):
 
 def sheen_albedo(model, alpha, mu):
     table = _sheen_table(model, float(alpha))
-    x = min(max(math.sqrt(min(max(mu, 0.0), 1.0)) * 64 - 0.5, 0.0), 63.0)
+    x = min(max(math.sqrt(min(max(mu, 0.0), 1.0)) * 63, 0.0), 63.0)
     i = min(int(x), 62)
     return table[i] + (x - i) * (table[i + 1] - table[i])
 
