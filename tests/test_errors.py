@@ -888,3 +888,23 @@ def test_ashikhmin_shirley_takes_the_largest_exponents():
     assert np.all(np.isfinite(table.value)) and np.all(np.isfinite(table.stderr))
     _, weight, pdf = brdf_rs.sample("ashikhmin_shirley", w, [0.5, 0.5], nu=1e200, nv=1e200)
     assert np.isfinite(pdf) and np.all(np.isfinite(weight))
+
+
+@pytest.mark.parametrize(
+    ("build", "name"),
+    [
+        ("energy_compensation_table", "ks"),
+        ("energy_compensation_table", "kd"),
+        ("dfg_table", "ks"),
+        ("dfg_table", "kd"),
+        ("dfg_table", "alpha"),
+        ("dfg_table", "cell_ids"),
+    ],
+)
+def test_tables_refuse_the_arguments_they_set_themselves(build, name):
+    """E is the albedo at kd = 0, ks = 1; A and B come from ks = 0 and 1: a caller's kd or
+    ks would silently change what the table holds (E = 0.35 for ks = 0.5, E > 1 for
+    kd = 1), or reach an internal call twice."""
+    value = np.arange(1, dtype=np.uint64) if name == "cell_ids" else 0.5
+    with pytest.raises(TypeError, match=rf"^{name}: {build} sets it"):
+        getattr(brdf_rs, build)("ggx", [0.5], [0.5], **{name: value})
