@@ -908,3 +908,22 @@ def test_tables_refuse_the_arguments_they_set_themselves(build, name):
     value = np.arange(1, dtype=np.uint64) if name == "cell_ids" else 0.5
     with pytest.raises(TypeError, match=rf"^{name}: {build} sets it"):
         getattr(brdf_rs, build)("ggx", [0.5], [0.5], **{name: value})
+
+
+def test_nan_pixels_are_refused_by_index_not_painted_black(tmp_path):
+    image = np.zeros((2, 3, 3), np.float32)
+    image[1, 2, 0] = np.nan
+    for call in (
+        lambda: brdf_rs.tonemap(image, "clamp"),
+        lambda: brdf_rs.encode_png(image),
+        lambda: brdf_rs.save_image(tmp_path / "x.png", image),
+    ):
+        with pytest.raises(ValueError, match=r"^image\[1, 2, 0\] = nan"):
+            call()
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ValueError, match=r"^image: expected shape \(height, width, 3\) with at"):
+        brdf_rs.encode_png(np.zeros((0, 0, 3)))
+    # Infinities stay valid (a tone map takes them to 1).
+    assert brdf_rs.tonemap(np.full((1, 1, 3), np.inf, np.float32), "clamp").tolist() == [
+        [[1.0, 1.0, 1.0]]
+    ]

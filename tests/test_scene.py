@@ -680,11 +680,14 @@ def test_save_image_png_exr_npy(tmp_path):
 
 
 def test_tonemap_function():
-    x = np.array([0.0, 0.5, 1.0, 3.0, np.nan, -1.0], dtype=np.float32)
-    np.testing.assert_allclose(brdf_rs.tonemap(x, "reinhard"), [0, 1 / 3, 0.5, 0.75, 0, 0])
-    np.testing.assert_allclose(brdf_rs.tonemap(x, "clamp", exposure=1), [0, 1, 1, 1, 0, 0])
+    x = np.array([0.0, 0.5, 1.0, 3.0, -1.0], dtype=np.float32)
+    np.testing.assert_allclose(brdf_rs.tonemap(x, "reinhard"), [0, 1 / 3, 0.5, 0.75, 0])
+    np.testing.assert_allclose(brdf_rs.tonemap(x, "clamp", exposure=1), [0, 1, 1, 1, 0])
     with pytest.raises(ValueError, match="tonemap: expected one of"):
         brdf_rs.tonemap(x, "filmic")
+    # A NaN pixel is refused by index, not painted black.
+    with pytest.raises(ValueError, match=r"^image\[4\] = nan"):
+        brdf_rs.tonemap(np.insert(x, 4, np.nan), "reinhard")
 
 
 # ----------------------------------------------------------------------- bad scene files
