@@ -927,3 +927,17 @@ def test_nan_pixels_are_refused_by_index_not_painted_black(tmp_path):
     assert brdf_rs.tonemap(np.full((1, 1, 3), np.inf, np.float32), "clamp").tolist() == [
         [[1.0, 1.0, 1.0]]
     ]
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "pattern"),
+    [
+        ("fold_azimuth", "False", r"^fold_azimuth: expected True or False, got str"),
+        ("fold_azimuth", None, r"^fold_azimuth: expected True or False, got NoneType"),
+        ("progress", 3, r"^progress: expected a function"),
+    ],
+)
+def test_albedo_flags_and_callbacks_are_checked_not_coerced(option, value, pattern):
+    """``bool("False")`` is True: a string or None must not pick an estimator silently."""
+    with pytest.raises(TypeError, match=pattern):
+        brdf_rs.albedo("ward", 0.5, **{option: value})

@@ -127,6 +127,12 @@ def albedo(
         :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
     """
     _arrays.model_name(model)
+    _arrays.flags(fold_azimuth=fold_azimuth)
+    if progress is not None and not callable(progress):
+        raise TypeError(
+            "progress: expected a function called as progress(cells_done, samples_done),"
+            f" or None; got {type(progress).__name__}"
+        )
     phi_array, average = _options.azimuth(phi)
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
     numeric = _arrays.numeric(params)
