@@ -941,3 +941,14 @@ def test_albedo_flags_and_callbacks_are_checked_not_coerced(option, value, patte
     """``bool("False")`` is True: a string or None must not pick an estimator silently."""
     with pytest.raises(TypeError, match=pattern):
         brdf_rs.albedo("ward", 0.5, **{option: value})
+
+
+@pytest.mark.parametrize("thresholds", [[-0.2, 0.4], [0.5, 0.99], [0.995, 0.999]])
+def test_a_colour_list_may_mix_greys_and_rgb_triples_in_eval_as_in_scenes(thresholds):
+    colours = [[0.1, 0.2, 0.3], 0.5, [0.9, 0.8, 0.7]]
+    wi, wo = [0.3, 0.1, 0.9], [-0.2, 0.3, 0.8]
+    got = brdf_rs.eval("toon_diffuse", wi, wo, thresholds=thresholds, colors=colours)
+    want = brdf_rs.reference.eval(
+        "toon_diffuse", wi, wo, [0, 0, 1], thresholds=thresholds, colors=colours
+    )
+    np.testing.assert_allclose(got, want, rtol=1e-15)
