@@ -696,7 +696,7 @@ def _one_line_error(result: subprocess.CompletedProcess, code: int = 2) -> str:
         (["table", "ggx", "--seed", "-1"], "seed: expected an integer from 0"),
         (["table", "ggx", "-p", "alpha=1e400"], "alpha: 1e400 is beyond float64's range"),
         (["table", "ggx", "-p", "alpha=0.1,0.2"], "alpha: a value held fixed over the table"),
-        (["table", "ggx", "--phi", "nan"], "phi: must be finite"),
+        (["table", "ggx", "--phi", "nan"], "phi: must be a finite number of degrees"),
         (["dfg", "ggx", "--roughness", "log:-1:1:4"], "a log axis needs positive ends"),
         (["dfg", "ggx", "--samples", "0"], "samples: expected an integer from 1"),
         (["dfg", "ggx", "--roughness", "0:2:3"], "roughness[0]: alpha = 0.0 is out of range"),
@@ -952,3 +952,10 @@ def test_a_colour_list_may_mix_greys_and_rgb_triples_in_eval_as_in_scenes(thresh
         "toon_diffuse", wi, wo, [0, 0, 1], thresholds=thresholds, colors=colours
     )
     np.testing.assert_allclose(got, want, rtol=1e-15)
+
+
+def test_shade_names_its_tangent_argument_when_the_model_needs_one():
+    lights = [{"type": "directional", "direction": [0, 0, -1]}]
+    n = np.array([0.0, 0.0, 1.0])
+    with pytest.raises(TypeError, match=r'^shade: missing required parameter "tangent"'):
+        brdf_rs.shade({"diffuse": {"model": "kajiya_kay"}}, n, n, lights)
