@@ -380,7 +380,11 @@ impl<F: Real> LambdaFit<F> {
         let x = if low { mu } else { F::ONE - mu };
         let one_minus_x = if low { F::ONE - mu } else { mu };
         let l = self.l::<P>(x, one_minus_x);
-        let l = if low { l } else { self.twice_half.plus(l.negated()) };
+        let l = if low {
+            l
+        } else {
+            self.twice_half.plus(l.negated())
+        };
         l.exp()
     }
 }
