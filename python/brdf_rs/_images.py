@@ -53,11 +53,9 @@ def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.nda
 def _no_nan(name: str, image: np.ndarray) -> None:
     """Refuses a NaN pixel, naming its index (a tone map or an 8-bit encoding would turn
     it into a colour silently)."""
-    bad = np.flatnonzero(np.isnan(image.reshape(-1)))
-    if bad.size:
-        index = np.unravel_index(int(bad[0]), image.shape)
-        where = ", ".join(str(int(i)) for i in index)
-        raise ValueError(f"{name}[{where}] = nan: a pixel must be a number")
+    bad = _arrays.first_bad(~np.isnan(image))
+    if bad is not None:
+        raise ValueError(f"{name}{bad} = nan: a pixel must be a number")
 
 
 def encode_png(image: np.ndarray) -> bytes:

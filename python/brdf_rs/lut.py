@@ -706,11 +706,10 @@ def quantize(values: np.ndarray, fmt: str) -> tuple[np.ndarray, np.ndarray]:
 
 def _finite(name: str, values: np.ndarray) -> None:
     """Refuses a NaN or infinite value, naming its index."""
-    bad = np.flatnonzero(~np.isfinite(values.reshape(-1)))
-    if bad.size:
-        index = np.unravel_index(int(bad[0]), values.shape)
-        where = f"[{', '.join(str(int(i)) for i in index)}]" if values.ndim else ""
-        raise ValueError(f"{name}{where} = {values.reshape(-1)[bad[0]]}: must be finite")
+    bad = _arrays.first_bad(np.isfinite(values))
+    if bad is not None:
+        where = f"{bad}" if bad else ""
+        raise ValueError(f"{name}{where} = {values[tuple(bad)]}: must be finite")
 
 
 def bilinear(image: np.ndarray, columns: Axis, rows: Axis, col_q: Any, row_q: Any) -> np.ndarray:
