@@ -341,3 +341,18 @@ def test_absurd_requests_are_refused_up_front():
 def test_family_b_terms_have_no_albedo():
     with pytest.raises(ValueError, match="albedo is defined for family-A BRDFs"):
         brdf_rs.albedo("phong_specular", 0.5)
+
+
+def test_the_albedo_at_exactly_mu_0_is_0_for_every_model():
+    """At mu = 0 the light lies in the surface's plane, where ``f`` is 0 (``eval`` says
+    so): the albedo is 0 exactly, not the limit of one term (the diffuse ones gave kd, the
+    lobes 0, Oren-Nayar either depending on sigma), and the table's row at 0 agrees."""
+    from conftest import FAMILY_A
+
+    for model in FAMILY_A:
+        result = brdf_rs.albedo(model, [0.0, 1e-9])
+        assert result.value[0].tolist() == [0.0, 0.0, 0.0], model
+        assert result.stderr[0].tolist() == [0.0, 0.0, 0.0], model
+        wi = [1.0, 0.0, 0.0]
+        assert brdf_rs.eval(model, wi, [0.3, 0.2, 0.9]).tolist() == [0.0, 0.0, 0.0], model
+    assert brdf_rs.albedo("lambert", 1e-9, kd=0.2).value[0] == pytest.approx(0.2)

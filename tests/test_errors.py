@@ -697,7 +697,7 @@ def _one_line_error(result: subprocess.CompletedProcess, code: int = 2) -> str:
         (["table", "ggx", "--seed", "-1"], "seed: expected an integer from 0"),
         (["table", "ggx", "-p", "alpha=1e400"], "alpha: 1e400 is beyond float64's range"),
         (["table", "ggx", "-p", "alpha=0.1,0.2"], "alpha: a value held fixed over the table"),
-        (["table", "ggx", "--phi", "nan"], "phi: must be finite"),
+        (["table", "ggx", "--phi", "nan"], "phi: must be a finite number of degrees"),
         (["dfg", "ggx", "--roughness", "log:-1:1:4"], "a log axis needs positive ends"),
         (["dfg", "ggx", "--samples", "0"], "samples: expected an integer from 1"),
         (["dfg", "ggx", "--roughness", "0:2:3"], "roughness[0]: alpha = 0.0 is out of range"),
@@ -889,3 +889,74 @@ def test_ashikhmin_shirley_takes_the_largest_exponents():
     assert np.all(np.isfinite(table.value)) and np.all(np.isfinite(table.stderr))
     _, weight, pdf = brdf_rs.sample("ashikhmin_shirley", w, [0.5, 0.5], nu=1e200, nv=1e200)
     assert np.isfinite(pdf) and np.all(np.isfinite(weight))
+
+
+@pytest.mark.parametrize(
+    ("build", "name"),
+    [
+        ("energy_compensation_table", "ks"),
+        ("energy_compensation_table", "kd"),
+        ("dfg_table", "ks"),
+        ("dfg_table", "kd"),
+        ("dfg_table", "alpha"),
+        ("dfg_table", "cell_ids"),
+    ],
+)
+def test_tables_refuse_the_arguments_they_set_themselves(build, name):
+    """E is the albedo at kd = 0, ks = 1; A and B come from ks = 0 and 1: a caller's kd or
+    ks would silently change what the table holds (E = 0.35 for ks = 0.5, E > 1 for
+    kd = 1), or reach an internal call twice."""
+    value = np.arange(1, dtype=np.uint64) if name == "cell_ids" else 0.5
+    with pytest.raises(TypeError, match=rf"^{name}: {build} sets it"):
+        getattr(brdf_rs, build)("ggx", [0.5], [0.5], **{name: value})
+
+
+def test_nan_pixels_are_refused_by_index_not_painted_black(tmp_path):
+    image = np.zeros((2, 3, 3), np.float32)
+    image[1, 2, 0] = np.nan
+    for call in (
+        lambda: brdf_rs.tonemap(image, "clamp"),
+        lambda: brdf_rs.encode_png(image),
+        lambda: brdf_rs.save_image(tmp_path / "x.png", image),
+    ):
+        with pytest.raises(ValueError, match=r"^image\[1, 2, 0\] = nan"):
+            call()
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ValueError, match=r"^image: expected shape \(height, width, 3\) with at"):
+        brdf_rs.encode_png(np.zeros((0, 0, 3)))
+    # Infinities stay valid (a tone map takes them to 1).
+    assert brdf_rs.tonemap(np.full((1, 1, 3), np.inf, np.float32), "clamp").tolist() == [
+        [[1.0, 1.0, 1.0]]
+    ]
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "pattern"),
+    [
+        ("fold_azimuth", "False", r"^fold_azimuth: expected True or False, got str"),
+        ("fold_azimuth", None, r"^fold_azimuth: expected True or False, got NoneType"),
+        ("progress", 3, r"^progress: expected a function"),
+    ],
+)
+def test_albedo_flags_and_callbacks_are_checked_not_coerced(option, value, pattern):
+    """``bool("False")`` is True: a string or None must not pick an estimator silently."""
+    with pytest.raises(TypeError, match=pattern):
+        brdf_rs.albedo("ward", 0.5, **{option: value})
+
+
+@pytest.mark.parametrize("thresholds", [[-0.2, 0.4], [0.5, 0.99], [0.995, 0.999]])
+def test_a_colour_list_may_mix_greys_and_rgb_triples_in_eval_as_in_scenes(thresholds):
+    colours = [[0.1, 0.2, 0.3], 0.5, [0.9, 0.8, 0.7]]
+    wi, wo = [0.3, 0.1, 0.9], [-0.2, 0.3, 0.8]
+    got = brdf_rs.eval("toon_diffuse", wi, wo, thresholds=thresholds, colors=colours)
+    want = brdf_rs.reference.eval(
+        "toon_diffuse", wi, wo, [0, 0, 1], thresholds=thresholds, colors=colours
+    )
+    np.testing.assert_allclose(got, want, rtol=1e-15)
+
+
+def test_shade_names_its_tangent_argument_when_the_model_needs_one():
+    lights = [{"type": "directional", "direction": [0, 0, -1]}]
+    n = np.array([0.0, 0.0, 1.0])
+    with pytest.raises(TypeError, match=r'^shade: missing required parameter "tangent"'):
+        brdf_rs.shade({"diffuse": {"model": "kajiya_kay"}}, n, n, lights)

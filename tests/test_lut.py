@@ -11,6 +11,7 @@ import dataclasses
 import hashlib
 import json
 import math
+import re
 import shutil
 import struct
 import subprocess
@@ -829,3 +830,34 @@ def test_cli_lists_presets_and_writes_a_fit(tmp_path):
         "lut", "--preset", "ue5", "--fit", "3", "-o", str(tmp_path / "f.dds"), code=2
     ).stderr
     assert "a --fit is source code" in err
+
+
+@pytest.mark.parametrize("suffix", [".exr", ".ktx2", ".dds", ".png"])
+@pytest.mark.parametrize("damage", ["truncated", "empty"])
+def test_a_damaged_lut_file_is_refused_naming_its_path(filament, tmp_path, suffix, damage):
+    """One error type for every container and every kind of damage (a truncated EXR made
+    OpenEXR raise RuntimeError), naming the path the user gave."""
+    if suffix == ".exr":
+        pytest.importorskip("OpenEXR")
+    if suffix == ".png":
+        pytest.importorskip("png")
+    path = filament.save(tmp_path / f"t{suffix}")
+    raw = path.read_bytes()
+    path.write_bytes(raw[: len(raw) // 2] if damage == "truncated" else b"")
+    with pytest.raises(ValueError, match=rf"^{re.escape(str(path))}: not a LUT file"):
+        lut.read(path)
+
+
+def test_lut_helpers_refuse_bad_input_by_name():
+    columns, rows = lut.parse_axis("mu:centres:8"), lut.parse_axis("alpha:ends:4")
+    image = np.zeros((4, 8, 2))
+    with pytest.raises(ValueError, match=r"^col_q = nan: must be finite"):
+        lut.bilinear(image, columns, rows, np.nan, 0.5)
+    with pytest.raises(ValueError, match=r"^row_q\[1\] = inf: must be finite"):
+        lut.bilinear(image, columns, rows, 0.5, [0.5, np.inf])
+    with pytest.raises(ValueError, match=r"^image: expected shape \(4, 8, channels\)"):
+        lut.bilinear(np.zeros((3, 3, 2)), columns, rows, 0.5, 0.5)
+    with pytest.raises(ValueError, match=r"^values\[0\] = nan: must be finite"):
+        lut.quantize(np.array([np.nan, 0.5]), "R16_UNORM")
+    with pytest.raises(ValueError, match=r"^format: unknown 'RGBA8'"):
+        lut.quantize(np.array([0.5]), "RGBA8")

@@ -150,8 +150,9 @@ def shade_reference(material, n, v, p, t, lights):
 
 
 #: A sheen layer's albedo table: the sheen lobe's albedo at unit colour (brdf_rs.albedo,
-#: 2^12 samples) at 64 view cosines evenly spaced in sqrt(mu), interpolated linearly.
-SHEEN_NODES = ((np.arange(64) + 0.5) / 64) ** 2
+#: 2^12 samples) at 64 view cosines evenly spaced in sqrt(mu) from 0 (taken at 1e-6) to
+#: 1, interpolated linearly.
+SHEEN_NODES = np.maximum(np.arange(64) / 63, 1e-3) ** 2
 
 
 @functools.cache
@@ -162,7 +163,7 @@ def _sheen_table(model, alpha):
 
 def sheen_albedo(model, alpha, mu):
     table = _sheen_table(model, float(alpha))
-    x = min(max(math.sqrt(min(max(mu, 0.0), 1.0)) * 64 - 0.5, 0.0), 63.0)
+    x = min(max(math.sqrt(min(max(mu, 0.0), 1.0)) * 63, 0.0), 63.0)
     i = min(int(x), 62)
     return table[i] + (x - i) * (table[i + 1] - table[i])
 
@@ -679,11 +680,14 @@ def test_save_image_png_exr_npy(tmp_path):
 
 
 def test_tonemap_function():
-    x = np.array([0.0, 0.5, 1.0, 3.0, np.nan, -1.0], dtype=np.float32)
-    np.testing.assert_allclose(brdf_rs.tonemap(x, "reinhard"), [0, 1 / 3, 0.5, 0.75, 0, 0])
-    np.testing.assert_allclose(brdf_rs.tonemap(x, "clamp", exposure=1), [0, 1, 1, 1, 0, 0])
+    x = np.array([0.0, 0.5, 1.0, 3.0, -1.0], dtype=np.float32)
+    np.testing.assert_allclose(brdf_rs.tonemap(x, "reinhard"), [0, 1 / 3, 0.5, 0.75, 0])
+    np.testing.assert_allclose(brdf_rs.tonemap(x, "clamp", exposure=1), [0, 1, 1, 1, 0])
     with pytest.raises(ValueError, match="tonemap: expected one of"):
         brdf_rs.tonemap(x, "filmic")
+    # A NaN pixel is refused by index, not painted black.
+    with pytest.raises(ValueError, match=r"^image\[4\] = nan"):
+        brdf_rs.tonemap(np.insert(x, 4, np.nan), "reinhard")
 
 
 # ----------------------------------------------------------------------- bad scene files

@@ -134,6 +134,27 @@ def test_the_layered_albedo_over_a_white_lambert_base_stays_at_most_one(model, a
     np.testing.assert_allclose(half[1:, 0], 1 - 0.5 * e.value[1:, 0], atol=0.01)
 
 
+@pytest.mark.parametrize("model", LAYERS)
+def test_the_layer_takes_e_at_every_view_up_to_normal_incidence(model):
+    """A black layer (ks = 0, full coverage) over a white Lambert base under one light at
+    the zenith: the base is scaled by ``1 − E(n·v)``, so the shading recovers the table's
+    E, which must follow the library's albedo up to and at normal incidence (and not stand
+    still over the last interval)."""
+    mu = np.array([0.6, 0.9, 0.97, 0.985, 0.99, 0.995, 1.0])
+    n = np.tile([0.0, 0.0, 1.0], (len(mu), 1))
+    v = np.stack([np.sqrt(1 - mu**2), 0 * mu, mu], 1)
+    lights = [{"type": "directional", "direction": [0, 0, -1.0], "intensity": 1.0}]
+    for alpha in (0.2, 1.0):
+        material = {
+            "model": "lambert",
+            "kd": 1.0,
+            "sheen": _layer(model, ks=0.0, alpha=alpha, weight=1.0),
+        }
+        used = 1 - brdf_rs.shade(material, n, v, lights)[:, 0] * np.pi
+        e = brdf_rs.albedo(model, mu, kd=0, ks=1, alpha=alpha, samples=1 << 16)
+        np.testing.assert_allclose(used, np.minimum(e.value[:, 0], 1.0), rtol=3e-3, atol=3e-4)
+
+
 @pytest.mark.parametrize(
     ("sheen", "pattern"),
     [

@@ -133,6 +133,12 @@ def albedo(
         :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
     """
     _arrays.model_name(model)
+    _arrays.flags(fold_azimuth=fold_azimuth)
+    if progress is not None and not callable(progress):
+        raise TypeError(
+            "progress: expected a function called as progress(cells_done, samples_done),"
+            f" or None; got {type(progress).__name__}"
+        )
     phi_array, average = _options.azimuth(phi)
     mu_array = np.asarray(_arrays.parameters({"mu": mu}, np.float64)["mu"])
     numeric = _arrays.numeric(params)
@@ -245,6 +251,14 @@ def albedo_table(
 # ------------------------------------------------------------------------- DFG, energy
 
 
+def _not_given(function: str, options: dict[str, Any], fixed: dict[str, str]) -> None:
+    """Refuses, naming it, an argument the table sets itself (``fixed``: its name and
+    why), which ``**options`` would otherwise pass on twice or let override."""
+    for name, why in fixed.items():
+        if name in options:
+            raise TypeError(f"{name}: {function} sets it ({why}); do not pass it")
+
+
 def dfg_table(
     model: str,
     mu: Sequence[float] | np.ndarray,
@@ -285,6 +299,16 @@ def dfg_table(
         known = ", ".join(dfg)
         raise ValueError(f"{model}: a split-sum table needs a Schlick-Fresnel model: {known}")
     rough = dfg[model]["param"]
+    _not_given(
+        "dfg_table",
+        options,
+        {
+            "kd": "kd = 0: the tables hold the specular lobe",
+            "ks": "ks = 0 and 1: A and B come from both",
+            rough: "the roughness axis",
+            "cell_ids": "one id per cell of the grid",
+        },
+    )
     mu = _grid.axis_values(model, "mu", "mu", mu)
     r = _grid.axis_values(model, "roughness", rough, roughness)
     weights = None if sheen is None else _sheen_weights(sheen, model, rough, r)
@@ -502,6 +526,15 @@ def energy_compensation_table(
     compensated = _spec.with_energy_table()
     if model not in compensated:
         raise ValueError(f"{model}: energy compensation tables exist for {', '.join(compensated)}")
+    _not_given(
+        "energy_compensation_table",
+        options,
+        {
+            "kd": "kd = 0: E is the lobe's albedo",
+            "ks": "ks = 1: E is the albedo at unit colour",
+            "cell_ids": "one id per cell of the grid",
+        },
+    )
     mu = _grid.axis_values(model, "mu", "mu", mu)
     alpha = _grid.axis_values(model, "alpha", "alpha", alpha)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}

@@ -89,6 +89,21 @@ def eval(
     )
 
 
+def _grey_colours(model: str, params: dict[str, Any]) -> dict[str, Any]:
+    """A colour list may mix greys and RGB triples (``[[0.1, 0.2, 0.3], 0.5]``), as in a
+    scene file: each grey becomes its triple, so the list is an array."""
+    out = dict(params)
+    for name in _spec.colour_lists(model):
+        value = out.get(name)
+        if isinstance(value, (list, tuple)) and any(
+            isinstance(c, (list, tuple, np.ndarray)) for c in value
+        ):
+            out[name] = [
+                [c, c, c] if not isinstance(c, (list, tuple, np.ndarray)) else c for c in value
+            ]
+    return out
+
+
 def _eval_general(
     model: str,
     wi: Any,
@@ -106,6 +121,7 @@ def _eval_general(
     _arrays.model_name(model)
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     _check_out(out, dtype)
+    params = _grey_colours(model, params)
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), dtype)
     wi_, wo_ = _arrays.given(v, "wi"), _arrays.given(v, "wo")

@@ -86,6 +86,13 @@ def as_numeric(name: str, value: Any) -> np.ndarray:
     raise TypeError(f"{name}: expected real numbers, got dtype {array.dtype}")
 
 
+def first_bad(ok: np.ndarray) -> list[int] | None:
+    """The index of the first false entry of ``ok`` (C order), or None if all are true."""
+    if ok.all():
+        return None
+    return [int(i) for i in np.unravel_index(int(np.argmin(ok)), ok.shape)]
+
+
 def flags(**given: Any) -> None:
     """Raises ``TypeError`` naming the first of ``given`` that is not a bool (or NumPy
     bool)."""

@@ -42,11 +42,20 @@ def tonemap(image: Any, kind: str = "reinhard", exposure: float = 0.0) -> np.nda
     fit of the ACES filmic curve; ``"none"``: exposure only. Any finite ``exposure`` is
     valid: the product is rounded to float32 as computed exactly, so 0 stays 0 however
     large the exposure, a product beyond float32's range is ±inf (1 after a tone map),
-    and finite input never gives NaN.
+    and finite input never gives NaN. A NaN pixel raises ``ValueError`` naming its index.
     """
     with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
         out = np.array(_arrays.as_numeric("image", image), dtype=np.float32, order="C", copy=True)
+    _no_nan("image", out)
     return apply_tonemap(out, kind, exposure)
+
+
+def _no_nan(name: str, image: np.ndarray) -> None:
+    """Refuses a NaN pixel, naming its index (a tone map or an 8-bit encoding would turn
+    it into a colour silently)."""
+    bad = _arrays.first_bad(~np.isnan(image))
+    if bad is not None:
+        raise ValueError(f"{name}{bad} = nan: a pixel must be a number")
 
 
 def encode_png(image: np.ndarray) -> bytes:
@@ -54,14 +63,18 @@ def encode_png(image: np.ndarray) -> bytes:
     in [0, 1], shape ``(height, width, 3)``): 8-bit sRGB, encoded by pypng (the ``png``
     extra). In a notebook, ``IPython.display.Image(brdf_rs.encode_png(image))`` shows a
     rendered image."""
-    return _png.encode(_core.encode_srgb8(_image("image", image)))
+    image = _image("image", image)
+    _no_nan("image", image)
+    return _png.encode(_core.encode_srgb8(image))
 
 
 def _image(name: str, image: Any) -> np.ndarray:
     with np.errstate(over="ignore"):  # beyond float32's range is inf, as in any float32 image
         a = np.ascontiguousarray(_arrays.as_numeric(name, image), dtype=np.float32)
-    if a.ndim != 3 or a.shape[2] != 3:
-        raise ValueError(f"{name}: expected shape (height, width, 3), got {a.shape}")
+    if a.ndim != 3 or a.shape[2] != 3 or a.shape[0] == 0 or a.shape[1] == 0:
+        raise ValueError(
+            f"{name}: expected shape (height, width, 3) with at least one pixel, got {a.shape}"
+        )
     return a
 
 
@@ -79,6 +92,7 @@ def save_image(path: str | os.PathLike[str], image: np.ndarray) -> Path:
     image = _image("image", image)
     suffix = path.suffix.lower()
     if suffix == ".png":
+        _no_nan("image", image)
         _png.write(path, _core.encode_srgb8(image))
     elif suffix == ".exr":
         from . import _exr

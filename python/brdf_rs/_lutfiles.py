@@ -343,7 +343,8 @@ def read(path: Path) -> tuple[np.ndarray, dict[str, Any]]:
             return _read_exr(path)
         if suffix in (".h", ".glsl", ".hlsl", ".wgsl"):
             return _read_source(raw.decode())
-    except (KeyError, ValueError, struct.error, StopIteration) as exc:
+    # OpenEXR raises RuntimeError for a file it cannot read (a truncated one).
+    except (KeyError, ValueError, RuntimeError, struct.error, StopIteration) as exc:
         raise ValueError(f"{path}: not a LUT file brdf-rs wrote ({exc})") from None
     raise ValueError(f"{path}: not a LUT file brdf-rs wrote (unknown content)")
 

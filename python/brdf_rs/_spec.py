@@ -176,3 +176,11 @@ def sheen_layers() -> tuple[str, ...]:
 def in_slot(slot: str) -> tuple[str, ...]:
     """The family-B terms a material's ``slot`` (``"diffuse"``, ``"specular"``) takes."""
     return tuple(name for name, s in specs().items() if s["scene_slot"] in (slot, "both"))
+
+
+def colour_lists(model: str) -> tuple[str, ...]:
+    """The model's colour-list parameters (none for an unknown model: the core names it)."""
+    spec = specs().get(model)
+    if spec is None:
+        return ()
+    return tuple(p["name"] for p in spec["params"] if p["kind"] == "colour list")

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _atomic, _display, _png
+from . import _arrays, _atomic, _display, _png
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (xarray is optional)
     import xarray
@@ -230,7 +230,7 @@ def _table_problem(arrays: Mapping[str, np.ndarray], meta: Any) -> str | None:
                 f"axis_{name}: expected a non-empty 1-D array of real numbers; got a"
                 f" {a.dtype} array of shape {a.shape}"
             )
-        bad = _first_bad(a, np.isfinite(a))
+        bad = _arrays.first_bad(np.isfinite(a))
         if bad is not None:
             return f"axis_{name}{bad} is {a[tuple(bad)]}: coordinates must be finite"
         lengths.append(a.size)
@@ -253,17 +253,10 @@ def _table_problem(arrays: Mapping[str, np.ndarray], meta: Any) -> str | None:
         ("stderr", np.isfinite(arrays["stderr"]), "non-negative and finite"),
         ("samples", arrays["samples"] >= 0, "non-negative"),
     ):
-        bad = _first_bad(arrays[key], ok)
+        bad = _arrays.first_bad(ok)
         if bad is not None:
             return f"{key}{bad} is {arrays[key][tuple(bad)]}: must be {what}"
     return None
-
-
-def _first_bad(a: np.ndarray, ok: np.ndarray) -> list[int] | None:
-    """The index of the first false entry of ``ok`` (shaped like ``a``), or None."""
-    if ok.all():
-        return None
-    return [int(i) for i in np.unravel_index(int(np.argmin(ok)), a.shape)]
 
 
 def _meta_json(meta: Any) -> str:

@@ -174,11 +174,14 @@ def _azimuth_option(text: str) -> float | str:
     if text.strip() == "average":
         return "average"
     try:
-        return float(text)
+        degrees = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"phi: expected degrees or 'average'; got {text!r}"
         ) from None
+    if not math.isfinite(degrees):
+        raise argparse.ArgumentTypeError(f"phi: must be a finite number of degrees; got {text!r}")
+    return degrees
 
 
 #: ``brdf-rs table``'s incidence axis, and with no model named its tolerance (the model,

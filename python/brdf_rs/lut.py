@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import _spec
+from . import _arrays, _spec
 from ._brdf_rs import __version__
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -691,8 +691,11 @@ def quantize(values: np.ndarray, fmt: str) -> tuple[np.ndarray, np.ndarray]:
     """The stored texels of ``values`` in format ``fmt`` and what they decode to
     (float64): UNORM is ``round(clip(v, 0, 1) * 65535)``, SFLOAT the nearest half or
     float."""
+    if fmt not in FORMATS:
+        raise ValueError(f"format: unknown {fmt!r}; use {', '.join(FORMATS)}")
     f = FORMATS[fmt]
-    v = np.asarray(values, dtype=np.float64)
+    v = np.asarray(_arrays.as_numeric("values", values), dtype=np.float64)
+    _finite("values", v)
     if f.encoding == "unorm":
         stored = np.round(np.clip(v, 0.0, 1.0) * 65535.0).astype(f.dtype)
         return stored, stored.astype(np.float64) / 65535.0
@@ -701,17 +704,34 @@ def quantize(values: np.ndarray, fmt: str) -> tuple[np.ndarray, np.ndarray]:
     return stored, stored.astype(np.float64)
 
 
+def _finite(name: str, values: np.ndarray) -> None:
+    """Refuses a NaN or infinite value, naming its index."""
+    bad = _arrays.first_bad(np.isfinite(values))
+    if bad is not None:
+        where = f"{bad}" if bad else ""
+        raise ValueError(f"{name}{where} = {values[tuple(bad)]}: must be finite")
+
+
 def bilinear(image: np.ndarray, columns: Axis, rows: Axis, col_q: Any, row_q: Any) -> np.ndarray:
     """Bilinear lookup of ``image`` (rows, columns, channels) at axis quantities, with the
     axes' texel mapping and clamping to the edge texels (a GPU's clamp-to-edge)."""
-    x = columns.texel(col_q)
-    y = rows.texel(row_q)
+    img = np.asarray(_arrays.as_numeric("image", image), dtype=np.float64)
+    if img.ndim != 3 or img.shape[:2] != (rows.size, columns.size):
+        raise ValueError(
+            f"image: expected shape ({rows.size}, {columns.size}, channels) for these axes,"
+            f" got {img.shape}"
+        )
+    col = np.asarray(_arrays.as_numeric("col_q", col_q), dtype=np.float64)
+    row = np.asarray(_arrays.as_numeric("row_q", row_q), dtype=np.float64)
+    _finite("col_q", col)
+    _finite("row_q", row)
+    x = columns.texel(col)
+    y = rows.texel(row)
     x, y = np.broadcast_arrays(x, y)
     x0 = np.minimum(np.floor(x).astype(np.intp), columns.size - 2)
     y0 = np.minimum(np.floor(y).astype(np.intp), rows.size - 2)
     fx = (x - x0)[..., None]
     fy = (y - y0)[..., None]
-    img = np.asarray(image, dtype=np.float64)
     top = img[y0, x0] * (1 - fx) + img[y0, x0 + 1] * fx
     bottom = img[y0 + 1, x0] * (1 - fx) + img[y0 + 1, x0 + 1] * fx
     return np.asarray(top * (1 - fy) + bottom * fy)

@@ -140,7 +140,14 @@ impl<C: Cells> KernelVisitor for RunAlbedo<'_, C> {
             }
             let mut slots = Vec::new();
             let (mu, phi, id) = cells.cell(i, &mut slots);
-            *result = integrate_cell_isa::<K>(isa, mu, phi, &slots, id, options, progress);
+            // At mu = 0 the light is in the surface's plane, where every family-A `f` is 0
+            // (as `eval` returns): the albedo is exactly 0, whatever the model's terms
+            // would give as a limit.
+            *result = if mu == 0.0 {
+                CellResult::default()
+            } else {
+                integrate_cell_isa::<K>(isa, mu, phi, &slots, id, options, progress)
+            };
             progress.cells_done.fetch_add(1, Ordering::Relaxed);
         };
         parallel::install(|| {

@@ -33,6 +33,16 @@ crate::param_slots! {
     ALPHA: ScalarSlot,
 }
 
+/// `ks`, the sheen colour, as every sheen model takes it.
+pub const SHEEN_COLOUR: ParamSpec = ParamSpec {
+    name: "ks",
+    kind: ParamKind::Colour,
+    default: Some(1.0),
+    range: ValidRange::NON_NEGATIVE,
+    doc: "sheen colour: the lobe's scale (RGB, >= 0; no Fresnel term)",
+    slot: KS.first(),
+};
+
 /// The spec fields the sheen and cloth models share: family A, the parameters `kd`
 /// (default 0), `ks` (the sheen colour, default 1) and `alpha` in [1e-3, 1], both colours
 /// weights, reciprocal, no tangent, no split-sum table, energy tables (`E(mu, alpha)` at
@@ -46,14 +56,7 @@ pub const SHEEN_SPEC: ModelSpec = ModelSpec {
     source: "",
     params: &[
         spec::kd(0.0, KD),
-        ParamSpec {
-            name: "ks",
-            kind: ParamKind::Colour,
-            default: Some(1.0),
-            range: ValidRange::NON_NEGATIVE,
-            doc: "sheen colour: the lobe's scale (RGB, >= 0; no Fresnel term)",
-            slot: KS.first(),
-        },
+        SHEEN_COLOUR,
         ParamSpec {
             name: "alpha",
             kind: ParamKind::Scalar,

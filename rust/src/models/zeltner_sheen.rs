@@ -43,14 +43,7 @@ pub static SPEC: ModelSpec = ModelSpec {
              mx_zeltner_sheen_brdf, OpenPBR fuzz",
     params: &[
         spec::kd(0.0, KD),
-        ParamSpec {
-            name: "ks",
-            kind: ParamKind::Colour,
-            default: Some(1.0),
-            range: ValidRange::NON_NEGATIVE,
-            doc: "sheen colour: the lobe's scale (RGB, >= 0; no Fresnel term)",
-            slot: KS.first(),
-        },
+        sheen::SHEEN_COLOUR,
         ParamSpec {
             name: "alpha",
             kind: ParamKind::Scalar,

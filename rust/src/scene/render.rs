@@ -875,8 +875,10 @@ pub fn shade(
         ));
     }
     if g.tangents.is_none() && material.requires_tangent() {
+        // The argument of `shade` (`brdf_rs.shade(..., tangent=...)`), not a material
+        // parameter.
         return Err(BrdfError::MissingParameter {
-            model: "material",
+            model: "shade",
             name: "tangent",
         });
     }

@@ -13,7 +13,8 @@
 //! `weight·ks·E + (1 − weight·E)·A_base`, at most 1 when `ks <= 1` and `A_base <= 1`.
 //!
 //! `E` is integrated by the library's own albedo integrator at [`NODES`] values of `mu`
-//! (spaced evenly in `sqrt(mu)`, denser toward grazing angles where `E` changes fastest)
+//! (spaced evenly in `sqrt(mu)` from 0 to 1, both ends included, denser toward grazing
+//! angles where `E` changes fastest)
 //! once per model and roughness, kept in a process-wide cache, and interpolated linearly
 //! per pixel-light pair.
 
@@ -123,7 +124,7 @@ impl Scaling {
     #[inline(always)]
     pub fn albedo(&self, mu: f32) -> f32 {
         let mu = if mu > 0.0 { mu.min(1.0) } else { 0.0 };
-        let x = (mu.sqrt() * NODES as f32 - 0.5).clamp(0.0, (NODES - 1) as f32);
+        let x = (mu.sqrt() * (NODES - 1) as f32).clamp(0.0, (NODES - 1) as f32);
         let i = (x as usize).min(NODES - 2);
         let t = x - i as f32;
         let (a, b) = (self.table[i], self.table[i + 1]);
@@ -137,9 +138,11 @@ impl Scaling {
     }
 }
 
-/// The `mu` of node `k`: evenly spaced in `sqrt(mu)`, cell centres.
+/// The `mu` of node `k`: evenly spaced in `sqrt(mu)` from 0 to 1, so that normal
+/// incidence is a node rather than a clamp. Node 0 integrates at `mu` = 1e-6, the limit
+/// toward grazing incidence (at exactly 0 the albedo is 0 by definition, as `f` is).
 pub fn node(k: usize) -> f64 {
-    let u = (k as f64 + 0.5) / NODES as f64;
+    let u = (k as f64 / (NODES - 1) as f64).max(1e-3);
     u * u
 }
 
@@ -235,10 +238,13 @@ mod tests {
             table: table(ModelKind::CharlieSheen, 1e-3).unwrap(),
         };
         assert_eq!(sharp.factor(1e-6), 0.0);
-        // At the nodes the interpolation returns the table.
-        for k in 0..NODES {
+        // At the nodes the interpolation returns the table (normal incidence included).
+        for k in 1..NODES {
             let mu = node(k) as f32;
             assert!((s.albedo(mu) - s.table[k]).abs() < 1e-5, "{k}");
         }
+        assert_eq!(s.albedo(1.0), s.table[NODES - 1]);
+        assert_eq!(node(NODES - 1), 1.0);
+        assert_eq!(s.albedo(0.0), s.table[0]);
     }
 }
