@@ -17,8 +17,8 @@
 //!
 //! `F` the exact unpolarized dielectric reflectance at `|wi·h|` for the relative index
 //! `eta_o/eta_i` of `wi`'s side (`eta` above, `1/eta` below; total internal reflection
-//! gives 1), [`fresnel::conductor`] with `k = 0`, and `1 − F` formed directly
-//! ([`transmittance`]). `mu_i = 0` or `mu_o = 0` gives 0.
+//! gives 1), [`fresnel::conductor`] with `k = 0`, and `1 − F` of a refraction formed
+//! directly from `|wi·h|` and `|wo·h|` ([`transmittance`]). `mu_i = 0` or `mu_o = 0` gives 0.
 //!
 //! The transmission's denominator `(eta_i(wi·h) + eta_o(wo·h))²` is `|eta_i·wi + eta_o·wo|²`
 //! exactly (`h` is that vector normalized), the squared length the kernel already has:
@@ -29,13 +29,17 @@
 use std::marker::PhantomData;
 
 use super::fresnel::{self, INDEX_RANGE};
+use super::sheen::Dd;
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
     self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource, beckmann};
-use crate::math::geometry::{clamped_cosine, ggx_mu_lambda, smith_quotient, weighted};
-use crate::math::{PowUnit, Real, Vector3, max};
+use crate::math::geometry::{
+    Cosine, ggx_mu_lambda, half_vector_exact, microfacet_length_correction, smith_quotient,
+    weighted,
+};
+use crate::math::{PowUnit, Real, Vector3, max, min};
 use crate::sampling::Warp;
 use crate::sampling::dielectric::DielectricSampler;
 
@@ -58,6 +62,17 @@ pub trait Microfacets: 'static {
     fn mu_lambda<F: Real>(p: &Self::Prepared<F>, mu: F, sin2: F) -> F;
     /// The warp that draws its visible normals at roughness `alpha`.
     fn visible_normals(alpha: f64) -> Warp;
+
+    /// Returns `D(h)·G2/(4 mu_i mu_o)` given `cos θh ≥ 0`, `sin²θh`, the cosines
+    /// `mu = [mu_i, mu_o]` (positive) and their `sin²θ = |n × w|²`: [`smith_quotient`]
+    /// of the NDF and the `μ·Λ(μ)`s (the NDF flushed as [`Real::flush_subnormal`] does).
+    #[inline(always)]
+    fn lobe<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
+        let ndf = F::flush_subnormal(Self::ndf(p, cos_th, sin2_th));
+        let l_i = Self::mu_lambda(p, mu[0], sin2[0]);
+        let l_o = Self::mu_lambda(p, mu[1], sin2[1]);
+        smith_quotient(ndf, mu[0], mu[1], l_i, l_o)
+    }
 }
 
 /// GGX: `D = α²/(π(sin²θh + α²cos²θh)²)` and `ggx`'s Smith function.
@@ -86,6 +101,31 @@ impl Microfacets for Ggx {
 
     fn visible_normals(alpha: f64) -> Warp {
         Warp::GgxVisible { alpha }
+    }
+
+    /// `ggx`'s lobe ([`super::ggx::lobe`]) after its half vector, operation for operation:
+    /// with `a = α² sin²θ` and `P = 2(sqrt(μ² + a) + μ)`, `D·P_i P_o/(4q)/m`, `m` the
+    /// larger cosine and `q = min·P_i P_o + (mu_o/m)·a_i P_o + (mu_i/m)·a_o P_i` (fewer
+    /// roundings than the `μ·Λ(μ)` quotient).
+    #[inline(always)]
+    fn lobe<F: Real>(p: &(F, F), cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
+        let (alpha2, d_scale) = *p;
+        let [mu_i, mu_o] = mu;
+        let denom = sin2_th + alpha2 * cos_th * cos_th;
+        let ndf = d_scale / (denom * denom);
+        let a_i = alpha2 * sin2[0];
+        let a_o = alpha2 * sin2[1];
+        let p_i = F::TWO * ((mu_i * mu_i + a_i).sqrt() + mu_i);
+        let p_o = F::TWO * ((mu_o * mu_o + a_o).sqrt() + mu_o);
+        let m = max(mu_i, mu_o);
+        let least = min(mu_i, mu_o);
+        let ratio = least / m;
+        let i_smaller = mu_i < mu_o;
+        let r_i = if i_smaller { ratio } else { F::ONE };
+        let r_o = if i_smaller { F::ONE } else { ratio };
+        let pp = p_i * p_o;
+        let q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i;
+        ndf * pp / (F::from_f64(4.0) * q) / m
     }
 }
 
@@ -138,32 +178,85 @@ pub struct Prepared<F, L> {
     /// The Fresnel term seen from above (relative index `eta`) and from below (`1/eta`).
     above: fresnel::Conductor<F>,
     below: fresnel::Conductor<F>,
-    /// `(r, r² − 1)` of each side, for [`transmittance`].
+    /// `(r², r² − 1)` of each side, for [`reflectance`].
     r_above: (F, F),
     r_below: (F, F),
     lobe: L,
 }
 
-/// Returns `1 − F`, the dielectric's transmittance at the cosine `c = |wi·h|` on `wi`'s
-/// side for the relative index `r` (with `e = r² − 1`), without forming `1 − F`:
-/// `1 − r_s² = 4cg/(c + g)²` and `1 − r_p² = 4r²cg/(r²c + g)²` with `g = sqrt(e + c²)`,
-/// so `1 − F = 2cg(1/(c + g)² + r²/(r²c + g)²)`, accurate where `F` is near 1 (grazing
-/// incidence, the critical angle); 0 past the critical angle (`e + c² < 0`).
+/// Returns the reflectance `F` at `cos_b = |wi·h|` (with its complement) seen from `wi`'s
+/// side, of relative index `r` (`r2 = r²`, `e = r² − 1`, `channel` its
+/// [`fresnel::Conductor`] with `k = 0`):
+///
+/// - 1 exactly under total internal reflection (`g² = e + c² < 0`), where the conductor
+///   form's `|r_s|²` is a quotient of equal numbers, 1 within a few roundings;
+/// - where `F > 1/2`, `1 − T` with the transmittance
+///   `T = 2cg(1/(c + g)² + r²/(r²c + g)²)`, `g = sqrt(g²)` (the two polarizations'
+///   `1 − r²`, sums of positive terms): `T`'s rounding errors are of `T`'s size, so `F`
+///   near 1 (grazing, a large or small `r`) keeps its last digits;
+/// - else the conductor form ([`fresnel::conductor`]).
 #[inline(always)]
-pub fn transmittance<F: Real>(c: F, r: F, e: F) -> F {
+fn reflectance<F: Real>(channel: &fresnel::Conductor<F>, cos_b: Cosine<F>, r2: F, e: F) -> F {
+    let c = cos_b.cos;
     let g2 = e + c * c;
     let g = max(g2, F::ZERO).sqrt();
-    let r2 = r * r;
-    let a = c + g;
-    let b = r2 * c + g;
+    let (a, b) = (c + g, r2 * c + g);
     let t = F::TWO * c * g * (F::ONE / (a * a) + r2 / (b * b));
-    if g2 > F::ZERO { t } else { F::ZERO }
+    let f = fresnel::conductor(channel, cos_b);
+    if g2 < F::ZERO {
+        F::ONE
+    } else if f > F::HALF {
+        F::ONE - t
+    } else {
+        f
+    }
+}
+
+/// Returns `1 − F` of a refraction from the cosines on the two sides of the facet,
+/// `c_i = |wi·h|` in the medium of index `eta_i` and `c_o = |wo·h|` in that of `eta_o`
+/// (Snell's law holds between them), as the two polarizations' `1 − r²`:
+/// `2·eta_i c_i·eta_o c_o·(1/(eta_i c_i + eta_o c_o)² + 1/(eta_o c_i + eta_i c_o)²)`.
+/// Every sum adds positive terms: no cancellation where `F → 1`, nor near the critical
+/// angle, where `g = sqrt(r² − 1 + c_i²)` would keep only the absolute digits of `c_i²`.
+#[inline(always)]
+pub fn transmittance<F: Real>(c_i: F, c_o: F, eta_i: F, eta_o: F) -> F {
+    let (a, b) = (eta_i * c_i, eta_o * c_o);
+    let (p, q) = (eta_o * c_i, eta_i * c_o);
+    let (s, t) = (a + b, p + q);
+    F::TWO * a * b * (F::ONE / (s * s) + F::ONE / (t * t))
 }
 
 /// Returns `v` or `−v` (a multiplication by ±1: exact and branch-free).
 #[inline(always)]
 fn flipped<F: Real>(v: F::V3, flip: bool) -> F::V3 {
     v * if flip { -F::ONE } else { F::ONE }
+}
+
+type V64 = <f64 as Real>::V3;
+
+/// The transmission's generalized half vector, in `f64` whatever `F`: `h = s/|s|` turned
+/// to `n`'s side, `s = eta_i·wi + eta_o·wo` of the exact unit vectors `w·(1 − e/2)`
+/// ([`Real::length_error`]; 0 in `f32`), and `|s|`; `k` is `[eta_i, eta_o, e_i, e_o]`.
+/// The sampler's density forms the same vector.
+///
+/// Where the two terms nearly cancel (`eta` near 1, `wo` near `−wi`) `s` is short and its
+/// direction is all that matters: the products are formed exactly (Dekker's
+/// [`Dd::two_prod`]; `f32` inputs are exact in `f64` anyway), summed with their errors and
+/// the length corrections, and rounded once, so `s` keeps its relative precision however
+/// short it is.
+#[inline(always)]
+pub fn refraction_half_vector(wi: [f64; 3], wo: [f64; 3], n: [f64; 3], k: [f64; 4]) -> (V64, f64) {
+    let [eta_i, eta_o, e_i, e_o] = k;
+    let (half_i, half_o) = (0.5 * eta_i * e_i, 0.5 * eta_o * e_o);
+    let s: [f64; 3] = std::array::from_fn(|j| {
+        let (a, a_lo) = Dd::two_prod(eta_i, wi[j]).parts();
+        let (b, b_lo) = Dd::two_prod(eta_o, wo[j]).parts();
+        let (t, t_lo) = Dd::two_sum(a, b).parts();
+        t + (((t_lo + a_lo) + b_lo) - (half_i * wi[j] + half_o * wo[j]))
+    });
+    let (h, len) = <f64 as Real>::normalize_length(V64::new(s[0], s[1], s[2]));
+    let towards_n = h.x * n[0] + h.y * n[1] + h.z * n[2];
+    (flipped::<f64>(h, towards_n < 0.0), len)
 }
 
 impl<M: Microfacets> Kernel for Dielectric<M>
@@ -179,21 +272,28 @@ where
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {
         let eta = ETA.read(p);
+        let eta2 = eta * eta;
+        let above = (eta2, (eta - F::ONE) * (eta + F::ONE));
+        // (1/eta)² − 1 from eta itself: 1/eta − 1 would cancel to the rounding of 1/eta
+        // near eta = 1.
+        let below = (F::ONE / eta2, (F::ONE - eta) * (F::ONE + eta) / eta2);
         Prepared {
             ks: KS.read(p),
             kt: KT.read(p),
             eta,
-            above: fresnel::Conductor::new(eta, F::ZERO),
-            below: fresnel::Conductor::new(F::ONE / eta, F::ZERO),
-            r_above: (eta, (eta - F::ONE) * (eta + F::ONE)),
-            r_below: (
-                F::ONE / eta,
-                (F::ONE / eta - F::ONE) * (F::ONE / eta + F::ONE),
-            ),
+            above: fresnel::Conductor::dielectric(above.0, above.1),
+            below: fresnel::Conductor::dielectric(below.0, below.1),
+            r_above: above,
+            r_below: below,
             lobe: M::prepare(ALPHA.read(p)),
         }
     }
 
+    /// `f64`: the value of the exact unit vectors, as `ggx`'s lobe is
+    /// ([`super::ggx::lobe`]): the rounded vectors' length errors `e = |w|² − 1`
+    /// ([`Real::length_error`]) are taken out of both half vectors
+    /// ([`half_vector_exact`], [`refraction_half_vector`]), of the cosines `wi·h`, `wo·h`
+    /// and of `D·G2/(4|mu_i||mu_o|)` ([`microfacet_length_correction`]).
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Self::Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
@@ -203,65 +303,54 @@ where
         let reflect = i_above == o_above;
         let eta_i = if i_above { F::ONE } else { pp.eta };
         let eta_o = if o_above { F::ONE } else { pp.eta };
-        // The generalized half vector: wi + wo (reflection, exact where it cancels),
-        // −(eta_i·wi + eta_o·wo), whose products are formed in f64 (exact for f32) so
-        // that a sum that nearly cancels keeps its direction.
-        let across =
-            |a: F, b: F| F::from_f64(-(eta_i.to_f64() * a.to_f64() + eta_o.to_f64() * b.to_f64()));
-        let refracted = F::V3::new(
-            across(d.wi.x(), d.wo.x()),
-            across(d.wi.y(), d.wo.y()),
-            across(d.wi.z(), d.wo.z()),
-        );
-        let sum = if reflect { d.wi + d.wo } else { refracted };
-        let (h, len) = F::normalize_length(sum);
-        let defined = len > F::ZERO;
-        let h = flipped::<F>(h, d.n.dot(h) < F::ZERO);
-        // f32: wi·h and wo·h from the f64 sum (they cancel at the edges of the physical
-        // refractions, and scale the transmitted lobe); f64 as they are.
+        let [e_n, e_i, e_o] = [d.n, d.wi, d.wo].map(F::length_error);
+        // Reflection: h ∥ wi + wo, with cos_b = |wi + wo|/2 = |wi·h| and its complement.
+        let hv = half_vector_exact::<F>(d.wi, d.wo, e_i, e_o);
+        // Transmission: h ∥ eta_i·wi + eta_o·wo, and the cosines wi·h, wo·h of the exact
+        // unit vectors (f32: from the f64 sum, as they cancel at the edges of the
+        // physical refractions and scale the transmitted lobe).
         let wide = |v: F::V3| [v.x(), v.y(), v.z()].map(F::to_f64);
         let (wi64, wo64) = (wide(d.wi), wide(d.wo));
-        let (ei, eo) = if reflect {
-            (1.0, 1.0)
+        let k = [eta_i, eta_o, e_i, e_o].map(F::to_f64);
+        let (h64, len) = refraction_half_vector(wi64, wo64, wide(d.n), k);
+        let e_h = if F::EXACT_LENGTHS {
+            <f64 as Real>::length_error(h64)
         } else {
-            (-eta_i.to_f64(), -eta_o.to_f64())
+            0.0
         };
-        let s: [f64; 3] = std::array::from_fn(|k| ei * wi64[k] + eo * wo64[k]);
-        let dot64 = |w: F::V3| {
-            let ws = [w.x(), w.y(), w.z()].map(F::to_f64);
-            let l = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-            let sign = if d.n.dot(sum) < F::ZERO { -1.0 } else { 1.0 };
-            F::from_f64(sign * (ws[0] * s[0] + ws[1] * s[1] + ws[2] * s[2]) / l)
+        let dot = |w: [f64; 3], e: f64| {
+            (w[0] * h64.x + w[1] * h64.y + w[2] * h64.z) * (1.0 - 0.5 * (e + e_h))
         };
-        let cos_th = max(d.n.dot(h), F::ZERO);
+        let (c_i, c_o) = (dot(wi64, k[2]), dot(wo64, k[3]));
+        let (ci, co) = (c_i.abs(), c_o.abs());
+        // 4|wi·h||wo·h|·eta_o²/(eta_i(wi·h) + eta_o(wo·h))², the denominator being |s|²,
+        // times 1 − F.
+        let scale = (2.0 * ci * k[1] / len) * (2.0 * co * k[1] / len);
+        let refracted = F::from_f64(scale * transmittance(ci, co, k[0], k[1]));
+        let physical = c_i * mu_i.to_f64() > 0.0 && c_o * mu_o.to_f64() > 0.0;
+        let h_t = F::V3::new(F::from_f64(h64.x), F::from_f64(h64.y), F::from_f64(h64.z));
+        let h_r = flipped::<F>(hv.h, d.n.dot(hv.h) < F::ZERO);
+        let h = if reflect { h_r } else { h_t };
+        let cos_th = d.n.dot(h);
         let sin2_th = (d.n - h).length_squared() * ((d.n + h).length_squared() * F::from_f64(0.25));
-        let ndf = F::flush_subnormal(M::ndf(&pp.lobe, cos_th, sin2_th));
-        let (a_i, a_o) = (mu_i.abs(), mu_o.abs());
-        let l_i = M::mu_lambda(&pp.lobe, a_i, d.n.cross(d.wi).length_squared());
-        let l_o = M::mu_lambda(&pp.lobe, a_o, d.n.cross(d.wo).length_squared());
-        // D·G2/(4|mu_i||mu_o|).
-        let lobe = smith_quotient(ndf, a_i, a_o, l_i, l_o);
-        let (c_i, c_o) = if F::EXACT_LENGTHS {
-            (d.wi.dot(h), d.wo.dot(h))
-        } else {
-            (dot64(d.wi), dot64(d.wo))
-        };
-        // F at |wi·h| (with its accurate complement), from wi's side.
-        let cos_b = clamped_cosine::<F>(flipped::<F>(h, c_i < F::ZERO), d.wi);
+        let sin2 = [d.wi, d.wo].map(|w| d.n.cross(w).length_squared());
+        let mu = [mu_i.abs(), mu_o.abs()];
+        // D·G2/(4|mu_i||mu_o|), of the exact unit vectors.
+        let lobe = M::lobe(&pp.lobe, max(cos_th, F::ZERO), sin2_th, mu, sin2);
+        let lobe = microfacet_length_correction(lobe, e_n, e_i, e_o, h);
+        // F at |wi·h| from wi's side.
         let channel = fresnel::Conductor::select(i_above, &pp.above, &pp.below);
-        let fr = fresnel::conductor(&channel, cos_b);
-        let (r, e) = if i_above { pp.r_above } else { pp.r_below };
-        let ft = transmittance(cos_b.cos, r, e);
-        // 4|wi·h||wo·h|·eta_o²/(eta_i(wi·h) + eta_o(wo·h))², the denominator being len².
-        let scale = (F::TWO * c_i.abs() * eta_o / len) * (F::TWO * c_o.abs() * eta_o / len);
-        let physical = c_i * mu_i > F::ZERO && c_o * mu_o > F::ZERO;
+        let (r2, e) = if i_above { pp.r_above } else { pp.r_below };
+        let fr = reflectance(&channel, hv.cos_b, r2, e);
         // eta = 1: no interface, the transmission is the delta wo = −wi (0 as a function
-        // value, also where rounding leaves wi + wo a little off 0).
+        // value, also where rounding leaves wi + wo a little off 0). h in the tangent
+        // plane cannot be turned to n's side: no facet refracts the pair.
         let interface = pp.eta != F::ONE;
+        let transmits = len > 0.0 && physical && interface && cos_th > F::ZERO;
         let valid =
-            defined && mu_i != F::ZERO && mu_o != F::ZERO && (reflect || (physical && interface));
+            mu_i != F::ZERO && mu_o != F::ZERO && if reflect { hv.defined } else { transmits };
         let reflected = weighted(fr, lobe);
-        let transmitted = weighted(ft, lobe) * scale;
+        let transmitted = weighted(refracted, lobe);
         [0, 1, 2].map(|c| {
             let v = if reflect {
                 weighted(pp.ks[c], reflected)
@@ -608,17 +697,75 @@ mod tests {
     #[test]
     fn transmittance_is_one_minus_the_reflectance() {
         for r in [1.5, 1.0 / 1.5, 1.02, 1e-3, 1e3] {
-            let e = (r - 1.0) * (r + 1.0);
             let ch = fresnel::Conductor::new(r, 0.0);
             for i in 1..=400 {
                 let c = f64::from(i) / 400.0;
+                // The refracted cosine (Snell's law), where there is one.
+                let c_t2 = 1.0 - (1.0 - c * c) / (r * r);
+                if c_t2 <= 0.0 {
+                    continue;
+                }
                 let cos = crate::math::geometry::Cosine {
                     cos: c,
                     one_minus: 1.0 - c,
                 };
-                let (t, f) = (transmittance(c, r, e), fresnel::conductor(&ch, cos));
+                let t = transmittance(c, c_t2.sqrt(), 1.0, r);
+                let f = fresnel::conductor(&ch, cos);
                 assert!((t + f - 1.0).abs() <= 1e-13, "r={r} c={c}: {t} + {f}");
             }
+        }
+    }
+
+    /// `reflectance` is the conductor form's `F` (within rounding), 1 exactly past the
+    /// critical angle, and keeps `1 − F`'s digits where `F` is near 1.
+    #[test]
+    fn reflectance_is_exact_under_total_internal_reflection() {
+        for r in [1.5, 1.0 / 1.5, 0.3, 1e3, 1e-3] {
+            let (r2, e) = (r * r, (r - 1.0) * (r + 1.0));
+            let ch = fresnel::Conductor::new(r, 0.0);
+            for i in 0..=400 {
+                let c = f64::from(i) / 400.0;
+                let cos = Cosine {
+                    cos: c,
+                    one_minus: 1.0 - c,
+                };
+                let (f, want) = (reflectance(&ch, cos, r2, e), fresnel::conductor(&ch, cos));
+                if e + c * c < 0.0 {
+                    assert_eq!(f, 1.0, "r={r} c={c}");
+                } else {
+                    assert!((f - want).abs() <= 1e-14, "r={r} c={c}: {f} vs {want}");
+                }
+                // 1 − F = T of the refraction, where there is one.
+                let c_t2 = 1.0 - (1.0 - c * c) / r2;
+                if c > 0.0 && c_t2 > 0.0 {
+                    let t = transmittance(c, c_t2.sqrt(), 1.0, r);
+                    assert!(((1.0 - f) - t).abs() <= 1e-15 + 1e-13 * t, "r={r} c={c}");
+                }
+            }
+        }
+    }
+
+    /// The channel below from `eta` itself matches `new(1/eta, 0)` where `1/eta` is exact,
+    /// and keeps `F`'s digits next to `eta = 1`, where `F ≈ ((eta − 1)/2)²`.
+    #[test]
+    fn fresnel_from_below_keeps_its_digits_next_to_one() {
+        let c = crate::math::geometry::Cosine {
+            cos: 1.0,
+            one_minus: 0.0,
+        };
+        let below = |eta: f64| {
+            fresnel::Conductor::dielectric(
+                1.0 / (eta * eta),
+                (1.0 - eta) * (1.0 + eta) / (eta * eta),
+            )
+        };
+        let (exact, half) = (fresnel::Conductor::new(0.5, 0.0), below(2.0));
+        assert_eq!(fresnel::conductor(&exact, c), fresnel::conductor(&half, c));
+        for eta in [1.0 + 1e-6, 1.0 - 1e-6, 1.0 + 1e-12, 1.0 - 1e-12] {
+            // At normal incidence F = ((1 − r)/(1 + r))² for r = 1/eta, = ((eta − 1)/(eta + 1))².
+            let want = ((eta - 1.0) / (eta + 1.0)).powi(2);
+            let got = fresnel::conductor(&below(eta), c);
+            assert!((got - want).abs() <= 1e-14 * want, "{eta}: {got} vs {want}");
         }
     }
 

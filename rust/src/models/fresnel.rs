@@ -52,6 +52,23 @@ impl<F: Real> Conductor<F> {
         }
     }
 
+    /// The channel of a dielectric (`k = 0`) of relative index `eta` given `eta²` and
+    /// `e = eta² − 1`, for a caller that forms them more accurately than
+    /// [`Conductor::new`] can from a rounded `eta` (the rough dielectrics' `1/eta`, whose
+    /// `e = (1 − eta)(1 + eta)/eta²` near `eta = 1` would otherwise keep only the digits
+    /// of `1/eta`'s rounding). With `eta2 = eta·eta` and `e = (eta − 1)(eta + 1)` it is
+    /// `Conductor::new(eta, 0)`, bit for bit.
+    #[inline(always)]
+    pub fn dielectric(eta2: F, e: F) -> Self {
+        Conductor {
+            e_re: e,
+            e_im: F::ZERO,
+            e2: e * e,
+            eta2_re: eta2,
+            eta2,
+        }
+    }
+
     /// Returns `a` where `first`, else `b`, field by field (a branch-free select: the
     /// rough dielectrics pick the channel of the side `wi` lies on).
     #[inline(always)]

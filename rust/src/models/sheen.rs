@@ -283,6 +283,12 @@ impl<F: Real> Dd<F> {
         self.hi
     }
 
+    /// The two parts `(hi, lo)`.
+    #[inline(always)]
+    pub fn parts(self) -> (F, F) {
+        (self.hi, self.lo)
+    }
+
     /// `e^(hi + lo)` rounded once more: `e^hi·(1 + lo)`.
     #[inline(always)]
     pub fn exp(self) -> F {

@@ -25,8 +25,9 @@
 use glam::DVec3;
 
 use super::{Frame, Warp, one_minus_dot, reflect};
+use crate::math::Real;
 use crate::math::geometry::Cosine;
-use crate::models::dielectric::transmittance;
+use crate::models::dielectric::{refraction_half_vector, transmittance};
 use crate::models::fresnel;
 
 /// The sampler of one parameter set.
@@ -105,18 +106,26 @@ impl DielectricSampler {
         let reflection = i_above == o_above;
         let side = |above: bool| if above { 1.0 } else { self.eta };
         let (eta_i, eta_o) = (side(i_above), side(o_above));
-        let sum = if reflection {
-            wi + wo
+        let (h, len, c_i, c_o) = if reflection {
+            let sum = wi + wo;
+            let len = sum.length();
+            let h = sum / len;
+            let h = if h.dot(n) < 0.0 { -h } else { h };
+            (h, len, wi.dot(h), wo.dot(h))
         } else {
-            -(wi * eta_i + wo * eta_o)
+            // The refraction's half vector and cosines as the kernel forms them (of the
+            // exact unit vectors, the sum in double width), so that f/pdf keeps its
+            // digits where the sum is short (eta near 1, wo near −wi).
+            let (e_i, e_o) = (f64::length_error(wi), f64::length_error(wo));
+            let k = [eta_i, eta_o, e_i, e_o];
+            let (h, len) = refraction_half_vector(wi.to_array(), wo.to_array(), n.to_array(), k);
+            let e_h = f64::length_error(h);
+            let cosine = |w: DVec3, e: f64| w.dot(h) * (1.0 - 0.5 * (e + e_h));
+            (h, len, cosine(wi, e_i), cosine(wo, e_o))
         };
-        let len = sum.length();
         if !(len > 0.0) || !len.is_finite() {
             return 0.0;
         }
-        let h = sum / len;
-        let h = if h.dot(n) < 0.0 { -h } else { h };
-        let (c_i, c_o) = (wi.dot(h), wo.dot(h));
         let physical = c_i * mu_i > 0.0 && c_o * mu_o > 0.0;
         if !(reflection || physical) {
             return 0.0;
@@ -140,7 +149,7 @@ impl DielectricSampler {
             let f = fresnel::conductor(&fresnel::Conductor::new(r, 0.0), cos);
             pdf_h / (4.0 * c_o.abs()) * f
         } else {
-            let t = transmittance(cos.cos, r, (r - 1.0) * (r + 1.0));
+            let t = transmittance(c_i.abs(), c_o.abs(), eta_i, eta_o);
             pdf_h * (eta_o * eta_o * c_o.abs() / (len * len)) * t
         }
     }
