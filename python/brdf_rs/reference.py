@@ -970,7 +970,7 @@ def ashikhmin_shirley(
 # ---------------------------------------------------------------------------------------
 
 
-def _dielectric_fresnel(c: float, r: float) -> tuple[float, float]:
+def _dielectric_fresnel(c: float, r: float, e: float | None = None) -> tuple[float, float]:
     """Returns ``(F, 1 − F)``: the exact unpolarized Fresnel reflectance of a dielectric
     interface for the cosine ``c`` (in [0, 1]) on the incident side and the relative index
     ``r`` = index beyond the interface / index on the incident side (``docs/models.md``).
@@ -979,9 +979,12 @@ def _dielectric_fresnel(c: float, r: float) -> tuple[float, float]:
     ``F = ½((g − c)/(g + c))²(1 + ((c(g + c) − 1)/(c(g − c) + 1))²)`` (Walter et al.'s
     eq. 22), with ``r² − 1`` formed as ``(r − 1)(r + 1)`` and ``g − c`` as
     ``(r² − 1)/(g + c)``, so ``F`` keeps its digits as ``r → 1`` (``F = 0`` at ``r = 1``).
-    ``1 − F`` is :func:`_dielectric_transmittance` with ``g = r·c_t``.
+    ``1 − F`` is :func:`_dielectric_transmittance` with ``g = r·c_t``. ``e``: ``r² − 1``
+    where the caller has it more accurately than ``r`` gives it (``r = 1/eta``: the
+    rounding of ``1/eta`` would be all of ``r − 1``'s digits near ``eta = 1``).
     """
-    e = (r - 1.0) * (r + 1.0)
+    if e is None:
+        e = (r - 1.0) * (r + 1.0)
     if e == 0.0:
         return 0.0, 1.0  # r = 1: no interface
     g2 = e + c * c
@@ -1064,8 +1067,11 @@ def _dielectric(
         if h is None:
             return BLACK
         d = ndf(abs(_cos(n, h)), _sin2(n, h))  # D(h) = D(−h): the flip changes nothing
-        r_i = eta if mu_i > 0.0 else 1.0 / eta
-        fresnel, _ = _dielectric_fresnel(_cos_b(wi, wo), r_i)
+        if mu_i > 0.0:
+            r_i, e_i = eta, (eta - 1.0) * (eta + 1.0)
+        else:  # (1/eta)² − 1 from eta itself
+            r_i, e_i = 1.0 / eta, (1.0 - eta) * (1.0 + eta) / (eta * eta)
+        fresnel, _ = _dielectric_fresnel(_cos_b(wi, wo), r_i, e_i)
         lobe = 0.0 if d == 0.0 else d / (4.0 * inner) / m  # D·G2/(4|mu_i||mu_o|)
         return _three(
             0.0 if ks_c == 0.0 or fresnel == 0.0 else ks_c * fresnel * lobe for ks_c in _rgb(ks)
