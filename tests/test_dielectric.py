@@ -54,6 +54,11 @@ from test_reference import (
 
 DIELECTRICS = ("ggx_dielectric", "beckmann_dielectric")
 Z = (0.0, 0.0, 1.0)
+# Below the normal range (2.2e-308) a float64 has fewer than 53 bits, and 1e-12 of a
+# value there is less than one unit in its last place (Beckmann's far tail reaches the
+# subnormals): the absolute floor that makes 1e-12 mean 1e-12 of the smallest normal, as
+# the stress suite measures relative errors against max(|exact|, smallest normal).
+ATOL64 = 1e-12 * float(np.finfo(np.float64).tiny)
 
 
 # ---------------------------------------------------------------------------------------
@@ -442,7 +447,7 @@ def test_eval_matches_reference_on_the_whole_sphere(model, rng):
         case,
         params,
         precision="accurate",
-        tol64=(1e-12, 0.0),
+        tol64=(1e-12, ATOL64),
         tol32=(1e-5, ATOL32),
         excusable=0.02,
     )
@@ -557,21 +562,47 @@ def test_eta_next_to_one(model, eta, rng):
     count = 2000
     wi = random_directions(rng, count)
     wo = -wi + 1e-4 * rng.normal(size=(count, 3)) * np.linalg.norm(wi, axis=1, keepdims=True)
-    wo[::4] = random_directions(rng, count)[::4]
-    case = (wi, wo, np.tile(Z, (count, 1)), None)
+    straight = np.ones(count, bool)
+    straight[::4] = False
+    wo[~straight] = random_directions(rng, count)[~straight]
+    n = np.tile(Z, (count, 1))
     # The facet that refracts wi into a wo this close to −wi is tilted far from n (its
     # normal is along the small difference): alpha >= 0.1 keeps Beckmann's D above 0.
     params = {"eta": np.full(count, eta), "alpha": 10 ** rng.uniform(-1, 0, count)}
-    check_rows_against_reference(
-        model,
-        rng,
-        case,
-        params,
-        precision="accurate",
-        tol64=(1e-12, 0.0),
-        tol32=(1e-5, ATOL32),
-        excusable=0.05,
-    )
+    for rows in (~straight, straight):
+        case = (wi[rows], wo[rows], n[rows], None)
+        p = {k: v[rows] for k, v in params.items()}
+        if rows is straight:
+            # Within 1e-4 of wo = −wi, h is the direction of eta_i·wi + eta_o·wo, a vector
+            # of length ~1e-4 whose parts are each of length ~1: one rounding of wi, wo or
+            # eta (1e-16) turns h by ~1e-12 rad, and the steep D off its peak makes that
+            # κ ≈ 2e6 (the 50-digit reference's condition number of these rows). No
+            # float64 evaluation from rounded unit vectors gets within 1e-12, so every
+            # nonzero row may need the allowance of 32·eps·κ (about 1.4e-8); κ is
+            # estimated with a nudge of 1e-10, which keeps these rows in the linear regime
+            # (1e-7 moved h by 1e-3 rad and gave κ = inf, a bound with no teeth).
+            check_rows_against_reference(
+                model,
+                rng,
+                case,
+                p,
+                precision="accurate",
+                tol64=(1e-12, ATOL64),
+                tol32=(1e-5, ATOL32),
+                excusable=1.0,
+                delta=1e-10,
+            )
+        else:
+            check_rows_against_reference(
+                model,
+                rng,
+                case,
+                p,
+                precision="accurate",
+                tol64=(1e-12, ATOL64),
+                tol32=(1e-5, ATOL32),
+                excusable=0.02,
+            )
 
 
 @pytest.mark.parametrize("model", DIELECTRICS)
@@ -620,9 +651,13 @@ def test_white_furnace_at_small_roughness(model, eta):
         f = fresnel(float(mu), eta)
         bias = abs(r_ref + t_ref - 1.0) + 1e-9
         assert abs(total.value[k] - 1.0).max() <= 5 * total.stderr[k].max() + bias, (mu, total)
+        # What the roughness moves each part by, per the cubature: not the same for both
+        # (GGX's shadowing takes more from the transmission at eta = 1.1, mu = 0.9:
+        # 1.6e-7 against 3e-8 from the reflection).
         slack = abs(r_ref - f) + 1e-9
         assert abs(refl.value[k] - f).max() <= 5 * refl.stderr[k].max() + slack, (mu, refl, f)
-        assert abs(trans.value[k] - (1 - f)).max() <= 5 * trans.stderr[k].max() + slack
+        slack_t = abs(t_ref - (1 - f)) + 1e-9
+        assert abs(trans.value[k] - (1 - f)).max() <= 5 * trans.stderr[k].max() + slack_t
         if eta < 1 and mu < math.sqrt(1 - eta * eta):  # beyond the critical angle
             assert trans.value[k].max() <= 5 * trans.stderr[k].max() + t_ref + 1e-9
 
