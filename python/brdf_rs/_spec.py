@@ -85,6 +85,7 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
+    sheen_layer: bool
     #: Whether its kernel raises something to a power.
     powers: bool
     #: Whether ``precision="fast"`` computes it differently (only in float64): it has
@@ -167,7 +168,7 @@ def with_exact() -> dict[str, ExactNormalization]:
 @cache
 def sheen_layers() -> tuple[str, ...]:
     """The models a scene material's sheen layer takes (``sheen = {model = ...}``)."""
-    return tuple(_core.sheen_layer_models())
+    return tuple(name for name, s in specs().items() if s["sheen_layer"])
 
 
 def in_slot(slot: str) -> tuple[str, ...]:

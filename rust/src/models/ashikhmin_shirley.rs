@@ -77,6 +77,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Coupled),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

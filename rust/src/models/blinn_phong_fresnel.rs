@@ -46,6 +46,7 @@ pub static SPEC: ModelSpec = ModelSpec {
         axis: "log:1:10000:32",
     }),
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

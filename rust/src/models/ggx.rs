@@ -52,6 +52,7 @@ pub static SPEC: ModelSpec = ModelSpec {
         axis: "mid:0:1:32",
     }),
     energy_table: true,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -61,6 +61,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

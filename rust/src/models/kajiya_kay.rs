@@ -36,6 +36,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Both,
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -31,6 +31,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -34,6 +34,7 @@ pub const POWER_LOBE_SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

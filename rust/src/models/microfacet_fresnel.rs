@@ -224,6 +224,7 @@ pub const VARIANT_SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

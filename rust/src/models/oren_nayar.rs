@@ -37,6 +37,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

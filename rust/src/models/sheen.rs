@@ -73,6 +73,7 @@ pub const SHEEN_SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: true,
+    sheen_layer: true,
     exact: None,
 };
 

@@ -58,6 +58,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Diffuse,
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -57,6 +57,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Specular,
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -52,6 +52,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: Some(ExactNormalization {
         factor: ExactFactor::Table("ward"),
         params: &["alpha_x", "alpha_y"],

@@ -59,6 +59,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -28,13 +28,14 @@ use crate::models::ModelKind;
 
 use super::shading::Term;
 
-/// The models a sheen layer takes: the sheen and cloth models, whose parameters are
-/// `kd`, `ks` (the colour) and `alpha` (the roughness) and which have energy tables.
-pub const LAYER_MODELS: [ModelKind; 3] = [
-    ModelKind::CharlieSheen,
-    ModelKind::CharlieSheenNeubelt,
-    ModelKind::AshikhminCloth,
-];
+/// The models a sheen layer takes: those whose spec says `sheen_layer` (the sheen and
+/// cloth models, whose parameters are `kd`, `ks` and `alpha`).
+pub fn layer_models() -> impl Iterator<Item = ModelKind> {
+    ModelKind::ALL
+        .iter()
+        .copied()
+        .filter(|k| k.spec().sheen_layer)
+}
 
 /// Values of `mu` at which a layer's albedo table is integrated.
 pub const NODES: usize = 64;
@@ -55,11 +56,11 @@ pub struct SheenLayer {
 }
 
 impl SheenLayer {
-    /// Checks that the model is a sheen model ([`LAYER_MODELS`]), that its `kd` is 0 (the
+    /// Checks that the model is a sheen model ([`layer_models`]), that its `kd` is 0 (the
     /// base's diffuse term lies under the layer) and that `weight` is in [0, 1].
     pub fn new(term: Term, weight: f64) -> Result<SheenLayer, BrdfError> {
-        if !LAYER_MODELS.contains(&term.kind) {
-            let names: Vec<&str> = LAYER_MODELS.iter().map(|k| k.name()).collect();
+        if !term.kind.spec().sheen_layer {
+            let names: Vec<&str> = layer_models().map(|k| k.name()).collect();
             return Err(BrdfError::InvalidArgument(format!(
                 "sheen.model: {} is not a sheen model; a sheen layer takes: {}",
                 term.kind.name(),
@@ -204,7 +205,8 @@ mod tests {
 
     #[test]
     fn layer_models_share_the_sheen_parameters() {
-        for kind in LAYER_MODELS {
+        assert!(layer_models().count() >= 3);
+        for kind in layer_models() {
             let spec = kind.spec();
             assert_eq!(spec.family, Family::A);
             assert!(spec.energy_table, "{}", kind.name());
@@ -217,7 +219,7 @@ mod tests {
         // The Charlie lobe's own albedo passes 1 at grazing angles when it is sharp.
         let raw = integrate_table(ModelKind::CharlieSheen, 1e-3).unwrap();
         assert!(raw[0] > 1.0, "{raw:?}");
-        for kind in LAYER_MODELS {
+        for kind in layer_models() {
             for alpha in [1e-3, 0.05, 0.5, 1.0] {
                 let t = table(kind, alpha).unwrap();
                 assert_eq!(t.len(), NODES);
