@@ -29,7 +29,8 @@ use crate::models::ModelKind;
 use super::shading::Term;
 
 /// The models a sheen layer takes: those whose spec says `sheen_layer` (the sheen and
-/// cloth models, whose parameters are `kd`, `ks` and `alpha`).
+/// cloth models, whose parameters are `kd`, `ks` and `alpha`, and whose albedo seen from
+/// the view is integrated or known in closed form).
 pub fn layer_models() -> impl Iterator<Item = ModelKind> {
     ModelKind::ALL
         .iter()
@@ -163,7 +164,15 @@ pub fn table(kind: ModelKind, alpha: f64) -> Result<Arc<[f32]>, BrdfError> {
     if let Some(t) = cache().lock().ok().and_then(|c| c.get(&key).cloned()) {
         return Ok(t);
     }
-    let values = integrate_table(kind, alpha)?;
+    // The closed form where the model has one (a non-reciprocal lobe's albedo over the
+    // light is not the integrator's, which is over the view).
+    let closed: Option<Vec<f64>> = (0..NODES)
+        .map(|k| kind.sheen_view_albedo(alpha, node(k)))
+        .collect();
+    let values = match closed {
+        Some(values) => values,
+        None => integrate_table(kind, alpha)?,
+    };
     let held = |x: f64| if x > 0.0 { x.min(1.0) } else { 0.0 };
     let t: Arc<[f32]> = values.iter().map(|&x| held(x) as f32).collect();
     if let Ok(mut c) = cache().lock() {
@@ -209,7 +218,13 @@ mod tests {
         for kind in layer_models() {
             let spec = kind.spec();
             assert_eq!(spec.family, Family::A);
-            assert!(spec.energy_table, "{}", kind.name());
+            // The layer's E: integrated (reciprocal lobes with energy tables) or known.
+            assert!(
+                (spec.energy_table && spec.reciprocal)
+                    || kind.sheen_view_albedo(0.5, 0.5).is_some(),
+                "{}",
+                kind.name()
+            );
             assert_eq!(spec.param_names(), ["kd", "ks", "alpha"], "{}", kind.name());
         }
     }
