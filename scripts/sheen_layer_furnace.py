@@ -8,8 +8,9 @@ hemisphere (Gauss-Legendre in cos θ, midpoints in φ), so the pixel's radiance 
 layered BRDF's directional albedo at the view direction, and prints its range over view
 cosines for each sheen model and roughness. The departure from 1 is the quadrature's
 error on the sheen lobe plus the layer's table interpolation, except where the lobe's own
-albedo ``E`` (``brdf_rs.albedo``, last column) passes 1: the base's factor ``1 − E``
-stops at 0 there and the layered albedo is the lobe's.
+albedo seen from the view, ``E`` (the lobe alone under the same lights, last column),
+passes 1: the base's factor ``1 − E`` stops at 0 there and the layered albedo is the
+lobe's.
 
     python scripts/sheen_layer_furnace.py [--n-mu 64] [--n-phi 128]
 """
@@ -61,11 +62,9 @@ def main() -> None:
         for alpha in ALPHAS:
             layered = {**base, "sheen": {"model": model, "ks": 1.0, "alpha": alpha}}
             a = brdf_rs.shade(layered, n, v, lights)[:, 0]
-            e = brdf_rs.albedo(model, np.array(VIEW_MUS), kd=0.0, ks=1.0, alpha=alpha)
-            print(
-                f"| {model} | {alpha:g} | {a.min():.4f} | {a.max():.4f} |"
-                f" {e.value[:, 0].max():.4f} |"
-            )
+            lobe = {"model": model, "kd": 0.0, "ks": 1.0, "alpha": alpha}
+            e = brdf_rs.shade(lobe, n, v, lights)[:, 0]
+            print(f"| {model} | {alpha:g} | {a.min():.4f} | {a.max():.4f} | {e.max():.4f} |")
 
 
 if __name__ == "__main__":

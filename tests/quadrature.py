@@ -528,3 +528,25 @@ def ward_albedo_at_normal_incidence(alpha_x: float, alpha_y: float) -> float:
             for lo, hi in itertools.pairwise(edges)
         )
     return 2 * total / (alpha_x * alpha_y)
+
+
+def view_albedo(
+    model: str, mu_o: Sequence[float] | np.ndarray, n_mu: int = 64, n_phi: int = 128, **params
+) -> np.ndarray:
+    """The albedo seen from the view, ``∫ f(wi, wo)·mu_i dωi`` over the light's
+    hemisphere at ``wo = (sqrt(1 − mu_o²), 0, mu_o)``, by a product rule: Gauss-Legendre
+    in ``mu_i``, midpoints in the azimuth. Equal to the directional albedo for reciprocal
+    models; for the others (a lobe fitted in the view's frame) it is the integral a layer
+    above a base takes out of the light. For smooth, wide lobes only (no panels)."""
+    x, w = np.polynomial.legendre.leggauss(n_mu)
+    mus, wmu = 0.5 * (x + 1), 0.5 * w
+    phis = (np.arange(n_phi) + 0.5) * 2 * math.pi / n_phi
+    m, p = np.meshgrid(mus, phis, indexing="ij")
+    s = np.sqrt(1 - m * m)
+    wi = np.stack([s * np.cos(p), s * np.sin(p), m], -1).reshape(-1, 3)
+    weight = (np.repeat(wmu * mus, n_phi) * 2 * math.pi / n_phi)[:, None]
+    out = []
+    for mu in np.asarray(mu_o, dtype=np.float64):
+        wo = np.array([math.sqrt(1 - mu * mu), 0.0, mu])
+        out.append((brdf_rs.eval(model, wi, wo, **params) * weight).sum(axis=0))
+    return np.array(out)

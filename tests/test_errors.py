@@ -960,3 +960,40 @@ def test_shade_names_its_tangent_argument_when_the_model_needs_one():
     n = np.array([0.0, 0.0, 1.0])
     with pytest.raises(TypeError, match=r'^shade: missing required parameter "tangent"'):
         brdf_rs.shade({"diffuse": {"model": "kajiya_kay"}}, n, n, lights)
+
+
+_NAME_FIRST_CALLS = {
+    "eval": lambda m, **p: brdf_rs.eval(m, [0, 0, 1], [0, 0.6, 0.8], **p),
+    "Model": lambda m, **p: brdf_rs.Model(m, **p),
+    "sample": lambda m, **p: brdf_rs.sample(m, [0, 0, 1], [0.3, 0.6], **p),
+    "pdf": lambda m, **p: brdf_rs.pdf(m, [0, 0, 1], [0, 0.6, 0.8], **p),
+    "albedo": lambda m, **p: brdf_rs.albedo(m, 0.5, samples=64, **p),
+    "energy": lambda m, **p: brdf_rs.energy(m, samples=64, **p),
+}
+
+
+@pytest.mark.parametrize("call", list(_NAME_FIRST_CALLS))
+@pytest.mark.parametrize("value", ["float32", np.float32, None, [1, "x"]])
+def test_an_unknown_name_is_reported_before_its_value_is_read(call, value):
+    """A keyword the model does not take (``dtype=`` is the usual one) is an unknown
+    parameter, whatever its value; an unknown model is named before any parameter value."""
+    run = _NAME_FIRST_CALLS[call]
+    with pytest.raises(TypeError, match=r'ggx: unknown parameter "dtype"; ggx takes: kd'):
+        run("ggx", alpha=0.3, dtype=value)
+    with pytest.raises(TypeError, match=r'unknown parameter "alhpa" \(did you mean "alpha"\?\)'):
+        run("ggx", alhpa=value)
+    with pytest.raises(ValueError, match=r'unknown model "gxx".*did you mean "ggx"'):
+        run("gxx", alpha=value)
+
+
+def test_a_result_too_large_to_allocate_is_named_with_its_shape_and_size():
+    """NumPy's MemoryError names neither the call's result nor what to do; ours does."""
+    wi = np.broadcast_to(np.array([0.3, 0.0, 1.0]), (10**6, 1, 3))
+    wo = np.broadcast_to(np.array([0.0, 0.6, 0.8]), (1, 10**6, 3))
+    for dtype, size in [(np.float64, "21.8 TiB"), (np.float32, "10.9 TiB")]:
+        with pytest.raises(
+            MemoryError, match=rf"result of shape \(1000000, 1000000, 3\) \({size}\).*out="
+        ):
+            brdf_rs.eval("ggx", wi.astype(dtype), wo.astype(dtype), alpha=0.3)
+    with pytest.raises(MemoryError, match=r"result of shape \(1000000, 1000000, 3\)"):
+        brdf_rs.Model("ggx", alpha=0.3).eval(wi, wo)

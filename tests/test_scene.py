@@ -16,6 +16,7 @@ from pathlib import Path
 import brdf_rs
 import numpy as np
 import pytest
+import quadrature
 from brdf_rs import reference
 from brdf_rs.cli import main as cli_main
 from brdf_rs.scene import SceneError, load_scene, parse_scene
@@ -149,14 +150,19 @@ def shade_reference(material, n, v, p, t, lights):
     return total
 
 
-#: A sheen layer's albedo table: the sheen lobe's albedo at unit colour (brdf_rs.albedo,
-#: 2^12 samples) at 64 view cosines evenly spaced in sqrt(mu) from 0 (taken at 1e-6) to
-#: 1, interpolated linearly.
+#: A sheen layer's albedo table: the sheen lobe's albedo at unit colour seen from the view
+#: (brdf_rs.albedo with 2^12 samples for reciprocal lobes, a cubature over the light for
+#: the others) at 64 view cosines evenly spaced in sqrt(mu) from 0 (taken at 1e-6) to 1,
+#: interpolated linearly.
 SHEEN_NODES = np.maximum(np.arange(64) / 63, 1e-3) ** 2
 
 
 @functools.cache
 def _sheen_table(model, alpha):
+    if not brdf_rs.models()[model]["reciprocal"]:
+        # A lobe fitted in the view's frame: its albedo over the light, not the
+        # integrator's over the view.
+        return quadrature.view_albedo(model, SHEEN_NODES, kd=0.0, ks=1.0, alpha=alpha)[:, 0]
     r = brdf_rs.albedo(model, SHEEN_NODES, kd=0.0, ks=1.0, alpha=alpha, samples=1 << 12)
     return r.value[:, 0]
 

@@ -132,7 +132,7 @@ def albedo(
     Returns:
         :class:`Albedo` with ``value``/``stderr`` of shape ``broadcast(mu, params)+(3,)``.
     """
-    _arrays.model_name(model)
+    _arrays.model_name(model, params)
     _arrays.flags(fold_azimuth=fold_azimuth)
     if progress is not None and not callable(progress):
         raise TypeError(
@@ -441,7 +441,7 @@ def energy(model: str, *, samples: int = 1 << 16, seed: int = 0, **params: Any) 
     refined on a finer grid of 17 incidences, of which those not already on the coarse
     grid are integrated: ``mu`` is strictly increasing, one value per node.
     """
-    _arrays.model_name(model)
+    _arrays.model_name(model, params)
     # The refinement uses seed + 1.
     seed = _arrays.integer("seed", seed, 0, _arrays.U64_MAX - 1)
     mu = np.concatenate([[0.005], np.arange(1, 65) / 64.0])

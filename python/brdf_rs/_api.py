@@ -118,7 +118,7 @@ def _eval_general(
     precision: str = "accurate",
 ) -> np.ndarray:
     """:func:`eval` for any arguments: converted here, then evaluated in Rust."""
-    _arrays.model_name(model)
+    _arrays.model_name(model, params)
     dtype, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     _check_out(out, dtype)
     params = _grey_colours(model, params)
@@ -171,7 +171,7 @@ class Model:
         """``normalization`` and ``precision`` as in :func:`brdf_rs.eval` (``"exact"``
         rescales ``ks`` once, here; every evaluation uses the ``precision`` tier);
         ``params`` the model's parameters."""
-        _arrays.model_name(name)
+        _arrays.model_name(name, params)
         self.precision = _arrays.choice("precision", precision, PRECISIONS)
         given = _arrays.parameters(params, np.float64)
         _core.check_params(name, given)
@@ -291,6 +291,7 @@ def models() -> dict[str, _spec.ModelSpec]:
     ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
     ``transmission`` (whether it transmits: defined on the whole sphere, not zero below
     the surface),
+    ``sheen_layer`` (whether a scene material may stack it over a base as a sheen layer),
     ``powers`` (whether it raises something to a power), ``fast_tier`` (whether
     ``precision="fast"`` changes it: powers, or microfacet length corrections),
     ``exact`` (its ``normalization="exact"``: how the factor is

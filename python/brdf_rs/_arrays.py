@@ -12,6 +12,7 @@ argument. Integers and names are worded once, in the core (``rust/src/py/options
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -101,13 +102,17 @@ def flags(**given: Any) -> None:
             raise TypeError(f"{name}: expected True or False, got {type(value).__name__}")
 
 
-def model_name(model: Any) -> str:
-    """Checks that ``model`` is a model name (a string; the core checks that it exists)."""
+def model_name(model: Any, params: Mapping[str, Any] | None = None) -> str:
+    """Checks that ``model`` is a model name (a string; the core checks that it exists);
+    with ``params``, also that the model exists and takes every one of their names, so an
+    unknown name is reported as such before any value is converted."""
     if not isinstance(model, str):
         raise TypeError(
             "model: expected a model name (a string; brdf_rs.models() lists them), got"
             f" {type(model).__name__} {show(model)}"
         )
+    if params is not None:
+        _core.check_param_names(model, list(params))
     return model
 
 

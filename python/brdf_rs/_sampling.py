@@ -49,7 +49,7 @@ def sample(
         ``f(wi, wo)·cos θo / pdf`` (0 for a draw below the surface), and the mixture's
         density of ``wo`` in 1/sr (the same value :func:`pdf` returns).
     """
-    _arrays.model_name(model)
+    _arrays.model_name(model, params)
     _, v = _arrays.directions(wi=wi, n=n, tangent=tangent)
     return _core.sample(
         model,
@@ -73,7 +73,7 @@ def pdf(
     **params: Any,
 ) -> np.ndarray:
     """Returns the density (1/sr) with which :func:`sample` draws ``wo`` given ``wi``."""
-    _arrays.model_name(model)
+    _arrays.model_name(model, params)
     _, v = _arrays.directions(wi=wi, wo=wo, n=n, tangent=tangent)
     return _core.pdf(
         model,

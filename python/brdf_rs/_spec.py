@@ -88,6 +88,7 @@ class ModelSpec(TypedDict):
     #: Whether it transmits: defined on the whole sphere of ``wi`` and ``wo`` (a BSDF),
     #: not zero unless both directions are above the surface; scenes refuse it.
     transmission: bool
+    sheen_layer: bool
     #: Whether its kernel raises something to a power.
     powers: bool
     #: Whether ``precision="fast"`` computes it differently (only in float64): it has
@@ -170,7 +171,7 @@ def with_exact() -> dict[str, ExactNormalization]:
 @cache
 def sheen_layers() -> tuple[str, ...]:
     """The models a scene material's sheen layer takes (``sheen = {model = ...}``)."""
-    return tuple(_core.sheen_layer_models())
+    return tuple(name for name, s in specs().items() if s["sheen_layer"])
 
 
 def in_slot(slot: str) -> tuple[str, ...]:

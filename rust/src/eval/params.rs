@@ -37,26 +37,34 @@ pub struct Resolved<'a, F> {
     pub batch: Vec<BatchParam<'a, F>>,
 }
 
+/// Refuses the first of `names` that is not one of the model's parameters (with the
+/// closest known name, if one is close).
+pub fn check_known<'n>(
+    spec: &'static ModelSpec,
+    names: impl IntoIterator<Item = &'n str>,
+) -> Result<(), BrdfError> {
+    for name in names {
+        if spec.param(name).is_none() {
+            let known = spec.param_names();
+            return Err(BrdfError::UnknownParameter {
+                model: spec.name,
+                name: name.to_string(),
+                suggestion: closest(name, &known).map(str::to_string),
+                known,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Matches `names` to the spec: unknown names, missing required parameters.
 pub fn match_names<'n>(
     spec: &'static ModelSpec,
     names: impl IntoIterator<Item = &'n str>,
 ) -> Result<Vec<&'static ParamSpec>, BrdfError> {
-    let mut found = Vec::new();
-    for name in names {
-        match spec.param(name) {
-            Some(p) => found.push(p),
-            None => {
-                let known = spec.param_names();
-                return Err(BrdfError::UnknownParameter {
-                    model: spec.name,
-                    name: name.to_string(),
-                    suggestion: closest(name, &known).map(str::to_string),
-                    known,
-                });
-            }
-        }
-    }
+    let names: Vec<&str> = names.into_iter().collect();
+    check_known(spec, names.iter().copied())?;
+    let found: Vec<&'static ParamSpec> = names.iter().filter_map(|n| spec.param(n)).collect();
     for p in spec.params {
         if p.default.is_none() && !found.iter().any(|f| f.name == p.name) {
             return Err(BrdfError::MissingParameter {

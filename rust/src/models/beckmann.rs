@@ -51,6 +51,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     }),
     energy_table: true,
     transmission: false,
+    sheen_layer: false,
     exact: None,
 };
 

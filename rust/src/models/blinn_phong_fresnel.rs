@@ -47,6 +47,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     }),
     energy_table: false,
     transmission: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -389,6 +389,7 @@ pub const DIELECTRIC_SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
     dfg: None,
     energy_table: false,
+    sheen_layer: false,
     exact: None,
     transmission: true,
 };

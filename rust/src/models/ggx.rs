@@ -53,6 +53,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     }),
     energy_table: true,
     transmission: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -35,6 +35,7 @@ pub const POWER_LOBE_SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: false,
     transmission: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -225,6 +225,7 @@ pub const VARIANT_SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: false,
     transmission: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -168,6 +168,14 @@ pub trait Kernel: 'static {
         None
     }
 
+    /// For a sheen layer's model: the lobe's albedo seen from the view at unit colour
+    /// (`kd = 0`, `ks = 1`, roughness `alpha`), `∫ f(wi, wo)·(n·wi) dωi` over the light at
+    /// `n·wo = mu_o`, where the model gives it in closed form; `None` where it must be
+    /// integrated (for a reciprocal model that is the directional albedo).
+    fn sheen_view_albedo(_alpha: f64, _mu_o: f64) -> Option<f64> {
+        None
+    }
+
     /// The decomposition `brdf_rs.sample` draws from: [`Kernel::albedo_terms`], except
     /// for models whose albedo terms split a lobe into strata for the integrator
     /// ([`strata`]); those return the whole lobes here (a sampler draws whole lobes).
@@ -234,6 +242,15 @@ macro_rules! declare_models {
                     $(ModelKind::$variant => {
                         <$module::$ty as Kernel>::POWERS
                             || <$module::$ty as Kernel>::LENGTH_CORRECTIONS
+                    }),*
+                }
+            }
+
+            /// [`Kernel::sheen_view_albedo`] of the model's kernel.
+            pub fn sheen_view_albedo(self, alpha: f64, mu_o: f64) -> Option<f64> {
+                match self {
+                    $(ModelKind::$variant => {
+                        <$module::$ty as Kernel>::sheen_view_albedo(alpha, mu_o)
                     }),*
                 }
             }

@@ -31,6 +31,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: false,
     transmission: false,
+    sheen_layer: false,
     exact: None,
 };
 

@@ -74,6 +74,7 @@ pub const SHEEN_SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: true,
     transmission: false,
+    sheen_layer: true,
     exact: None,
 };
 

@@ -309,6 +309,10 @@ pub struct ModelSpec {
     /// Kulla and Conty's (`F = 1`) for the microfacet models, albedo-scaling tables for
     /// the sheen models.
     pub energy_table: bool,
+    /// Whether a scene may stack it over a base as a sheen layer: a reciprocal sheen lobe
+    /// whose parameters are `kd`, `ks` (the colour) and `alpha` (the roughness), whose
+    /// albedo over the view is the layer's `E` (the base is scaled by `1 − E`).
+    pub sheen_layer: bool,
     /// Its `normalization="exact"`, for models that have one.
     pub exact: Option<ExactNormalization>,
     /// Whether the model transmits: defined on the whole sphere of `wi` and `wo` (the

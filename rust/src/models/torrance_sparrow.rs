@@ -57,6 +57,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: false,
     transmission: false,
+    sheen_layer: false,
     exact: Some(ExactNormalization {
         factor: ExactFactor::One,
         params: &["p"],

@@ -53,6 +53,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: false,
     transmission: false,
+    sheen_layer: false,
     exact: Some(ExactNormalization {
         factor: ExactFactor::Table("ward"),
         params: &["alpha_x", "alpha_y"],

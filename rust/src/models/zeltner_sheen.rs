@@ -60,6 +60,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     dfg: None,
     energy_table: false,
     transmission: false,
+    sheen_layer: true,
     exact: None,
 };
 
@@ -222,6 +223,12 @@ impl Kernel for ZeltnerSheen {
         let l = lobe(&pp.fits, d);
         let rgb = [0, 1, 2].map(|c| weighted(pp.ks[c], l) + pp.kd_over_pi[c]);
         above_both(mu_i, mu_o, rgb)
+    }
+
+    /// `R(mu_o, α)`: the paper's fit of this very integral (the LTC integrates to 1 over
+    /// the light's hemisphere up to the fit's error).
+    fn sheen_view_albedo(alpha: f64, mu_o: f64) -> Option<f64> {
+        Some(Fits::new(alpha).albedo(mu_o))
     }
 
     /// Drawn uniformly over the hemisphere, as the other sheens (the LTC draws `wi` for a

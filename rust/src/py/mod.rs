@@ -142,7 +142,8 @@ pub(crate) fn run_plan<'py, F: Real + Element>(
     let out = match out {
         Some(out) => out,
         // Every element is written by `execute`.
-        None => empty::<F>(py, &plan.output_shape())?,
+        None => empty::<F>(py, &plan.output_shape())
+            .map_err(|e| too_big_result::<F>(py, &plan.output_shape(), e))?,
     };
     {
         let mut guard = out.try_readwrite().map_err(|e| {
@@ -160,6 +161,27 @@ pub(crate) fn run_plan<'py, F: Real + Element>(
         }
     }
     Ok(out)
+}
+
+/// The error for a result array that cannot be allocated: names the result, its shape
+/// and size, and what to do (NumPy's own message names neither the call nor a remedy).
+/// Other errors pass through.
+fn too_big_result<F: Element>(py: Python<'_>, shape: &[usize], e: PyErr) -> PyErr {
+    if !e.is_instance_of::<PyMemoryError>(py) && !e.is_instance_of::<PyValueError>(py) {
+        return e;
+    }
+    let bytes = shape
+        .iter()
+        .fold(std::mem::size_of::<F>() as f64, |b, &d| b * d as f64);
+    let (size, unit) = [("TiB", 40), ("GiB", 30), ("MiB", 20), ("KiB", 10)]
+        .iter()
+        .find(|(_, p)| bytes >= (1u64 << p) as f64)
+        .map_or((bytes, "bytes"), |&(u, p)| (bytes / (1u64 << p) as f64, u));
+    PyMemoryError::new_err(format!(
+        "the result of shape {} ({size:.1} {unit}) cannot be allocated: evaluate in \
+         smaller batches, or pass out= an array of that shape",
+        crate::error::format_shape(shape)
+    ))
 }
 
 /// A new, uninitialized C-ordered array, as `numpy.empty` makes it: NumPy allocates and
@@ -254,6 +276,15 @@ fn check_params<'py>(model: &str, params: &Bound<'py, PyDict>) -> PyResult<()> {
     Ok(())
 }
 
+/// Checks that `model` exists and that every one of `names` is one of its parameters,
+/// before any value is converted: an unknown name is reported as such, not as a bad value.
+#[pyfunction]
+fn check_param_names(model: &str, names: Vec<String>) -> PyResult<()> {
+    let spec = ModelKind::from_name(model)?.spec();
+    eval::params::check_known(spec, names.iter().map(String::as_str))?;
+    Ok(())
+}
+
 /// Returns whether `value` passes the range check of `model`'s parameter `param` (the
 /// check `eval` makes), for callers that word their own errors (scene files).
 #[pyfunction]
@@ -328,6 +359,7 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         d.set_item("dfg", dfg)?;
         d.set_item("energy_table", spec.energy_table)?;
         d.set_item("transmission", spec.transmission)?;
+        d.set_item("sheen_layer", spec.sheen_layer)?;
         d.set_item("powers", kind.powers())?;
         d.set_item("fast_tier", kind.fast_tier())?;
         let exact = match spec.exact {
@@ -621,8 +653,8 @@ fn isa() -> &'static str {
 mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
-        albedo, check_params, eval_f32, eval_f64, isa, max_num_threads, models, num_threads,
-        param_admits, pdf, sample, set_num_threads, tool_defaults,
+        albedo, check_param_names, check_params, eval_f32, eval_f64, isa, max_num_threads, models,
+        num_threads, param_admits, pdf, sample, set_num_threads, tool_defaults,
     };
 
     #[pymodule_export]
@@ -651,8 +683,7 @@ mod brdf_rs_ext {
 
     #[pymodule_export]
     use super::scene::{
-        encode_srgb8, render_scene, scene_counters, shade_gbuffer, sheen_layer_models,
-        tonemap_inplace,
+        encode_srgb8, render_scene, scene_counters, shade_gbuffer, tonemap_inplace,
     };
 
     #[pymodule_export]

@@ -353,15 +353,6 @@ pub fn shade_gbuffer<'py>(
     Ok((array.into_pyarray(py), stats_dict(py, &stats)?))
 }
 
-/// The models a scene material's sheen layer takes.
-#[pyfunction]
-pub fn sheen_layer_models() -> Vec<&'static str> {
-    crate::scene::sheen::LAYER_MODELS
-        .iter()
-        .map(|k| k.name())
-        .collect()
-}
-
 /// Applies `2^exposure` and a tone map to a float32 array, in place.
 #[pyfunction]
 pub fn tonemap_inplace<'py>(

@@ -28,13 +28,15 @@ use crate::models::ModelKind;
 
 use super::shading::Term;
 
-/// The models a sheen layer takes: the sheen and cloth models, whose parameters are
-/// `kd`, `ks` (the colour) and `alpha` (the roughness) and which have energy tables.
-pub const LAYER_MODELS: [ModelKind; 3] = [
-    ModelKind::CharlieSheen,
-    ModelKind::CharlieSheenNeubelt,
-    ModelKind::AshikhminCloth,
-];
+/// The models a sheen layer takes: those whose spec says `sheen_layer` (the sheen and
+/// cloth models, whose parameters are `kd`, `ks` and `alpha`, and whose albedo seen from
+/// the view is integrated or known in closed form).
+pub fn layer_models() -> impl Iterator<Item = ModelKind> {
+    ModelKind::ALL
+        .iter()
+        .copied()
+        .filter(|k| k.spec().sheen_layer)
+}
 
 /// Values of `mu` at which a layer's albedo table is integrated.
 pub const NODES: usize = 64;
@@ -55,11 +57,11 @@ pub struct SheenLayer {
 }
 
 impl SheenLayer {
-    /// Checks that the model is a sheen model ([`LAYER_MODELS`]), that its `kd` is 0 (the
+    /// Checks that the model is a sheen model ([`layer_models`]), that its `kd` is 0 (the
     /// base's diffuse term lies under the layer) and that `weight` is in [0, 1].
     pub fn new(term: Term, weight: f64) -> Result<SheenLayer, BrdfError> {
-        if !LAYER_MODELS.contains(&term.kind) {
-            let names: Vec<&str> = LAYER_MODELS.iter().map(|k| k.name()).collect();
+        if !term.kind.spec().sheen_layer {
+            let names: Vec<&str> = layer_models().map(|k| k.name()).collect();
             return Err(BrdfError::InvalidArgument(format!(
                 "sheen.model: {} is not a sheen model; a sheen layer takes: {}",
                 term.kind.name(),
@@ -162,7 +164,15 @@ pub fn table(kind: ModelKind, alpha: f64) -> Result<Arc<[f32]>, BrdfError> {
     if let Some(t) = cache().lock().ok().and_then(|c| c.get(&key).cloned()) {
         return Ok(t);
     }
-    let values = integrate_table(kind, alpha)?;
+    // The closed form where the model has one (a non-reciprocal lobe's albedo over the
+    // light is not the integrator's, which is over the view).
+    let closed: Option<Vec<f64>> = (0..NODES)
+        .map(|k| kind.sheen_view_albedo(alpha, node(k)))
+        .collect();
+    let values = match closed {
+        Some(values) => values,
+        None => integrate_table(kind, alpha)?,
+    };
     let held = |x: f64| if x > 0.0 { x.min(1.0) } else { 0.0 };
     let t: Arc<[f32]> = values.iter().map(|&x| held(x) as f32).collect();
     if let Ok(mut c) = cache().lock() {
@@ -204,10 +214,17 @@ mod tests {
 
     #[test]
     fn layer_models_share_the_sheen_parameters() {
-        for kind in LAYER_MODELS {
+        assert!(layer_models().count() >= 3);
+        for kind in layer_models() {
             let spec = kind.spec();
             assert_eq!(spec.family, Family::A);
-            assert!(spec.energy_table, "{}", kind.name());
+            // The layer's E: integrated (reciprocal lobes with energy tables) or known.
+            assert!(
+                (spec.energy_table && spec.reciprocal)
+                    || kind.sheen_view_albedo(0.5, 0.5).is_some(),
+                "{}",
+                kind.name()
+            );
             assert_eq!(spec.param_names(), ["kd", "ks", "alpha"], "{}", kind.name());
         }
     }
@@ -217,7 +234,7 @@ mod tests {
         // The Charlie lobe's own albedo passes 1 at grazing angles when it is sharp.
         let raw = integrate_table(ModelKind::CharlieSheen, 1e-3).unwrap();
         assert!(raw[0] > 1.0, "{raw:?}");
-        for kind in LAYER_MODELS {
+        for kind in layer_models() {
             for alpha in [1e-3, 0.05, 0.5, 1.0] {
                 let t = table(kind, alpha).unwrap();
                 assert_eq!(t.len(), NODES);
