@@ -164,7 +164,9 @@ def condition(model, wi, wo, n, tangent, params, rng, value, delta=1e-7, trials=
         except (ValueError, OverflowError):
             return math.inf
         with np.errstate(invalid="ignore", divide="ignore"):
-            scale = np.maximum(np.abs(value), 1e-300)
+            # Relative to the value itself down to the smallest normal (a floor of 1e-300
+            # made the condition of a value of 1e-303 a thousand times too small).
+            scale = np.maximum(np.abs(value), np.finfo(np.float64).tiny)
             change = np.abs(moved - value) / scale / delta
         change = np.where(np.isfinite(value) & np.isfinite(moved), change, 0.0)
         change = np.where(np.isinf(value) != np.isinf(moved), math.inf, change)

@@ -59,7 +59,7 @@ def close(got, want, cond, rtol, eps, atol):
 def assert_close(model, got, want, cond, rtol, eps, atol, label):
     assert close(got, want, cond, rtol, eps, atol), (
         f"{model} {label}: got {got}, reference {want}, condition {cond:.3g}, "
-        f"error {np.max(np.abs(got - want) / np.maximum(np.abs(want), 1e-300)):.3g}"
+        f"error {np.max(np.abs(got - want) / np.maximum(np.abs(want), np.finfo(float).tiny)):.3g}"
     )
 
 
