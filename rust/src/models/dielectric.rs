@@ -17,14 +17,16 @@
 //!
 //! `F` the exact unpolarized dielectric reflectance at `|wi·h|` for the relative index
 //! `eta_o/eta_i` of `wi`'s side (`eta` above, `1/eta` below; total internal reflection
-//! gives 1), [`fresnel::conductor`] with `k = 0`, and `1 − F` of a refraction formed
-//! directly from `|wi·h|` and `|wo·h|` ([`transmittance`]). `mu_i = 0` or `mu_o = 0` gives 0.
+//! gives 1), [`fresnel::conductor`] with `k = 0` ([`reflectance`]: exactly 1 under total
+//! internal reflection, `1 − T` near 1), and `1 − F` of a refraction formed directly from
+//! `|wi·h|` and `|wo·h|` ([`transmittance`]). `mu_i = 0` or `mu_o = 0` gives 0.
 //!
 //! The transmission's denominator `(eta_i(wi·h) + eta_o(wo·h))²` is `|eta_i·wi + eta_o·wo|²`
 //! exactly (`h` is that vector normalized), the squared length the kernel already has:
-//! no cancellation where the two terms nearly cancel. `D·G2/(4|mu_i||mu_o|)` is
-//! [`smith_quotient`] of the cosines' absolute values with `L = μ·Λ(μ)` in the bounded
-//! forms of the base models ([`ggx_mu_lambda`], [`beckmann::mu_lambda`]).
+//! no cancellation where the two terms nearly cancel. `D·G2/(4|mu_i||mu_o|)` of the
+//! cosines' absolute values is [`Microfacets::lobe`]: `ggx`'s own form for GGX, and
+//! [`smith_quotient`] with `L = μ·Λ(μ)` in `beckmann`'s bounded form
+//! ([`beckmann::mu_lambda`]) for Beckmann.
 
 use std::marker::PhantomData;
 
@@ -762,7 +764,7 @@ mod tests {
         };
         let (exact, half) = (fresnel::Conductor::new(0.5, 0.0), below(2.0));
         assert_eq!(fresnel::conductor(&exact, c), fresnel::conductor(&half, c));
-        for eta in [1.0 + 1e-6, 1.0 - 1e-6, 1.0 + 1e-12, 1.0 - 1e-12] {
+        for eta in [1.0_f64 + 1e-6, 1.0 - 1e-6, 1.0 + 1e-12, 1.0 - 1e-12] {
             // At normal incidence F = ((1 − r)/(1 + r))² for r = 1/eta, = ((eta − 1)/(eta + 1))².
             let want = ((eta - 1.0) / (eta + 1.0)).powi(2);
             let got = fresnel::conductor(&below(eta), c);
