@@ -46,6 +46,7 @@ from brdf_rs import _mpref, reference
 from conftest import SPECS, condition, random_directions, reference_rgb
 from test_reference import (
     ATOL32,
+    ATOL64,
     EPS64,
     assert_close,
     check_rows_against_reference,
@@ -54,11 +55,6 @@ from test_reference import (
 
 DIELECTRICS = ("ggx_dielectric", "beckmann_dielectric")
 Z = (0.0, 0.0, 1.0)
-# Below the normal range (2.2e-308) a float64 has fewer than 53 bits, and 1e-12 of a
-# value there is less than one unit in its last place (Beckmann's far tail reaches the
-# subnormals): the absolute floor that makes 1e-12 mean 1e-12 of the smallest normal, as
-# the stress suite measures relative errors against max(|exact|, smallest normal).
-ATOL64 = 1e-12 * float(np.finfo(np.float64).tiny)
 
 
 # ---------------------------------------------------------------------------------------
