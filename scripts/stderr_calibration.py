@@ -17,7 +17,14 @@ For each case (model, mu, parameters) the script
    and stored as ``cubature_diff``, and must be far below the standard errors tested.
    At normal incidence Torrance-Sparrow and Blinn-Phong with Fresnel have a 1-D form,
    integrated in 40-digit arithmetic (:func:`normal_incidence_albedo`): that is the
-   reference there, and ``cubature_diff`` is the cubature's distance from it.
+   reference there, and ``cubature_diff`` is the cubature's distance from it. The rough
+   dielectrics (``ggx_dielectric``, ``beckmann_dielectric``) integrate over the whole
+   sphere, per ``component`` (total, reflection, transmission): their reference is a
+   cubature over the half vector instead (:func:`sphere_reference_albedo`; each ``wo``
+   is the mirror or the refraction of ``wi`` about one ``h``), in the distribution's own
+   cumulative mass so that the lobe is evenly spread at any roughness, with the kinks
+   where a ``wo`` crosses the horizon located per ``φh`` and made panel edges; at the
+   same two resolutions.
 2. runs ``brdf_rs.albedo`` over N cells with the same mu and parameters (``cell_ids`` =
    0..N−1: N independent estimates) for each sequence (``sobol``, ``random``) and budget
    (``samples`` = 256 and 4096 fixed, ``--samples``; ``tol`` = 1e-4 adaptive, ``--tol``,
@@ -32,6 +39,7 @@ A cell with stderr 0 counts as |z| = inf unless its value equals the reference e
     python scripts/stderr_calibration.py --quick         # 200 cells, three cases
     python scripts/stderr_calibration.py --cells 4000 --out calibration
     python scripts/stderr_calibration.py --cases torrance_sparrow "ggx mu=1 alpha=0.05"
+    python scripts/stderr_calibration.py --grid dielectric --samples 256 4096
 
 The deep run (benches/results/stderr_calibration_deep.md): 2^20 samples per cell, and
 tol = 1e-10 from a first round of 2^20, where the rare region G < 1 of Torrance-Sparrow
@@ -70,6 +78,10 @@ GGX = {"kd": 0.0, "ks": 1.0}
 ON = {"kd": 1.0, "sigma": 0.5}
 #: blinn_phong_fresnel with F0 = 0: the lobe is Schlick's excess alone.
 BPF = {"kd": 0.0, "ks": 0.0}
+#: The rough dielectrics: their albedo is over the whole sphere (reflection and
+#: transmission), and their reference is :func:`sphere_reference_albedo`.
+DIELECTRICS = ("ggx_dielectric", "beckmann_dielectric")
+DIEL = {"ks": 1.0, "kt": 1.0}
 
 
 @dataclass(frozen=True)
@@ -77,17 +89,22 @@ class Case:
     model: str
     mu: float
     params: dict[str, float] = field(default_factory=dict)
+    #: The part of a transmitting model's albedo (``albedo``'s ``component=``).
+    component: str = "total"
 
     @property
     def label(self) -> str:
+        dielectric = self.model in DIELECTRICS
         shown = {
             k: v
             for k, v in self.params.items()
             if k in ("p", "alpha", "alpha_x", "nu", "sigma")
             or (k == "ks" and v != 1.0)
-            or (k == "eta" and v != 1.5)
+            or (k == "eta" and (v != 1.5 or dielectric))
         }
         extra = " ".join(f"{k}={v:g}" for k, v in shown.items())
+        if self.component != "total":
+            extra += f" {self.component}"
         return f"{self.model} mu={self.mu:g} {extra}".strip()
 
 
@@ -116,6 +133,10 @@ CASES = (
     Case("ggx", 1.0, {**GGX, "alpha": 1.0}),
     Case("oren_nayar", 1.0, ON),
     Case("oren_nayar", 0.3, ON),
+    Case("ggx_dielectric", 0.3, {**DIEL, "eta": 1.1, "alpha": 0.02}),
+    Case("ggx_dielectric", 0.9, {**DIEL, "eta": 1.5, "alpha": 0.1}, "reflection"),
+    Case("ggx_dielectric", 0.9, {**DIEL, "eta": 1.5, "alpha": 0.1}, "transmission"),
+    Case("beckmann_dielectric", 0.3, {**DIEL, "eta": 1 / 1.5, "alpha": 0.1}),
 )
 
 
@@ -177,6 +198,22 @@ GRIDS = {
         Case("beckmann", mu, {**GGX, "alpha": alpha})
         for mu in (1.0, 0.99, 0.9, 0.5)
         for alpha in (0.02, 0.1, 0.3, 1.0)
+    ),
+    # The rough dielectrics over the whole sphere: near-smooth interfaces with eta near
+    # 1, where the weights G2/G1 are about 1 but for rare drops in the distribution's
+    # tail (a reflection below the horizon, a refraction at grazing angles); and the
+    # components apart at a few points.
+    "dielectric": tuple(
+        Case(model, mu, {**DIEL, "eta": eta, "alpha": alpha})
+        for model in DIELECTRICS
+        for alpha in (0.02, 0.1, 0.5)
+        for eta in (1.05, 1.1, 1.5, 1 / 1.5)
+        for mu in (0.3, 0.9)
+    )
+    + tuple(
+        Case("ggx_dielectric", mu, {**DIEL, "eta": eta, "alpha": 0.02}, component)
+        for component in ("reflection", "transmission")
+        for mu, eta in ((0.3, 1.1), (0.9, 1 / 1.5))
     ),
 }
 
@@ -304,6 +341,144 @@ def reference_albedo(
     return float(2.0 * outer[0])
 
 
+def _tan2_of(model: str, alpha: float, t: np.ndarray) -> np.ndarray:
+    """``tan²θh`` at the cumulative mass ``xi = sin²(πt/2)`` of ``D(h)·cos θh`` (its
+    inverse CDF), from ``sin(πt/2)`` and ``cos(πt/2)`` so that neither end cancels."""
+    s, c = np.sin(0.5 * math.pi * t), np.cos(0.5 * math.pi * t)
+    if model.startswith("ggx"):
+        return (alpha * s / c) ** 2
+    return -alpha * alpha * np.log1p(-s * s)
+
+
+def _ndf_cos(model: str, alpha: float, cos_h: np.ndarray, tan2: np.ndarray) -> np.ndarray:
+    """``D(h)·cos θh``, the density of the half vectors that ``xi`` and ``φh/2π`` map."""
+    a2 = alpha * alpha
+    if model.startswith("ggx"):
+        return a2 / (math.pi * cos_h**3 * (a2 + tan2) ** 2)
+    return np.exp(-tan2 / a2) / (math.pi * a2 * cos_h**3)
+
+
+def sphere_reference_albedo(
+    model: str,
+    mu: float,
+    params: dict[str, float],
+    component: str = "total",
+    n: int = FINE[0],
+    tol: float = FINE[1],
+) -> float:
+    """The albedo of a rough dielectric over the whole sphere (channel 0, ``component``
+    ``total``, ``reflection`` or ``transmission``) by an adaptive cubature over the half
+    vector ``h`` of ``brdf_rs.eval``: independent of the integrator's sampler, weights
+    and streams.
+
+    Each ``wo`` comes from exactly one ``h`` with ``n·h > 0`` and ``wi·h > 0``: its mirror
+    about ``h`` (reflection, ``dωo = 4(wo·h) dωh``) or its refraction through ``h``
+    (transmission, ``dωo = (wi·h + eta(wo·h))²/(eta²|wo·h|) dωh``), so
+    ``A = ∫ f(wi, wo(h))·|n·wo|·dωo/dωh dωh`` over the hemisphere of ``h``. ``h`` is
+    parametrized by ``xi``, the cumulative mass of ``D(h)·cos θh`` in ``tan²θh`` (its
+    inverse CDF: the lobe is spread evenly over ``xi``, at any roughness), with
+    ``xi = sin²(πt/2)`` (``sin θh`` is then smooth in ``t`` at the normal, where it goes
+    as ``sqrt(xi)``, and the ``1/sqrt(1 − xi)`` growth where ``h`` tilts to the horizon
+    is taken out), and by ``φh``: ``dωh = dxi dφh/(2π·D(h)·cos θh)``. The
+    integrand is even in ``φh`` (``wi`` in the xz plane): ``φh ∈ [0, π]``, doubled. Where
+    a ``wo`` crosses the horizon (``G2`` takes the integrand to 0 there) and at the edge
+    of total internal reflection the integrand has kinks that no panel edge knows about:
+    the iterated rule of :func:`_adaptive` (outer ``φh``, inner ``t``) bisects until they
+    are resolved, with the same tolerances as :func:`reference_albedo`.
+    """
+    if not 0.0 < mu <= 1.0:
+        raise ValueError(f"mu: expected a value in (0, 1], got {mu!r}")
+    if component not in ("total", "reflection", "transmission"):
+        raise ValueError(
+            f"component: expected total, reflection or transmission, got {component!r}"
+        )
+    eta, alpha = params["eta"], params["alpha"]
+    wi = np.array([math.sqrt(max(0.0, 1.0 - mu * mu)), 0.0, mu])
+    reflect = component in ("total", "reflection")
+    transmit = component in ("total", "transmission")
+
+    def geometry(phi: np.ndarray, t: np.ndarray) -> dict[str, np.ndarray]:
+        """At each ``(φh, t)``: ``h``, the measure ``node`` (``dωh`` per ``dt dφh``),
+        ``c = wi·h``, the mirror ``wr``, the refraction ``wt`` and ``k = cos²θt``."""
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            tan2 = _tan2_of(model, alpha, t)
+            cos_h = 1.0 / np.sqrt(1.0 + tan2)
+            sin_h = np.sqrt(tan2) * cos_h
+            dxi_dt = 0.5 * math.pi * np.sin(math.pi * t)
+            node = dxi_dt / (2.0 * math.pi * _ndf_cos(model, alpha, cos_h, tan2))
+        h = np.stack([sin_h * np.cos(phi), sin_h * np.sin(phi), cos_h], axis=-1)
+        c = h @ wi
+        k = 1.0 - (1.0 - c * c) / (eta * eta)
+        cos_t = np.sqrt(np.maximum(k, 0.0))
+        wt = -wi / eta + (c / eta - cos_t)[..., None] * h
+        wt /= np.linalg.norm(wt, axis=-1, keepdims=True)
+        return {"h": h, "node": node, "c": c, "wr": 2.0 * c[..., None] * h - wi, "wt": wt, "k": k}
+
+    def edges_of(g: dict[str, np.ndarray]) -> list[np.ndarray]:
+        """The functions whose sign changes are the integrand's kinks: ``wi·h`` (where a
+        half vector stops facing ``wi``), the mirror's and the refraction's heights (the
+        horizon) and ``cos²θt`` (total internal reflection)."""
+        return [g["c"], g["wr"][..., 2], g["wt"][..., 2], g["k"]]
+
+    def integrand(phi: np.ndarray, t: np.ndarray) -> np.ndarray:
+        g = geometry(phi, t)
+        h, node, c = g["h"], g["node"], g["c"]
+        out = np.zeros_like(t)
+        ok = (c > 0.0) & np.isfinite(node) & (node > 0.0)
+        if reflect:
+            wo = g["wr"]
+            up = ok & (wo[:, 2] > 0.0)
+            if up.any():
+                f = brdf_rs.eval(model, wi, wo[up], **params)[:, 0]
+                out[up] += f * wo[up, 2] * 4.0 * c[up] * node[up]
+        if transmit:
+            wo = g["wt"]
+            down = ok & (g["k"] > 0.0) & (wo[:, 2] < 0.0)
+            if down.any():
+                ct = np.einsum("ij,ij->i", wo[down], h[down])
+                jacobian = (c[down] + eta * ct) ** 2 / (eta * eta * np.abs(ct))
+                f = brdf_rs.eval(model, wi, wo[down], **params)[:, 0]
+                out[down] += f * np.abs(wo[down, 2]) * jacobian * node[down]
+        return out
+
+    # The kinks along each φh: sign changes of edges_of on a grid of t, bisected.
+    grid = np.linspace(0.0, 1.0, 257)
+    base = np.linspace(0.0, 1.0, 9)
+
+    def inner(_tag: np.ndarray, phi: np.ndarray) -> np.ndarray:
+        m = phi.size
+        values = edges_of(geometry(np.repeat(phi, grid.size), np.tile(grid, m)))
+        # Brackets [a, b] of every sign change, for all φh and kinds at once, bisected.
+        rows, a, b, kind, sign = [], [], [], [], []
+        for j, v in enumerate(values):
+            v = np.sign(v.reshape(m, grid.size))
+            r, i = np.nonzero(v[:, :-1] * v[:, 1:] < 0)
+            rows.append(r)
+            a.append(grid[i])
+            b.append(grid[i + 1])
+            kind.append(np.full(r.size, j))
+            sign.append(v[r, i])
+        r, lo_t, hi_t = np.concatenate(rows), np.concatenate(a), np.concatenate(b)
+        kind, sign = np.concatenate(kind), np.concatenate(sign)
+        for _ in range(60):
+            mid = 0.5 * (lo_t + hi_t)
+            at_mid = edges_of(geometry(phi[r], mid))
+            v = np.choose(kind, [np.sign(x) for x in at_mid]) if r.size else mid
+            same = v == sign
+            lo_t, hi_t = np.where(same, mid, lo_t), np.where(same, hi_t, mid)
+        roots = 0.5 * (lo_t + hi_t)
+        per = [np.unique(np.concatenate([base, roots[r == j]])) for j in range(m)]
+        lo = np.concatenate([e[:-1] for e in per])
+        hi = np.concatenate([e[1:] for e in per])
+        tag = np.concatenate([np.full(e.size - 1, j) for j, e in enumerate(per)])
+        return _adaptive(lambda j, t: integrand(phi[j], t), lo, hi, tag, m, n, tol / 2.0)
+
+    phi_edges = np.linspace(0.0, math.pi, 9)
+    lo, hi = phi_edges[:-1], phi_edges[1:]
+    outer = _adaptive(inner, lo, hi, np.zeros(lo.size, dtype=np.intp), 1, n, tol / 2.0)
+    return float(2.0 * outer[0])
+
+
 def normal_incidence_albedo(model: str, params: dict[str, float]) -> float | None:
     """R(1) of ``torrance_sparrow`` or ``blinn_phong_fresnel`` (channel 0) as a 1-D integral
     in 40-digit arithmetic, or None for other models.
@@ -352,6 +527,10 @@ def reference_with_check(case: Case) -> tuple[float, float, float]:
     |fine − coarse| (its convergence check), or at normal incidence where
     :func:`normal_incidence_albedo` applies, that value and |fine cubature − it|."""
     t = time.perf_counter()
+    if case.model in DIELECTRICS:
+        fine = sphere_reference_albedo(case.model, case.mu, case.params, case.component, *FINE)
+        coarse = sphere_reference_albedo(case.model, case.mu, case.params, case.component, *COARSE)
+        return fine, abs(fine - coarse), time.perf_counter() - t
     fine = reference_albedo(case.model, case.mu, case.params, *FINE)
     exact = normal_incidence_albedo(case.model, case.params) if case.mu == 1.0 else None
     if exact is not None:
@@ -437,6 +616,8 @@ def calibrate(
     """Runs ``brdf_rs.albedo`` on ``cells`` independent cells of one case; z statistics,
     with what an honest error bar would give (``honest_*``) beside them."""
     options: dict[str, Any] = {"samples": budget.samples, "sequence": sequence, "seed": seed}
+    if case.component != "total":
+        options["component"] = case.component
     if sequence == "sobol":
         options["replicates"] = replicates
     if budget.tol is not None:

@@ -200,3 +200,54 @@ def test_bad_arguments_name_the_option(argv, name, capsys, tmp_path):
     with pytest.raises(SystemExit):
         sc.main([*argv, "--out", str(tmp_path / "x")])
     assert name in capsys.readouterr().err
+
+
+# ------------------------------------------------- the rough dielectrics' reference
+
+
+def _fresnel(c: float, r: float) -> float:
+    """The textbook unpolarized reflectance (Snell's law, r_s and r_p) at the cosine ``c``
+    for the relative index ``r``."""
+    sin2_t = (1.0 - c * c) / (r * r)
+    if sin2_t >= 1.0:
+        return 1.0
+    c_t = math.sqrt(1.0 - sin2_t)
+    r_s = (c - r * c_t) / (c + r * c_t)
+    r_p = (r * c - c_t) / (r * c + c_t)
+    return 0.5 * (r_s * r_s + r_p * r_p)
+
+
+@pytest.mark.parametrize("model", sc.DIELECTRICS)
+@pytest.mark.parametrize(("mu", "eta"), [(0.3, 1.5), (0.9, 1 / 1.5), (0.5, 1.05)])
+def test_sphere_reference_of_a_near_smooth_interface_is_fresnel(model, mu, eta):
+    # alpha = 1e-3: the interface is smooth but for a share of the light of order alpha.
+    params = {**sc.DIEL, "eta": eta, "alpha": 1e-3}
+    f = _fresnel(mu, eta)
+    r = sc.sphere_reference_albedo(model, mu, params, "reflection")
+    t = sc.sphere_reference_albedo(model, mu, params, "transmission")
+    assert r == pytest.approx(f, abs=2e-3)
+    assert t == pytest.approx(1.0 - f, abs=2e-3)
+
+
+@pytest.mark.parametrize(
+    ("model", "mu", "eta", "alpha"),
+    [("ggx_dielectric", 0.3, 1.1, 0.02), ("beckmann_dielectric", 0.7, 1 / 1.5, 0.5)],
+)
+def test_sphere_reference_components_add_up_and_converge(model, mu, eta, alpha):
+    case = sc.Case(model, mu, {**sc.DIEL, "eta": eta, "alpha": alpha})
+    total, diff, _ = sc.reference_with_check(case)
+    r = sc.sphere_reference_albedo(model, mu, case.params, "reflection")
+    t = sc.sphere_reference_albedo(model, mu, case.params, "transmission")
+    assert total == pytest.approx(r + t, abs=1e-13)
+    assert diff < 1e-11
+
+
+@pytest.mark.parametrize("model", sc.DIELECTRICS)
+@pytest.mark.parametrize("component", ["reflection", "transmission"])
+def test_sphere_reference_agrees_with_a_long_albedo_run(model, component):
+    # A rough interface (no rare drops): 2^18 Sobol points give an honest error bar of
+    # about 1e-5; the reference is far more accurate than that.
+    params = {**sc.DIEL, "eta": 1.5, "alpha": 0.3}
+    ref = sc.sphere_reference_albedo(model, 0.6, params, component)
+    r = brdf_rs.albedo(model, 0.6, samples=1 << 18, component=component, **params)
+    assert abs(r.value[0] - ref) <= 4 * r.stderr[0], (r.value[0], ref, r.stderr[0])

@@ -242,7 +242,7 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
 /// own. The spreads pooled are the replicates' own, before the floor of skewed lobes
 /// (a bound for small replicates, not an estimate). The same error bar decides the stop
 /// and is reported, so `tol` still bounds it.
-fn pooled_with_previous(se: [f64; 3], previous: Option<[f64; 3]>) -> [f64; 3] {
+pub(super) fn pooled_with_previous(se: [f64; 3], previous: Option<[f64; 3]>) -> [f64; 3] {
     match previous {
         None => se,
         Some(prev) => std::array::from_fn(|c| {

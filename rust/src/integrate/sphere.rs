@@ -13,16 +13,22 @@
 //! colours (the colours multiply the two parts).
 //!
 //! The error bar is the one of the hemisphere integrator: the per-point spread for random
-//! points, the spread of the replicates' means for Sobol points, in rounds that double
-//! until `tol` is met. At `eta = 1` the albedo is exact: the reflection is 0 and the
+//! points, the spread of the replicates' means for Sobol points (pooled with the previous
+//! round's, [`pooled_with_previous`]), in rounds that double until `tol` is met. Both
+//! count [`PSEUDO_POINTS`] at each bound of the weights ([`Bounds`]): near a smooth
+//! interface the weights are `G2/G1` ≈ 1 but for rare drops in the distribution's tail
+//! (a mirror direction below the horizon, a grazing `wo` where `G2/G1` falls), and a
+//! cell that drew none of them reports the spread of the smooth part alone, far below
+//! what it missed. At `eta = 1` the albedo is exact: the reflection is 0 and the
 //! transmission `kt` (the straight-through delta).
 
 use std::sync::atomic::Ordering;
 
 use glam::DVec3;
 
+use super::cell::pooled_with_previous;
 use super::options::{AlbedoOptions, CellResult, Component, Progress};
-use super::sums::mean_and_stderr;
+use super::sums::{PSEUDO_POINTS, mean_and_stderr};
 use crate::models::{Directions, Kernel};
 use crate::sampling::dielectric::DielectricSampler;
 use crate::sampling::reflect;
@@ -83,6 +89,48 @@ fn weights<K: Kernel>(
     (ok(r), ok(t))
 }
 
+/// The bounds of a point's value per channel, `[lo, hi]`: the colours weigh `ks·r + kt·t`
+/// with `r = F·G2/G1 ≤ F` and `t = (1 − F)·G2/G1 ≤ 1 − F` (0 where the direction is not
+/// on its side), so the value lies between `min(0, ks, kt)` and `max(0, ks, kt)` (of the
+/// parts integrated).
+struct Bounds {
+    lo: [f64; 3],
+    hi: [f64; 3],
+}
+
+impl Bounds {
+    fn new(ks: [f64; 3], kt: [f64; 3]) -> Self {
+        Bounds {
+            lo: std::array::from_fn(|c| ks[c].min(kt[c]).min(0.0)),
+            hi: std::array::from_fn(|c| ks[c].max(kt[c]).max(0.0)),
+        }
+    }
+
+    /// The squared deviations from `mean` of [`PSEUDO_POINTS`] points at each bound of
+    /// channel `c`, as [`super::sums::LobeSums::rgb`] adds them for a bounded lobe:
+    /// weights near one bound but for a rare region near the other make a cell that saw
+    /// none of that region read high by its share, with a spread near 0; with `a`
+    /// pseudo-points its error bar is at least `√a·(hi − lo)/n` or so, which covers a
+    /// region hit `λ > 3√a` times on average only with probability `e^−λ`.
+    fn pseudo(&self, c: usize, mean: f64) -> f64 {
+        let (lo, hi) = (self.lo[c], self.hi[c]);
+        PSEUDO_POINTS * ((mean - lo).powi(2) + (hi - mean).powi(2))
+    }
+
+    /// The standard error of the mean of `n` points with the squared deviations
+    /// `squares` about their mean `mean`, counting the pseudo-points (where the bounds
+    /// differ).
+    fn stderr(&self, c: usize, n: f64, mean: f64, squares: f64) -> f64 {
+        let pseudo = self.pseudo(c, mean);
+        let var = if pseudo > 0.0 {
+            (squares.max(0.0) + pseudo) / (n - 1.0 + 2.0 * PSEUDO_POINTS)
+        } else {
+            squares.max(0.0) / (n - 1.0)
+        };
+        (var / n).sqrt()
+    }
+}
+
 /// Integrates one cell of a transmitting model at incidence `mu` (the model's sampler
 /// `sampler`, its raw parameter `slots`, whose colours `ks` and `kt` weigh the two parts).
 pub(super) fn integrate_cell<K: Kernel>(
@@ -106,6 +154,7 @@ pub(super) fn integrate_cell<K: Kernel>(
     };
     let ks = if reflection { colour("ks") } else { [0.0; 3] };
     let kt = if transmission { colour("kt") } else { [0.0; 3] };
+    let bounds = Bounds::new(ks, kt);
     if sampler.eta == 1.0 || !(mu > 0.0) || ks.iter().chain(&kt).all(|&c| c == 0.0) {
         // No interface: the delta straight through (exact); grazing incidence: 0.
         let value = if sampler.eta == 1.0 && mu > 0.0 {
@@ -157,17 +206,29 @@ pub(super) fn integrate_cell<K: Kernel>(
     let mut streams: Vec<Stream> = (0..streams_count)
         .map(|r| Stream::new(options.sequence, options.seed, cell, r))
         .collect();
-    // Per stream: the sums of the values and (random) of their squares.
-    let mut sums = vec![([0.0; 3], [0.0; 3]); streams.len()];
+    // Per stream: the sums of the values, and of the values and their squares about a
+    // shift (the stream's first value: no cancellation in the squares' sum when the
+    // values are nearly constant).
+    let mut sums = vec![([0.0; 3], [0.0; 3], [0.0; 3]); streams.len()];
+    let mut shifts = vec![None::<[f64; 3]>; streams.len()];
     let mut done = 0u64;
+    // The previous round's replicate spread (Sobol points), pooled into the next round's.
+    let mut previous: Option<[f64; 3]> = None;
     loop {
         let count = per_stream - done;
-        for (stream, (sum, squares)) in streams.iter_mut().zip(sums.iter_mut()) {
+        for ((stream, (sum, shifted, squares)), shift) in streams
+            .iter_mut()
+            .zip(sums.iter_mut())
+            .zip(shifts.iter_mut())
+        {
             for _ in 0..count {
                 let x = point(stream.next_point());
+                let shift = *shift.get_or_insert(x);
                 for c in 0..3 {
+                    let d = x[c] - shift[c];
                     sum[c] += x[c];
-                    squares[c] += x[c] * x[c];
+                    shifted[c] += d;
+                    squares[c] += d * d;
                 }
             }
         }
@@ -177,20 +238,51 @@ pub(super) fn integrate_cell<K: Kernel>(
         done = per_stream;
         let total = per_stream * streams_count;
         let n = per_stream as f64;
-        let (mean, se) = if random {
-            let (sum, squares) = sums[0];
+        let (mean, se): ([f64; 3], [f64; 3]) = if random {
+            let (sum, shifted, squares) = sums[0];
             let mean: [f64; 3] = std::array::from_fn(|c| sum[c] / n);
-            let se = std::array::from_fn(|c| {
-                let var = ((squares[c] - sum[c] * mean[c]) / (n - 1.0)).max(0.0);
-                (var / n).sqrt()
+            let se: [f64; 3] = std::array::from_fn(|c| {
+                let deviations = squares[c] - shifted[c] * shifted[c] / n;
+                bounds.stderr(c, n, mean[c], deviations)
             });
             (mean, se)
         } else {
             let means: Vec<[f64; 3]> = sums
                 .iter()
-                .map(|(s, _)| std::array::from_fn(|c| s[c] / n))
+                .map(|(s, _, _)| std::array::from_fn(|c| s[c] / n))
                 .collect();
-            mean_and_stderr(&means)
+            let (mean, se) = mean_and_stderr(&means);
+            let pooled = pooled_with_previous(se, previous);
+            previous = Some(se);
+            // The replicates' means share what none of their points saw: the
+            // pseudo-points bound it from below. Their own error bar over all the cell's
+            // `N` points, `√(P/((N − 1 + 2a)·N))` with `P` their squared deviations, is
+            // counted at their share `P/(S + P)` of the per-point variance (`S` the
+            // points' squared deviations): whole where the points saw nothing but one
+            // value, and little where they span the bounds (a rough interface, whose
+            // replicates see its whole range: their spread is then the error bar, far
+            // below the plain Monte Carlo one that the pseudo-points belong to).
+            let all = total as f64;
+            let floor: [f64; 3] = std::array::from_fn(|c| {
+                let squares: f64 = sums
+                    .iter()
+                    .zip(&shifts)
+                    .map(|((_, shifted, squares), shift)| {
+                        let shift = shift.map_or(0.0, |s| s[c]);
+                        let own = shifted[c] / n;
+                        let between = shift + own - mean[c];
+                        (squares[c] - shifted[c] * own).max(0.0) + n * between * between
+                    })
+                    .sum();
+                let pseudo = bounds.pseudo(c, mean[c]);
+                if pseudo > 0.0 {
+                    let share = pseudo / (squares + pseudo);
+                    share * (pseudo / (all - 1.0 + 2.0 * PSEUDO_POINTS) / all).sqrt()
+                } else {
+                    0.0
+                }
+            });
+            (mean, std::array::from_fn(|c| pooled[c].max(floor[c])))
         };
         let finished = match options.tol {
             None => true,

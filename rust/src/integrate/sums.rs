@@ -26,7 +26,7 @@ const LANES: usize = 8;
 /// pseudo-point (Agresti and Coull's count for a 2σ interval of a proportion) put 1.8–2.4%
 /// of cells beyond 3 standard errors where `λ` ≈ 3 (GGX at mu = 0.7, alpha = 0.1, 256
 /// random points; `scripts/stderr_calibration.py`); three bound that share by `e^−5.2`.
-const PSEUDO_POINTS: f64 = 3.0;
+pub(super) const PSEUDO_POINTS: f64 = 3.0;
 
 /// Sums of lobe weights over points: `Σ (w_k − c_k)` and `Σ (w_k − c_k)(w_l − c_l)`,
 /// accumulated in `LANES` fixed partial sums (deterministic, and free to run in SIMD
