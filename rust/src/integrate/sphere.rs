@@ -29,10 +29,11 @@ use glam::DVec3;
 use super::cell::pooled_with_previous;
 use super::options::{AlbedoOptions, CellResult, Component, Progress};
 use super::sums::{PSEUDO_POINTS, mean_and_stderr};
+use crate::math::geometry::ggx_mu_lambda;
 use crate::models::{Directions, Kernel};
 use crate::sampling::dielectric::DielectricSampler;
-use crate::sampling::reflect;
 use crate::sampling::streams::{Sequence, Stream};
+use crate::sampling::{GgxVisibleNormals, Warp, reflect};
 
 /// The grey weights `(reflection, transmission)` of one point `u` at `wi` (`n = +z`).
 fn weights<K: Kernel>(
@@ -99,10 +100,12 @@ struct Bounds {
 }
 
 impl Bounds {
-    fn new(ks: [f64; 3], kt: [f64; 3]) -> Self {
+    /// The bounds for the colours `ks`, `kt`, each weight scaled by at most `scale` (the
+    /// smooth radius's Jacobian).
+    fn new(ks: [f64; 3], kt: [f64; 3], scale: f64) -> Self {
         Bounds {
-            lo: std::array::from_fn(|c| ks[c].min(kt[c]).min(0.0)),
-            hi: std::array::from_fn(|c| ks[c].max(kt[c]).max(0.0)),
+            lo: std::array::from_fn(|c| scale * ks[c].min(kt[c]).min(0.0)),
+            hi: std::array::from_fn(|c| scale * ks[c].max(kt[c]).max(0.0)),
         }
     }
 
@@ -131,6 +134,98 @@ impl Bounds {
     }
 }
 
+/// GGX's two weights in closed form, from the visible normal alone (no kernel, no pdf):
+/// with `L = μ·Λ(μ)` ([`ggx_mu_lambda`]) and `G2/G1(wi) = (mu_i + L_i)·mu_o/(mu_o·(mu_i +
+/// L_i) + mu_i·L_o)` (the height-correlated `G2` of both lobes), the reflection's weight is
+/// `F·G2/G1` and the refraction's `(1 − F)·G2/G1`, with the exact dielectric `F` of
+/// `c = wi·h` (1 past the critical angle). The same estimator as [`weights`] up to
+/// roundings, at a fraction of its cost.
+///
+/// For scrambled Sobol points the disk's radius is drawn as `r² = 1 − s²`, `s = 1 − u0`,
+/// with the Jacobian `2s` in the weights (the hemisphere integrator's substitution,
+/// `integrate/ggx.rs`): the rim of the projected disk, where the normal's height has a
+/// square-root singularity in `u0` and the weights change fastest, becomes smooth in `s`.
+/// Random points keep Heitz's `r² = u0` (the Jacobian's own spread would cost more than the
+/// smoothness gains them).
+struct GgxGlass {
+    normals: GgxVisibleNormals,
+    wi: DVec3,
+    alpha2: f64,
+    /// `mu_i + L_i`.
+    mu_l_i: f64,
+    eta: f64,
+    smooth: bool,
+    /// Draw azimuths on one half of the disk (the integrand is even about the plane of
+    /// incidence).
+    fold: bool,
+}
+
+impl GgxGlass {
+    fn new(alpha: f64, eta: f64, wi: DVec3, smooth: bool, fold: bool) -> Self {
+        let alpha2 = alpha * alpha;
+        let l_i = ggx_mu_lambda(wi.z, wi.x * wi.x + wi.y * wi.y, alpha2);
+        GgxGlass {
+            normals: GgxVisibleNormals::new(alpha, wi),
+            wi,
+            alpha2,
+            mu_l_i: wi.z + l_i,
+            eta,
+            smooth,
+            fold,
+        }
+    }
+
+    /// `G2/G1(wi)` for an outgoing cosine of size `mu_o > 0`.
+    #[inline(always)]
+    fn g(&self, mu_o: f64) -> f64 {
+        let l_o = ggx_mu_lambda(mu_o, (1.0 - mu_o) * (1.0 + mu_o), self.alpha2);
+        self.mu_l_i * mu_o / (mu_o * self.mu_l_i + self.wi.z * l_o)
+    }
+
+    /// The grey weights `(reflection, transmission)` of the point `u`.
+    #[inline(always)]
+    fn weights(&self, u: [f64; 2]) -> (f64, f64) {
+        let (r, jacobian) = if self.smooth {
+            let s = 1.0 - u[0];
+            ((u[0] * (1.0 + s)).sqrt(), 2.0 * s)
+        } else {
+            (u[0].sqrt(), 1.0)
+        };
+        let h = self.normals.half_vector(r, u[1], !self.fold);
+        let (wi, mu_i, eta) = (self.wi, self.wi.z, self.eta);
+        let c = wi.dot(h);
+        if !(c > 0.0) || !(h.z > 0.0) {
+            return (0.0, 0.0);
+        }
+        // The refraction: sin²θt = (1 − c²)/eta²; past the critical angle F = 1.
+        let sin2_t = (1.0 - c) * (1.0 + c) / (eta * eta);
+        let (f, t_mu) = if sin2_t < 1.0 {
+            let cos_t = (1.0 - sin2_t).sqrt();
+            let rs = (c - eta * cos_t) / (c + eta * cos_t);
+            let rp = (eta * c - cos_t) / (eta * c + cos_t);
+            // wo_t = −wi/eta + h·(c/eta − cos_t), a unit vector; its n-component.
+            (
+                0.5 * (rs * rs + rp * rp),
+                -mu_i / eta + h.z * (c / eta - cos_t),
+            )
+        } else {
+            (1.0, 0.0)
+        };
+        let r_mu = 2.0 * c * h.z - mu_i;
+        let reflected = if r_mu > 0.0 {
+            f * self.g(r_mu.min(1.0))
+        } else {
+            0.0
+        };
+        let transmitted = if t_mu < 0.0 && f < 1.0 {
+            (1.0 - f) * self.g((-t_mu).min(1.0))
+        } else {
+            0.0
+        };
+        (jacobian * reflected, jacobian * transmitted)
+    }
+}
+
 /// Integrates one cell of a transmitting model at incidence `mu` (the model's sampler
 /// `sampler`, its raw parameter `slots`, whose colours `ks` and `kt` weigh the two parts).
 pub(super) fn integrate_cell<K: Kernel>(
@@ -154,7 +249,6 @@ pub(super) fn integrate_cell<K: Kernel>(
     };
     let ks = if reflection { colour("ks") } else { [0.0; 3] };
     let kt = if transmission { colour("kt") } else { [0.0; 3] };
-    let bounds = Bounds::new(ks, kt);
     if sampler.eta == 1.0 || !(mu > 0.0) || ks.iter().chain(&kt).all(|&c| c == 0.0) {
         // No interface: the delta straight through (exact); grazing incidence: 0.
         let value = if sampler.eta == 1.0 && mu > 0.0 {
@@ -178,15 +272,31 @@ pub(super) fn integrate_cell<K: Kernel>(
     let prepared = K::prepare::<f64, [f64]>(&grey);
     let mu = mu.min(1.0);
     let wi = DVec3::new(((1.0 - mu) * (1.0 + mu)).sqrt(), 0.0, mu);
+    let random = options.sequence == Sequence::Random;
+    let closed = match sampler.warp {
+        Warp::GgxVisible { alpha } => Some(GgxGlass::new(
+            alpha,
+            sampler.eta,
+            wi,
+            !random,
+            options.fold_azimuth,
+        )),
+        _ => None,
+    };
+    // The smooth radius's Jacobian 2s (at most 2) widens the range of a point's value.
+    let smooth = closed.as_ref().is_some_and(|g| g.smooth);
+    let bounds = Bounds::new(ks, kt, if smooth { 2.0 } else { 1.0 });
     let point = |u: [f64; 2]| -> [f64; 3] {
-        let (r, t) = weights::<K>(&sampler, &prepared, wi, u);
+        let (r, t) = match &closed {
+            Some(glass) => glass.weights(u),
+            None => weights::<K>(&sampler, &prepared, wi, u),
+        };
         std::array::from_fn(|c| {
             let a = if ks[c] == 0.0 { 0.0 } else { ks[c] * r };
             let b = if kt[c] == 0.0 { 0.0 } else { kt[c] * t };
             a + b
         })
     };
-    let random = options.sequence == Sequence::Random;
     let streams_count = if random {
         1
     } else {
@@ -353,6 +463,70 @@ mod tests {
         assert!((t.value[0] - (1.0 - fresnel)).abs() < 1e-3, "{t:?}");
         assert!((total.value[0] - 1.0).abs() < 1e-3, "{total:?}");
         assert!((total.value[0] - r.value[0] - t.value[0]).abs() < 1e-12);
+    }
+
+    /// The closed form gives the generic `f·|n·wo|/pdf` of the kernel for the same point
+    /// (with Heitz's radius, the warp's own, and the full disk), on both sides of 1 and
+    /// past the critical angle: to 1e-9, as near the critical angle `cos θt = sqrt(1 −
+    /// sin²θt)` turns a rounding of `sin²θt` into a larger one of `F` (the kernel forms `F`
+    /// differently).
+    #[test]
+    fn ggx_closed_form_weights_are_the_kernels() {
+        let mut checked = 0;
+        let cases: [(f64, f64, f64); 6] = [
+            (1.5, 0.3, 0.7),
+            (1.0 / 1.5, 0.3, 0.7),
+            (1.05, 0.02, 0.95),
+            (1.0 / 1.33, 0.8, 0.2),
+            (2.4, 1.0, 0.05),
+            (1.0 + 1e-4, 0.5, 0.5),
+        ];
+        for (eta, alpha, mu) in cases {
+            let s = slots(eta, alpha);
+            let sampler = GgxDielectric::transmission_sampler(&s).unwrap();
+            let prepared = GgxDielectric::prepare::<f64, [f64]>(&s);
+            let wi = DVec3::new(((1.0 - mu) * (1.0 + mu)).sqrt(), 0.0, mu);
+            let glass = GgxGlass::new(alpha, eta, wi, false, false);
+            for i in 0..4000 {
+                let u = [
+                    (f64::from(i) + 0.5) / 4000.0,
+                    (f64::from(i) * 0.618_033_988_749_895) % 1.0,
+                ];
+                let (r, t) = glass.weights(u);
+                let (r0, t0) = weights::<GgxDielectric>(&sampler, &prepared, wi, u);
+                assert!(
+                    (r - r0).abs() <= 1e-9 * r0.abs().max(1e-3),
+                    "{eta} {alpha} {mu} {u:?}: {r} {r0}"
+                );
+                assert!(
+                    (t - t0).abs() <= 1e-9 * t0.abs().max(1e-3),
+                    "{eta} {alpha} {mu} {u:?}: {t} {t0}"
+                );
+                checked += usize::from(r0 > 0.0) + usize::from(t0 > 0.0);
+            }
+        }
+        assert!(checked > 20_000, "{checked}");
+    }
+
+    /// Sobol points with the smooth radius and the folded azimuth estimate the same
+    /// albedo as random points with neither.
+    #[test]
+    fn ggx_smooth_radius_and_fold_keep_the_albedo() {
+        for (eta, alpha, mu) in [(1.5, 0.1, 0.8), (1.0 / 1.5, 0.4, 0.3), (1.1, 0.02, 0.6)] {
+            let s = slots(eta, alpha);
+            let sampler = GgxDielectric::transmission_sampler(&s).unwrap();
+            let run = |sequence| {
+                let options = AlbedoOptions {
+                    samples: 1 << 16,
+                    sequence,
+                    ..AlbedoOptions::default()
+                };
+                integrate_cell::<GgxDielectric>(sampler, mu, &s, 3, &options, &Progress::default())
+            };
+            let (q, p) = (run(Sequence::Sobol), run(Sequence::Random));
+            let bound = 5.0 * q.stderr[0].hypot(p.stderr[0]) + 1e-12;
+            assert!((q.value[0] - p.value[0]).abs() < bound, "{q:?} {p:?}");
+        }
     }
 
     #[test]
