@@ -35,6 +35,17 @@ vector reproduces cells of the ``ior ≈ 1.0089`` slice of ``_E`` to about 5e-6;
 ``alpha = 1e-8``) is raised to its minimum, 1e-7: both are the smooth interface to far
 better than the tables' 6 decimals.
 
+Where the file is not at hand, ``scripts/cycles_tables_from_binary.py`` writes the same
+tables from an installed Blender executable.
+
+For the cells beyond the bound the script prints an independent NumPy estimate of the
+same model twice: once scoring 0 for a refraction that leaves on the light's side of the
+surface (as Walter et al., pbrt-v4 and brdf-rs do: a single-scattering model has no
+such path), once scoring it like any other (Cycles' sampler has that test commented out,
+``// valid = valid && (dot(Ng, *wo) < 0);`` in ``bsdf_microfacet.h``). Where light
+arrives from the dense side (``_inv_E``), refraction bends toward the surface and the two
+differ by up to 0.93 at grazing incidence; the second reproduces Cycles' values.
+
 A cell agrees when ``|Cycles − brdf_rs| ≤ 5·stderr + atol``: ``stderr`` is brdf-rs's own
 standard error, ``atol`` covers Cycles' Monte Carlo error (not published with the
 tables), its float32 arithmetic and its 6 printed decimals. The script prints, per table
@@ -92,6 +103,75 @@ def grid() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return rough.astype(np.float64), mu.astype(np.float64), ior.astype(np.float64)
 
 
+def _visible_normals(wi: np.ndarray, alpha: float, u1: np.ndarray, u2: np.ndarray) -> np.ndarray:
+    """Heitz's (2018) GGX visible normals seen from ``wi`` (in the xz plane), written out
+    here in NumPy, apart from the library's sampler."""
+    vh = np.array([alpha * wi[0], alpha * wi[1], wi[2]])
+    vh /= np.linalg.norm(vh)
+    t1 = np.array([-vh[1], vh[0], 0.0]) / np.hypot(vh[0], vh[1]) if vh[2] < 1 else np.eye(3)[0]
+    t2 = np.cross(vh, t1)
+    r, phi = np.sqrt(u1), 2 * np.pi * u2
+    p1 = r * np.cos(phi)
+    s = 0.5 * (1 + vh[2])
+    p2 = (1 - s) * np.sqrt(np.maximum(0, 1 - p1 * p1)) + s * r * np.sin(phi)
+    p3 = np.sqrt(np.maximum(0, 1 - p1 * p1 - p2 * p2))
+    nh = p1[:, None] * t1 + p2[:, None] * t2 + p3[:, None] * vh
+    h = np.stack([alpha * nh[:, 0], alpha * nh[:, 1], np.maximum(nh[:, 2], 1e-7)], axis=1)
+    return h / np.linalg.norm(h, axis=1, keepdims=True)
+
+
+def side_check_estimate(
+    mu: float, rough: float, eta: float, side_check: bool, samples: int = 1 << 20
+) -> tuple[float, float]:
+    """An independent Monte Carlo estimate of the GGX glass albedo, in NumPy: visible
+    normals, the exact dielectric F, and the weights ``F·G2/G1`` and ``(1 − F)·G2/G1``
+    (Walter et al.'s model with the height-correlated ``G2``). With ``side_check`` a
+    refraction that leaves on the light's side of the surface scores 0 (Walter et al.,
+    pbrt-v4, brdf-rs); without it, it scores like any other (Cycles: its sampler leaves
+    that test commented out). Returns the mean and its standard error."""
+    rng = np.random.default_rng(0)
+    alpha = max(rough * rough, ALPHA_MIN)
+    a2 = alpha * alpha
+    wi = np.array([np.sqrt(1 - mu * mu), 0.0, mu])
+    h = _visible_normals(wi, alpha, rng.random(samples), rng.random(samples))
+    c = h @ wi
+
+    def lam(cos: np.ndarray | float) -> np.ndarray:
+        c2 = np.maximum(np.square(cos), 1e-300)
+        return 0.5 * (np.sqrt(1 + a2 * (1 - c2) / c2) - 1)
+
+    sin2_t = (1 - c * c) / (eta * eta)
+    tir = sin2_t >= 1
+    cos_t = np.sqrt(np.maximum(0, 1 - sin2_t))
+    rs = (c - eta * cos_t) / (c + eta * cos_t)
+    rp = (eta * c - cos_t) / (eta * c + cos_t)
+    f = np.where(tir, 1.0, 0.5 * (rs * rs + rp * rp))
+    li = lam(mu)
+    mu_r = 2 * c * h[:, 2] - mu
+    reflected = np.where(mu_r > 0, f * (1 + li) / (1 + li + lam(mu_r)), 0.0)
+    mu_t = -mu / eta + h[:, 2] * (c / eta - cos_t)
+    leaves = (mu_t < 0) if side_check else np.ones_like(mu_t, dtype=bool)
+    transmitted = np.where(~tir & leaves, (1 - f) * (1 + li) / (1 + li + lam(mu_t)), 0.0)
+    x = reflected + transmitted
+    return float(x.mean()), float(x.std() / np.sqrt(samples))
+
+
+def explain(table: np.ndarray, inverse: bool, cells: list[tuple[int, int, int]]) -> None:
+    """For cells beyond the bound: the independent NumPy estimate with and without the
+    test that a refraction leaves on the far side."""
+    rough, mu, ior = grid()
+    print("  independent NumPy estimates (2^20 samples) of the cells furthest apart:")
+    for z, y, x in cells:
+        eta = 1.0 / ior[z] if inverse else ior[z]
+        with_check = side_check_estimate(mu[y], rough[x], eta, True)
+        without = side_check_estimate(mu[y], rough[x], eta, False)
+        print(
+            f"    eta={eta:.6g} mu={mu[y]:.4g} r={rough[x]:.4g}: Cycles {table[z, y, x]:.6f};"
+            f" refractions to the light's side scored 0: {with_check[0]:.6f} ± {with_check[1]:.0e},"
+            f" scored: {without[0]:.6f} ± {without[1]:.0e}"
+        )
+
+
 def compare(
     table: np.ndarray,
     inverse: bool,
@@ -106,6 +186,7 @@ def compare(
     alpha = np.maximum(rough**2, ALPHA_MIN)
     rows = slice(1, None) if skip_grazing else slice(None)
     beyond = 0
+    worst: list[tuple[float, tuple[int, int, int]]] = []
     for z in slices:
         eta = 1.0 / ior[z] if inverse else ior[z]
         result = brdf_rs.albedo(
@@ -125,6 +206,13 @@ def compare(
         bound = 5.0 * stderr + atol
         bad = np.abs(diff) > bound
         beyond += int(bad.sum())
+        for yy, xx in zip(*np.nonzero(bad), strict=True):
+            worst.append(
+                (
+                    abs(float(diff[yy, xx])),
+                    (z, int(yy) + rows.start if rows.start else int(yy), int(xx)),
+                )
+            )
         y, x = np.unravel_index(int(np.argmax(np.abs(diff))), diff.shape)
         y_index = y + (1 if skip_grazing else 0)
         print(
@@ -138,6 +226,10 @@ def compare(
                 f"      mu={mu[yi]:.4g} r={rough[xx]:.4g}: Cycles {theirs[yy, xx]:.6f}, "
                 f"brdf-rs {ours[yy, xx]:.6f} ± {stderr[yy, xx]:.1e}"
             )
+    if worst:
+        worst.sort(reverse=True)
+        picks = worst[:3] + worst[-2:] if len(worst) > 5 else worst
+        explain(table, inverse, [cell for _, cell in picks])
     return beyond
 
 
