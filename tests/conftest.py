@@ -12,6 +12,7 @@ determine it.
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import os
 import subprocess
@@ -209,3 +210,17 @@ def run_cli(*args: str, cwd: Path | None = None, code: int = 0) -> subprocess.Co
     )
     assert result.returncode == code, (result.returncode, result.stdout, result.stderr)
     return result
+
+
+def calibration_script():
+    """scripts/stderr_calibration.py as a module."""
+    name = "stderr_calibration"
+    module = sys.modules.get(name)
+    if module is None:
+        path = Path(__file__).resolve().parent.parent / "scripts" / f"{name}.py"
+        spec = importlib.util.spec_from_file_location(name, path)
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module  # dataclasses look their module up there
+        spec.loader.exec_module(module)
+    return module

@@ -11,31 +11,14 @@ Honest: 0.9% for Sobol points (Student's t, 15 d.o.f.), 0.3% for random ones.
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import brdf_rs
 import numpy as np
 import pytest
-
-
-def _calibration():
-    """scripts/stderr_calibration.py as a module."""
-    name = "stderr_calibration"
-    module = sys.modules.get(name)
-    if module is None:
-        path = Path(__file__).resolve().parent.parent / "scripts" / f"{name}.py"
-        spec = importlib.util.spec_from_file_location(name, path)
-        assert spec is not None and spec.loader is not None
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module  # dataclasses look their module up there
-        spec.loader.exec_module(module)
-    return module
+from conftest import calibration_script
 
 
 def _z(model, mu, eta, alpha, cells, component="total", **options) -> np.ndarray:
-    sc = _calibration()
+    sc = calibration_script()
     params = {**sc.DIEL, "eta": eta, "alpha": alpha}
     want = sc.sphere_reference_albedo(model, mu, params, component)
     r = brdf_rs.albedo(

@@ -18,14 +18,12 @@ cubature of ``eval``.
 
 from __future__ import annotations
 
-import importlib.util
 import itertools
-import sys
-from pathlib import Path
 
 import brdf_rs
 import numpy as np
 import pytest
+from conftest import calibration_script
 
 MS_MODELS = ("ggx_ms", "beckmann_ms")
 
@@ -242,24 +240,10 @@ def test_error_bars_are_never_below_the_rounding_of_the_value(sequence):
 # ------------------------------------- sharp Schlick lobes at normal incidence
 
 
-def _calibration():
-    """scripts/stderr_calibration.py as a module."""
-    name = "stderr_calibration"
-    module = sys.modules.get(name)
-    if module is None:
-        path = Path(__file__).resolve().parent.parent / "scripts" / f"{name}.py"
-        spec = importlib.util.spec_from_file_location(name, path)
-        assert spec is not None and spec.loader is not None
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module  # dataclasses look their module up there
-        spec.loader.exec_module(module)
-    return module
-
-
 def _normal_incidence_albedo(model: str, params: dict[str, float]) -> float:
     """The exact albedo at mu = 1 (a 1-D integral in 40-digit arithmetic), from
     scripts/stderr_calibration.py."""
-    value = _calibration().normal_incidence_albedo(model, params)
+    value = calibration_script().normal_incidence_albedo(model, params)
     assert value is not None
     return value
 
@@ -270,7 +254,7 @@ def _z(model: str, params: dict[str, float], cells: int, mu: float = 1.0, **opti
     if mu == 1.0 and model in ("torrance_sparrow", "blinn_phong_fresnel"):
         want = _normal_incidence_albedo(model, params)
     else:
-        calibration = _calibration()
+        calibration = calibration_script()
         want = calibration.reference_albedo(model, mu, params, *calibration.FINE)
     r = brdf_rs.albedo(
         model, np.full(cells, mu), cell_ids=np.arange(cells, dtype=np.uint64), **options, **params
