@@ -289,6 +289,8 @@ def models() -> dict[str, _spec.ModelSpec]:
     parameters whose all being zero makes the model zero), ``scene_slot`` (where a scene
     material takes it), ``diffuse`` (how a family-A model's diffuse term renders alone),
     ``dfg`` (the roughness axis of its split-sum table, or None), ``energy_table``,
+    ``view_albedo_closed_form`` (whether the lobe's albedo seen from the view, over the
+    light, is known in closed form: energy tables use it),
     ``transmission`` (whether it transmits: defined on the whole sphere, not zero below
     the surface),
     ``sheen_layer`` (whether a scene material may stack it over a base as a sheen layer),

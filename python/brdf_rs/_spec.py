@@ -85,6 +85,10 @@ class ModelSpec(TypedDict):
     dfg: DfgAxis | None
     #: Whether it has energy-compensation tables.
     energy_table: bool
+    #: Whether the kernel gives the lobe's albedo seen from the view (``kd = 0``,
+    #: ``ks = 1``: ``∫ f(wi, wo)·mu_i dωi`` over the light) in closed form: its energy
+    #: table and sheen layer take it rather than integrate.
+    view_albedo_closed_form: bool
     #: Whether it transmits: defined on the whole sphere of ``wi`` and ``wo`` (a BSDF),
     #: not zero unless both directions are above the surface; scenes refuse it.
     transmission: bool

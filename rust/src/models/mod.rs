@@ -171,7 +171,9 @@ pub trait Kernel: 'static {
     /// For a sheen layer's model: the lobe's albedo seen from the view at unit colour
     /// (`kd = 0`, `ks = 1`, roughness `alpha`), `∫ f(wi, wo)·(n·wi) dωi` over the light at
     /// `n·wo = mu_o`, where the model gives it in closed form; `None` where it must be
-    /// integrated (for a reciprocal model that is the directional albedo).
+    /// integrated (for a reciprocal model that is the directional albedo). A kernel
+    /// answers `Some` for every `alpha` and `mu_o` or `None` for all
+    /// ([`ModelKind::view_albedo_closed_form`]).
     fn sheen_view_albedo(_alpha: f64, _mu_o: f64) -> Option<f64> {
         None
     }
@@ -253,6 +255,13 @@ macro_rules! declare_models {
                         <$module::$ty as Kernel>::sheen_view_albedo(alpha, mu_o)
                     }),*
                 }
+            }
+
+            /// Returns whether the kernel gives its albedo seen from the view in closed form
+            /// ([`Kernel::sheen_view_albedo`], which answers for every argument or none):
+            /// its energy tables and sheen layers use it rather than integrate.
+            pub fn view_albedo_closed_form(self) -> bool {
+                self.sheen_view_albedo(0.5, 0.5).is_some()
             }
 
             /// Calls the visitor with the model's kernel type.
@@ -337,6 +346,20 @@ mod tests {
                 .contains("did you mean \"torrance_sparrow\""),
             "{err}"
         );
+    }
+
+    /// An energy table's `E` is the albedo seen from the view: the integrator's
+    /// directional albedo only for a reciprocal lobe, otherwise the kernel's closed form.
+    #[test]
+    fn energy_tables_of_lobes_that_are_not_reciprocal_have_a_closed_form() {
+        for kind in ModelKind::ALL {
+            let spec = kind.spec();
+            if spec.energy_table && !spec.reciprocal {
+                assert!(kind.view_albedo_closed_form(), "{}", spec.name);
+            }
+        }
+        assert!(ModelKind::ZeltnerSheen.view_albedo_closed_form());
+        assert!(!ModelKind::CharlieSheen.view_albedo_closed_form());
     }
 
     #[test]

@@ -225,10 +225,17 @@ impl Kernel for ZeltnerSheen {
         above_both(mu_i, mu_o, rgb)
     }
 
-    /// `R(mu_o, α)`: the paper's fit of this very integral (the LTC integrates to 1 over
-    /// the light's hemisphere up to the fit's error).
+    /// `R(mu_o, α)` for `mu_o > 0`: this very integral, exactly (the transformed cosine
+    /// `D` keeps `z`, so it integrates to 1 over the light's hemisphere; `R` is the
+    /// paper's fit of the volumetric layer's albedo, which the kernel multiplies by).
+    /// 0 at `mu_o <= 0` (and NaN), where `f` is 0: at grazing view the integral jumps
+    /// from `R(0, α)` to 0.
     fn sheen_view_albedo(alpha: f64, mu_o: f64) -> Option<f64> {
-        Some(Fits::new(alpha).albedo(mu_o))
+        Some(if mu_o > 0.0 {
+            Fits::new(alpha).albedo(mu_o)
+        } else {
+            0.0
+        })
     }
 
     /// Drawn uniformly over the hemisphere, as the other sheens (the LTC draws `wi` for a
@@ -241,6 +248,21 @@ impl Kernel for ZeltnerSheen {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The hook is `R` above the surface and 0 where the view is not (as `f` is).
+    #[test]
+    fn view_albedo_is_the_fit_above_the_surface_and_zero_below() {
+        for alpha in [0.01, 0.08, 0.5, 1.0] {
+            let fits = Fits::<f64>::new(alpha);
+            for mu in [1e-9, 0.3, 1.0] {
+                assert_eq!(ZeltnerSheen::sheen_view_albedo(alpha, mu), Some(fits.albedo(mu)));
+            }
+            assert!(fits.albedo(0.0) > 0.0 || (0.041..0.132).contains(&alpha));
+            for mu in [0.0, -0.5, f64::NAN] {
+                assert_eq!(ZeltnerSheen::sheen_view_albedo(alpha, mu), Some(0.0));
+            }
+        }
+    }
 
     /// The kernel's frame-free `q` against `|M⁻¹·w|²` built in the view's frame, as the
     /// paper writes it.

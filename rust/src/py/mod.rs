@@ -298,6 +298,36 @@ fn param_admits(model: &str, param: &str, value: f64) -> PyResult<bool> {
     Ok(p.range.admits(value))
 }
 
+/// Returns the albedo seen from the view at unit colour, `kd = 0`, `ks = 1`
+/// ([`ModelKind::sheen_view_albedo`]), elementwise over `mu_o` and `alpha` (same shape; the
+/// package broadcasts and checks the ranges), for a model that gives it in closed form.
+#[pyfunction]
+fn view_albedo<'py>(
+    py: Python<'py>,
+    model: &str,
+    mu_o: PyReadonlyArrayDyn<'py, f64>,
+    alpha: PyReadonlyArrayDyn<'py, f64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let kind = ModelKind::from_name(model)?;
+    if !kind.view_albedo_closed_form() {
+        return Err(PyValueError::new_err(format!(
+            "{model}: its albedo seen from the view has no closed form"
+        )));
+    }
+    let (mu_o, alpha) = (mu_o.as_array(), alpha.as_array());
+    if mu_o.shape() != alpha.shape() {
+        return Err(PyValueError::new_err(format!(
+            "view_albedo: mu_o and alpha differ in shape: {:?} and {:?}",
+            mu_o.shape(),
+            alpha.shape()
+        )));
+    }
+    let out = ndarray::Zip::from(&mu_o)
+        .and(&alpha)
+        .map_collect(|&m, &a| kind.sheen_view_albedo(a, m).unwrap_or(f64::NAN));
+    Ok(out.into_pyarray(py))
+}
+
 /// Returns the spec table: one dict per model.
 #[pyfunction]
 fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
@@ -358,6 +388,7 @@ fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         };
         d.set_item("dfg", dfg)?;
         d.set_item("energy_table", spec.energy_table)?;
+        d.set_item("view_albedo_closed_form", kind.view_albedo_closed_form())?;
         d.set_item("transmission", spec.transmission)?;
         d.set_item("sheen_layer", spec.sheen_layer)?;
         d.set_item("powers", kind.powers())?;
@@ -654,7 +685,7 @@ mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
         albedo, check_param_names, check_params, eval_f32, eval_f64, isa, max_num_threads, models,
-        num_threads, param_admits, pdf, sample, set_num_threads, tool_defaults,
+        num_threads, param_admits, pdf, sample, set_num_threads, tool_defaults, view_albedo,
     };
 
     #[pymodule_export]
