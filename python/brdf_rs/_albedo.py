@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -470,9 +471,11 @@ class EnergyCompensation:
     (2017) single-scattering tables of a microfacet model (F = 1), or a sheen model's
     albedo-scaling table (a base layered under sheen keeps ``1 − E_sheen``).
 
-    ``e[i, j]`` is the directional albedo ``E(mu_i, alpha_j)``, ``e_avg[j]`` the
-    cosine-weighted average ``E_avg(alpha) = 2 ∫ E(mu) mu dmu`` (a 32-point Gauss-Legendre
-    rule in mu), ``stderr`` and ``e_avg_stderr`` their standard errors. The missing energy
+    ``e[i, j]`` is the lobe's albedo seen from the view ``E(mu_i, alpha_j) = ∫ f(wi, wo)
+    mu_i dωi`` at ``n·wo = mu`` (for a reciprocal lobe the directional albedo), ``e_avg[j]``
+    the cosine-weighted average ``E_avg(alpha) = 2 ∫ E(mu) mu dmu``, ``stderr`` and
+    ``e_avg_stderr`` their error bars; ``estimator`` says how they were computed (see
+    :func:`energy_compensation_table`). The missing energy
     is restored by the lobe ``f_ms = (1 − E(mu_i))(1 − E(mu_o)) / (π (1 − E_avg))``, scaled
     for a Schlick F0 by ``F_avg² E_avg / (1 − F_avg (1 − E_avg))``, ``F_avg = F0 + (1 − F0)/21``
     (see :meth:`multiple_scattering`; microfacet models with a Schlick F0 only: a sheen
@@ -486,6 +489,10 @@ class EnergyCompensation:
     e_avg: np.ndarray
     stderr: np.ndarray
     e_avg_stderr: np.ndarray
+    estimator: str = (
+        "randomized QMC (Owen-scrambled Sobol) of the directional albedo, E_avg by"
+        " 32-point Gauss-Legendre in mu"
+    )
 
     def multiple_scattering(
         self, mu_i: Any, mu_o: Any, alpha_index: Any, f0: Any = 1.0
@@ -521,7 +528,24 @@ def energy_compensation_table(
     **options: Any,
 ) -> EnergyCompensation:
     """Builds E(mu, alpha) and E_avg(alpha) at kd = 0, ks = 1 for the models whose spec has
-    ``energy_table`` (the microfacet models with F = 1, and the sheen models)."""
+    ``energy_table`` (the microfacet models with F = 1, and the sheen models).
+
+    ``E`` is the albedo seen from the view, ``∫ f(wi, wo)·mu_i dωi`` over the light at
+    ``n·wo = mu``: the albedo a layer takes out of the light, and the one Kulla and Conty's
+    lobe completes. How it is computed depends on the model (its :func:`brdf_rs.models`
+    entry):
+
+    - A reciprocal lobe: ``E`` is its directional albedo, integrated by
+      :func:`brdf_rs.albedo` (randomized QMC with ``samples``, ``tol``, ``seed`` and the
+      other ``options``; standard errors), ``E_avg`` by a 32-point Gauss-Legendre rule in
+      ``mu`` over cells of their own.
+    - A kernel with ``view_albedo_closed_form`` (a lobe that is not reciprocal, whose
+      albedo over ``wo`` that :func:`brdf_rs.albedo` integrates is not ``E``): ``E`` is the
+      closed form, exact (``stderr`` 0; ``E(0) = 0``, as ``f`` is 0 there). ``E_avg`` is an
+      adaptive Gauss-Legendre quadrature of it in ``mu`` (:func:`_closed_form_average`),
+      and ``e_avg_stderr`` a bound on that quadrature's error, not a standard error. The
+      integrator's options are checked and otherwise not used (nothing is sampled).
+    """
     _arrays.model_name(model)
     compensated = _spec.with_energy_table()
     if model not in compensated:
@@ -537,6 +561,8 @@ def energy_compensation_table(
     )
     mu = _grid.axis_values(model, "mu", "mu", mu)
     alpha = _grid.axis_values(model, "alpha", "alpha", alpha)
+    if _spec.specs()[model]["view_albedo_closed_form"]:
+        return _closed_form_table(model, mu, alpha, samples, tol, seed, options)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}
     grid = albedo(model, mu[:, None], alpha=alpha[None, :], **common)
     # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).
@@ -551,3 +577,92 @@ def energy_compensation_table(
     return EnergyCompensation(
         model, mu, alpha, grid.value[..., 0], e_avg, grid.stderr[..., 0], e_avg_se
     )
+
+
+#: The integrator's options :func:`energy_compensation_table` checks but does not use
+#: for a closed form (with ``samples``, ``tol`` and ``seed``).
+_SAMPLING_OPTIONS = ("sampler", "sequence", "replicates", "max_samples", "component")
+
+#: The closed form's E_avg: panels are halved until ``|G20 − G10|`` is at most this much
+#: per unit of ``mu`` (so at most this much in all), ...
+_AVERAGE_TOL = 1e-14
+#: ... or the panel is this narrow (then its estimate is kept as it is, in the bound).
+_MIN_PANEL = 2.0**-40
+
+
+def _closed_form_table(
+    model: str,
+    mu: np.ndarray,
+    alpha: np.ndarray,
+    samples: int,
+    tol: float | None,
+    seed: int,
+    options: dict[str, Any],
+) -> EnergyCompensation:
+    """:func:`energy_compensation_table` for a kernel with the view albedo in closed form."""
+    progress = options.pop("progress", None)
+    if progress is not None and not callable(progress):
+        raise TypeError(
+            "progress: expected a function called as progress(cells_done, samples_done),"
+            f" or None; got {type(progress).__name__}"
+        )
+    given = {k: options.pop(k) for k in _SAMPLING_OPTIONS if k in options}
+    _options.check({"samples": samples, "tol": tol, "seed": seed, **given})
+    if options:
+        raise TypeError(
+            f"{next(iter(options))}: energy_compensation_table takes no such option for"
+            f" {model}, whose E is in closed form"
+        )
+    m, a = np.broadcast_arrays(mu[:, None], alpha[None, :])
+    e = _core.view_albedo(model, np.ascontiguousarray(m), np.ascontiguousarray(a))
+    averages = [_closed_form_average(model, float(x)) for x in alpha]
+    e_avg = np.array([v for v, _ in averages])
+    bound = np.array([b for _, b in averages])
+    estimator = (
+        "closed form of the albedo seen from the view (exact, stderr 0); E_avg by adaptive"
+        " Gauss-Legendre in mu, e_avg_stderr a bound on its error (sum of |G20 - G10| over"
+        " the panels, plus rounding)"
+    )
+    return EnergyCompensation(model, mu, alpha, e, e_avg, np.zeros_like(e), bound, estimator)
+
+
+def _closed_form_average(model: str, alpha: float) -> tuple[float, float]:
+    """``E_avg = 2 ∫_0^1 E(mu) mu dmu`` of the closed form ``E`` at one ``alpha``, and a
+    bound on the error.
+
+    Adaptive Gauss-Legendre: each panel of ``[0, 1]`` (16 to start) gets the 10- and
+    20-point rules; a panel where they differ by more than :data:`_AVERAGE_TOL` times its
+    width is halved, otherwise its 20-point value is kept (the kept values are summed
+    exactly rounded). The bound is the sum of ``|G20 − G10|`` over the kept panels, plus
+    32 ulp of each panel's value for rounding (``E`` is evaluated to about an ulp; each
+    panel's value is a 20-term sum of positive products). ``|G20 − G10|`` is the 10-point
+    rule's error to first order,
+    and on a panel where ``E`` is smooth the 20-point rule's error is far below it (Gauss
+    rules converge geometrically for analytic integrands): so the kept value is within
+    the bound. Where ``E`` is not smooth (a closed form held at 0 has a kink) the halving
+    closes in on the kink until the panel's share is negligible; the tests check the
+    bound against an independent reference.
+    """
+    x10, w10 = np.polynomial.legendre.leggauss(10)
+    x20, w20 = np.polynomial.legendre.leggauss(20)
+    lo = np.arange(16) / 16.0
+    hi = lo + 1 / 16.0
+    values: list[np.ndarray] = []
+    bounds: list[np.ndarray] = []
+    while lo.size:
+        c, h = (lo + hi)[:, None] / 2, (hi - lo)[:, None] / 2
+        points = np.concatenate([c + h * x10, c + h * x20], axis=1)
+        e = _core.view_albedo(model, points, np.full_like(points, alpha))
+        integrand = 2 * points * e
+        g10 = h[:, 0] * (integrand[:, :10] @ w10)
+        g20 = h[:, 0] * (integrand[:, 10:] @ w20)
+        estimate = np.abs(g20 - g10)
+        width = hi - lo
+        kept = (estimate <= _AVERAGE_TOL * width) | (width <= _MIN_PANEL)
+        values.append(g20[kept])
+        bounds.append(estimate[kept] + 32 * np.finfo(float).eps * np.abs(g20[kept]))
+        mid = (lo + hi)[~kept] / 2
+        lo, hi = np.concatenate([lo[~kept], mid]), np.concatenate([mid, hi[~kept]])
+    # Summed exactly rounded: the panels add no rounding of their own.
+    value = math.fsum(np.concatenate(values).tolist())
+    return value, math.fsum(np.concatenate(bounds).tolist())

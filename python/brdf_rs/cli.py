@@ -623,8 +623,10 @@ def save_energy(result: Any, path: Path) -> Path:
 
     meta = {
         "model": result.model,
-        "quantity": "Kulla-Conty energy compensation: e[mu, alpha] = E(mu, alpha) with F = 1,"
-        " e_avg[alpha] = 2 * integral of E(mu) mu dmu",
+        "quantity": "energy table: e[mu, alpha] = E(mu, alpha), the lobe's albedo seen from"
+        " the view (over the light) at kd = 0, ks = 1 (F = 1), e_avg[alpha] = 2 * integral of"
+        " E(mu) mu dmu",
+        "estimator": result.estimator,
         "brdf_rs": __version__,
     }
     _atomic.save_npz(
@@ -1376,10 +1378,14 @@ def _add_dfg_command(sub: Any) -> None:
 def _add_energy_command(sub: Any) -> None:
     p = sub.add_parser(
         "energy",
-        help="build a Kulla-Conty energy compensation table: E(mu, alpha) and E_avg(alpha)",
+        help="build an energy compensation table: E(mu, alpha) and E_avg(alpha)",
         description="The single-scattering albedo E(mu, alpha) of a microfacet model with "
         "F = 1 and its cosine-weighted average E_avg(alpha); 1 - E_avg is the energy a "
-        "multiple-scattering lobe (Kulla and Conty's; the _ms models) restores.",
+        "multiple-scattering lobe (Kulla and Conty's; the _ms models) restores. For a sheen "
+        "model, the albedo a layer takes out of the light (the base under it keeps 1 - E). "
+        "E is the albedo seen from the view; where the model gives it in closed form (a lobe "
+        "that is not reciprocal) nothing is sampled: E is exact and E_avg's error bar bounds "
+        "a quadrature's error.",
     )
     _add_model(p, help=" or ".join(_spec.with_energy_table()))
     _add_incidences(p)

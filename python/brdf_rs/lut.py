@@ -412,7 +412,7 @@ class LutSpec:
             "seed": self.seed,
             "name": self.name,
             "sheen": self.sheen,
-            "estimator": _ESTIMATOR[self.kind],
+            "estimator": _estimator(self.kind, self.model),
             "brdf_rs": __version__,
         }
 
@@ -478,6 +478,18 @@ _ESTIMATOR = {
     "energy": "brdf_rs.energy_compensation_table: randomized QMC (Owen-scrambled Sobol),"
     " E_avg by 32-point Gauss-Legendre in mu",
 }
+
+
+def _estimator(kind: str, model: str) -> str:
+    """How a table's values are computed: :data:`_ESTIMATOR`, except for the energy table
+    of a model whose albedo seen from the view is in closed form (nothing is sampled)."""
+    spec = _spec.specs().get(model)
+    if kind == "energy" and spec is not None and spec["view_albedo_closed_form"]:
+        return (
+            "brdf_rs.energy_compensation_table: E the closed form of the albedo seen from the"
+            " view, E_avg by adaptive Gauss-Legendre in mu with an error bound"
+        )
+    return _ESTIMATOR[kind]
 
 
 @dataclasses.dataclass(frozen=True)

@@ -307,7 +307,9 @@ pub struct ModelSpec {
     pub dfg: Option<DfgAxis>,
     /// Whether it has energy tables `E(mu, alpha)`, `E_avg(alpha)` at `kd = 0`, `ks = 1`:
     /// Kulla and Conty's (`F = 1`) for the microfacet models, albedo-scaling tables for
-    /// the sheen models.
+    /// the sheen models. `E` is the albedo seen from the view: the directional albedo
+    /// for a reciprocal lobe, the closed form [`super::Kernel::sheen_view_albedo`] for a
+    /// lobe that is not reciprocal (which must have one).
     pub energy_table: bool,
     /// Whether a scene may stack it over a base as a sheen layer: a reciprocal sheen lobe
     /// whose parameters are `kd`, `ks` (the colour) and `alpha` (the roughness), whose

@@ -58,7 +58,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: None,
-    energy_table: false,
+    // Its table holds the albedo seen from the view, `R` in closed form
+    // ([`Kernel::sheen_view_albedo`]): the lobe is not reciprocal, and `brdf_rs.albedo`
+    // (over the other direction) is not the albedo a layer takes out of the light.
+    energy_table: true,
     transmission: false,
     sheen_layer: true,
     exact: None,
