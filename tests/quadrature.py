@@ -531,15 +531,23 @@ def ward_albedo_at_normal_incidence(alpha_x: float, alpha_y: float) -> float:
 
 
 def view_albedo(
-    model: str, mu_o: Sequence[float] | np.ndarray, n_mu: int = 64, n_phi: int = 128, **params
+    model: str,
+    mu_o: Sequence[float] | np.ndarray,
+    n_mu: int = 64,
+    n_phi: int = 128,
+    grade: float = 1.0,
+    **params,
 ) -> np.ndarray:
     """The albedo seen from the view, ``∫ f(wi, wo)·mu_i dωi`` over the light's
     hemisphere at ``wo = (sqrt(1 − mu_o²), 0, mu_o)``, by a product rule: Gauss-Legendre
     in ``mu_i``, midpoints in the azimuth. Equal to the directional albedo for reciprocal
     models; for the others (a lobe fitted in the view's frame) it is the integral a layer
-    above a base takes out of the light. For smooth, wide lobes only (no panels)."""
+    above a base takes out of the light. For smooth, wide lobes only (no panels);
+    ``grade > 1`` takes the Gauss-Legendre nodes in ``u`` with ``mu_i = u**grade``, which
+    crowds them toward grazing light (for lobes that lie there)."""
     x, w = np.polynomial.legendre.leggauss(n_mu)
-    mus, wmu = 0.5 * (x + 1), 0.5 * w
+    u, wu = 0.5 * (x + 1), 0.5 * w
+    mus, wmu = u**grade, wu * grade * u ** (grade - 1)
     phis = (np.arange(n_phi) + 0.5) * 2 * math.pi / n_phi
     m, p = np.meshgrid(mus, phis, indexing="ij")
     s = np.sqrt(1 - m * m)

@@ -207,6 +207,23 @@ def test_energy_table_file_json_and_library_agree(tmp_path):
     assert e_avg[0] > e_avg[1] > e_avg[2] > 0.3
 
 
+def test_energy_table_of_a_closed_form_says_so(tmp_path):
+    """A model whose albedo seen from the view is in closed form: nothing is sampled, the
+    file holds the library's table and says how it was made."""
+    out = tmp_path / "e.npz"
+    summary = run_json(
+        "energy", "zeltner_sheen", "--mu", "0,0.1,1", "--alpha", "0.05,1", "-o", str(out)
+    )
+    want = brdf_rs.energy_compensation_table("zeltner_sheen", [0.0, 0.1, 1.0], [0.05, 1.0])
+    with np.load(out) as data:
+        np.testing.assert_array_equal(data["e"], want.e)
+        np.testing.assert_array_equal(data["e_avg_stderr"], want.e_avg_stderr)
+        meta = json.loads(str(data["meta"]))
+    assert meta["estimator"] == want.estimator and "closed form" in meta["estimator"]
+    assert summary["max_stderr"] == 0.0 and summary["e_avg"] == want.e_avg.tolist()
+    assert 0 < max(summary["e_avg_stderr"]) < 1e-12
+
+
 # ----------------------------------------------------------------------------- bench
 
 
