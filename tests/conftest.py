@@ -214,7 +214,11 @@ def run_cli(*args: str, cwd: Path | None = None, code: int = 0) -> subprocess.Co
 
 def calibration_script():
     """scripts/stderr_calibration.py as a module."""
-    name = "stderr_calibration"
+    return script("stderr_calibration")
+
+
+def script(name: str):
+    """scripts/<name>.py as a module (loaded once)."""
     module = sys.modules.get(name)
     if module is None:
         path = Path(__file__).resolve().parent.parent / "scripts" / f"{name}.py"
