@@ -636,12 +636,12 @@ def _closed_form_average(model: str, alpha: float) -> tuple[float, float]:
     exactly rounded). The bound is the sum of ``|G20 − G10|`` over the kept panels, plus
     32 ulp of each panel's value for rounding (``E`` is evaluated to about an ulp; each
     panel's value is a 20-term sum of positive products). ``|G20 − G10|`` is the 10-point
-    rule's error to first order,
-    and on a panel where ``E`` is smooth the 20-point rule's error is far below it (Gauss
-    rules converge geometrically for analytic integrands): so the kept value is within
-    the bound. Where ``E`` is not smooth (a closed form held at 0 has a kink) the halving
-    closes in on the kink until the panel's share is negligible; the tests check the
-    bound against an independent reference.
+    rule's error to first order, and on a panel where ``E`` is smooth the 20-point rule's
+    error is far below it (Gauss rules converge geometrically for analytic integrands):
+    so the kept value is within the bound. Where ``E`` is not smooth (a closed form held
+    at 0 has a kink) the halving closes in on the kink until the panel's share is
+    negligible; the tests check the bound against an independent reference
+    (``scripts/zeltner_energy_check.py``).
     """
     x10, w10 = np.polynomial.legendre.leggauss(10)
     x20, w20 = np.polynomial.legendre.leggauss(20)
