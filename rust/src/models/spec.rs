@@ -311,9 +311,10 @@ pub struct ModelSpec {
     /// for a reciprocal lobe, the closed form [`super::Kernel::sheen_view_albedo`] for a
     /// lobe that is not reciprocal (which must have one).
     pub energy_table: bool,
-    /// Whether a scene may stack it over a base as a sheen layer: a reciprocal sheen lobe
-    /// whose parameters are `kd`, `ks` (the colour) and `alpha` (the roughness), whose
-    /// albedo over the view is the layer's `E` (the base is scaled by `1 − E`).
+    /// Whether a scene may stack it over a base as a sheen layer: a sheen lobe whose
+    /// parameters are `kd`, `ks` (the colour) and `alpha` (the roughness), whose albedo
+    /// seen from the view is the layer's `E` (the base is scaled by `1 − E`): integrated
+    /// for a reciprocal lobe, the kernel's closed form for one that is not.
     pub sheen_layer: bool,
     /// Its `normalization="exact"`, for models that have one.
     pub exact: Option<ExactNormalization>,
