@@ -7,7 +7,7 @@ use std::sync::atomic::Ordering;
 
 use super::integrand::CellIntegrand;
 use super::loops::{self, DirectionBlock, Loops};
-use super::options::{AlbedoOptions, CellResult, Progress};
+use super::options::{AlbedoOptions, CellResult, Progress, Rounds};
 use super::sums::{LobeSums, mean_and_stderr};
 use super::{MAX_LOBES, POINTS};
 use crate::models::{Kernel, TangentUse};
@@ -119,24 +119,9 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
     }
     let mut block = PointBlock::new();
     let random = options.sequence == Sequence::Random;
-    let streams_count = if random {
-        1
-    } else {
-        u64::from(options.replicates)
-    };
-    let cap = if options.tol.is_some() {
-        options.max_samples
-    } else {
-        u64::MAX
-    };
-    // Points per stream in the first round: at least 2 for a variance (random); a power
-    // of two per replicate, as every such prefix is a net (Sobol).
-    let first = options.samples.min(cap);
-    let mut per_stream = if random {
-        first.max(2)
-    } else {
-        first.div_ceil(streams_count).next_power_of_two()
-    };
+    let rounds = Rounds::new(options);
+    let streams_count = rounds.streams;
+    let mut per_stream = rounds.first(options.samples);
     // The cell's streams from their start, and empty sums for them (the skewed lobes
     // kept in bins for Sobol points).
     let fresh = |integrand: &CellIntegrand<K>| {
@@ -191,25 +176,11 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
             previous = Some(se);
             (mean, std::array::from_fn(|c| pooled[c].max(floor[c])))
         };
-        let done = match options.tol {
-            None => true,
-            Some(tol) => {
-                let capped = if random {
-                    total >= options.max_samples
-                } else {
-                    total * 2 > options.max_samples
-                };
-                se.iter().all(|&s| s <= tol) || capped
-            }
-        };
+        let done = rounds.finished(total, &se);
         if done || progress.cancel.load(Ordering::Relaxed) {
             break (mean, se, total);
         }
-        per_stream = if random {
-            (per_stream * 2).min(options.max_samples)
-        } else {
-            per_stream * 2
-        };
+        per_stream = rounds.next(per_stream);
     };
     let value: [f64; 3] = std::array::from_fn(|c| exact[c] + mean[c]);
     // An estimated value is never more certain than its own rounding (one ulp), nor than

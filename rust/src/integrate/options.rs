@@ -48,6 +48,77 @@ impl Component {
     }
 }
 
+/// How a cell's rounds proceed, the same for the hemisphere's and the sphere's
+/// integrators: how many streams, how many points each takes in the first round, when a
+/// round is the last, and how many points each has after the next.
+#[derive(Clone, Copy, Debug)]
+pub struct Rounds {
+    /// One stream of random points, or `replicates` independently scrambled Sobol streams.
+    pub streams: u64,
+    random: bool,
+    tol: Option<f64>,
+    max_samples: u64,
+}
+
+impl Rounds {
+    pub fn new(options: &AlbedoOptions) -> Self {
+        let random = options.sequence == Sequence::Random;
+        Rounds {
+            streams: if random {
+                1
+            } else {
+                u64::from(options.replicates)
+            },
+            random,
+            tol: options.tol,
+            max_samples: options.max_samples,
+        }
+    }
+
+    /// Points per stream in the first round: `samples` (at most the cap under `tol`), at
+    /// least 2 for a variance (random); a power of two per replicate, as every such prefix
+    /// is a net (Sobol).
+    pub fn first(&self, samples: u64) -> u64 {
+        let cap = if self.tol.is_some() {
+            self.max_samples
+        } else {
+            u64::MAX
+        };
+        let first = samples.min(cap);
+        if self.random {
+            first.max(2)
+        } else {
+            first.div_ceil(self.streams).next_power_of_two()
+        }
+    }
+
+    /// Whether the round that brought the cell to `total` points is its last: always
+    /// without `tol`; under it, once every channel's error bar `se` is within `tol` or the
+    /// next round would pass `max_samples`.
+    pub fn finished(&self, total: u64, se: &[f64; 3]) -> bool {
+        match self.tol {
+            None => true,
+            Some(tol) => {
+                let capped = if self.random {
+                    total >= self.max_samples
+                } else {
+                    total * 2 > self.max_samples
+                };
+                se.iter().all(|&s| s <= tol) || capped
+            }
+        }
+    }
+
+    /// Points per stream after the next round: twice as many (random: at most the cap).
+    pub fn next(&self, per_stream: u64) -> u64 {
+        if self.random {
+            (per_stream * 2).min(self.max_samples)
+        } else {
+            per_stream * 2
+        }
+    }
+}
+
 /// Options of an albedo computation.
 #[derive(Clone, Copy, Debug)]
 pub struct AlbedoOptions {

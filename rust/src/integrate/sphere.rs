@@ -27,7 +27,7 @@ use std::sync::atomic::Ordering;
 use glam::DVec3;
 
 use super::cell::pooled_with_previous;
-use super::options::{AlbedoOptions, CellResult, Component, Progress};
+use super::options::{AlbedoOptions, CellResult, Component, Progress, Rounds};
 use super::sums::{PSEUDO_POINTS, mean_and_stderr};
 use crate::math::geometry::ggx_mu_lambda;
 use crate::models::{Directions, Kernel};
@@ -297,22 +297,9 @@ pub(super) fn integrate_cell<K: Kernel>(
             a + b
         })
     };
-    let streams_count = if random {
-        1
-    } else {
-        u64::from(options.replicates)
-    };
-    let cap = if options.tol.is_some() {
-        options.max_samples
-    } else {
-        u64::MAX
-    };
-    let first = options.samples.min(cap);
-    let mut per_stream = if random {
-        first.max(2)
-    } else {
-        first.div_ceil(streams_count).next_power_of_two()
-    };
+    let rounds = Rounds::new(options);
+    let streams_count = rounds.streams;
+    let mut per_stream = rounds.first(options.samples);
     let mut streams: Vec<Stream> = (0..streams_count)
         .map(|r| Stream::new(options.sequence, options.seed, cell, r))
         .collect();
@@ -394,17 +381,7 @@ pub(super) fn integrate_cell<K: Kernel>(
             });
             (mean, std::array::from_fn(|c| pooled[c].max(floor[c])))
         };
-        let finished = match options.tol {
-            None => true,
-            Some(tol) => {
-                let capped = if random {
-                    total >= options.max_samples
-                } else {
-                    total * 2 > options.max_samples
-                };
-                se.iter().all(|&s| s <= tol) || capped
-            }
-        };
+        let finished = rounds.finished(total, &se);
         if finished || progress.cancel.load(Ordering::Relaxed) {
             let stderr = std::array::from_fn(|c| se[c].max(mean[c].abs() * f64::EPSILON));
             return CellResult {
@@ -413,11 +390,7 @@ pub(super) fn integrate_cell<K: Kernel>(
                 samples: total,
             };
         }
-        per_stream = if random {
-            (per_stream * 2).min(options.max_samples)
-        } else {
-            per_stream * 2
-        };
+        per_stream = rounds.next(per_stream);
     }
 }
 
