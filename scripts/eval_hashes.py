@@ -82,7 +82,8 @@ def digest_of(*arrays: np.ndarray) -> str:
 
 
 #: Small albedo tables that exercise each sampler family, the end regions, strata,
-#: the random sequence and adaptive stopping.
+#: the random sequence and adaptive stopping (the transmitting models: the integrator
+#: over the whole sphere).
 TABLES = [
     ("ggx", {"alpha": [0.05, 0.3, 1.0]}, {}),
     ("beckmann", {"alpha": [0.05, 0.3, 1.0]}, {}),
@@ -91,6 +92,8 @@ TABLES = [
     ("ashikhmin_shirley", {"nu": [1.0, 100.0]}, {"nv": 10.0}),
     ("oren_nayar", {"sigma": [0.1, 1.0]}, {}),
     ("ggx_ms", {"alpha": [0.1, 0.8]}, {}),
+    ("ggx_dielectric", {"alpha": [0.02, 0.3]}, {"eta": 1.5}),
+    ("beckmann_dielectric", {"alpha": [0.05, 0.4]}, {"eta": 0.7}),
 ]
 
 
