@@ -1,5 +1,5 @@
-"""Prints a hash of ``brdf_rs.eval``'s bits per model and dtype, and of a few tables, to
-compare two builds.
+"""Prints a hash of ``brdf_rs.eval``'s bits per model and dtype, of ``brdf_rs.sample`` and
+``brdf_rs.pdf`` per model, and of a few tables, to compare two builds.
 
 The inputs are fixed (seeded): random directions above and below the surface, near
 the horizon, tilted normals and tangents, and each model's parameters drawn inside their
@@ -71,7 +71,30 @@ def main() -> None:
             except (ValueError, TypeError) as exc:
                 digest = f"error: {type(exc).__name__}"
             print(f"{name:24s} {np.dtype(dtype).name:8s} {digest}")
+        print(f"{name:24s} sample   {sampling(name, spec, wi, wo, n, t, params, rng)}")
     tables()
+
+
+def sampling(
+    name: str,
+    spec: dict,
+    wi: np.ndarray,
+    wo: np.ndarray,
+    n: np.ndarray,
+    t: np.ndarray,
+    params: dict,
+    rng: np.random.Generator,
+) -> str:
+    """A digest of ``brdf_rs.sample``'s directions, weights and pdfs and of ``brdf_rs.pdf``
+    (float64; the refusal's type where the model has no sampler)."""
+    u = rng.uniform(0.0, 1.0, size=(N, 2))
+    tangent = t if spec["tangent"] or spec["tangent_optional"] else None
+    try:
+        drawn = brdf_rs.sample(name, wi, u, n, tangent=tangent, **params)
+        density = brdf_rs.pdf(name, wi, wo, n, tangent=tangent, **params)
+    except (ValueError, TypeError) as exc:
+        return f"error: {type(exc).__name__}"
+    return digest_of(*drawn, density)
 
 
 def digest_of(*arrays: np.ndarray) -> str:
