@@ -239,43 +239,38 @@ impl KernelVisitor for Run<'_, '_> {
                 &mut out.pdf[rows.clone()],
             );
             let first = rows.start;
-            if sampling {
-                let wo = &mut out.wo[3 * rows.start..3 * rows.end];
-                parallel::install(|| {
-                    wo.par_chunks_mut(3 * chunk)
-                        .zip(weight.par_chunks_mut(3 * chunk))
-                        .zip(pdf.par_chunks_mut(chunk))
-                        .enumerate()
-                        .for_each(|(c, ((wo, weight), pdf))| {
-                            for j in 0..pdf.len() {
-                                element(
-                                    first + c * chunk + j,
-                                    &mut wo[3 * j..3 * j + 3],
-                                    &mut weight[3 * j..3 * j + 3],
-                                    &mut pdf[j],
-                                );
-                            }
-                        })
-                });
+            // The sampled directions' chunks, or none (a pdf query writes no directions).
+            let chunks = pdf.len().div_ceil(chunk);
+            let wo: Vec<Option<&mut [f64]>> = if sampling {
+                out.wo[3 * rows.start..3 * rows.end]
+                    .chunks_mut(3 * chunk)
+                    .map(Some)
+                    .collect()
             } else {
-                parallel::install(|| {
-                    weight
-                        .par_chunks_mut(3 * chunk)
-                        .zip(pdf.par_chunks_mut(chunk))
-                        .enumerate()
-                        .for_each(|(c, (weight, pdf))| {
-                            let mut wo = [0.0; 3];
-                            for j in 0..pdf.len() {
-                                element(
-                                    first + c * chunk + j,
-                                    &mut wo,
-                                    &mut weight[3 * j..3 * j + 3],
-                                    &mut pdf[j],
-                                );
-                            }
-                        })
-                });
-            }
+                (0..chunks).map(|_| None).collect()
+            };
+            parallel::install(|| {
+                weight
+                    .par_chunks_mut(3 * chunk)
+                    .zip(pdf.par_chunks_mut(chunk))
+                    .zip(wo)
+                    .enumerate()
+                    .for_each(|(c, ((weight, pdf), mut wo))| {
+                        let mut unused = [0.0; 3];
+                        for j in 0..pdf.len() {
+                            let wo_out = match wo.as_deref_mut() {
+                                Some(wo) => &mut wo[3 * j..3 * j + 3],
+                                None => &mut unused[..],
+                            };
+                            element(
+                                first + c * chunk + j,
+                                wo_out,
+                                &mut weight[3 * j..3 * j + 3],
+                                &mut pdf[j],
+                            );
+                        }
+                    })
+            });
         }
         Ok(out)
     }
