@@ -161,3 +161,8 @@ def test_multiple_scattering_refuses_a_dielectric_table():
     )
     with pytest.raises(ValueError, match=r"^multiple_scattering: .*total albedo"):
         ec.multiple_scattering(0, 0, 0, 0.04)
+    pytest.importorskip("matplotlib")
+    from brdf_rs import plot
+
+    with pytest.raises(ValueError, match=r"^result: the plot draws E\(mu, alpha\) tables"):
+        plot.energy_compensation(ec)
