@@ -224,6 +224,25 @@ def test_energy_table_of_a_closed_form_says_so(tmp_path):
     assert 0 < max(summary["e_avg_stderr"]) < 1e-12
 
 
+def test_energy_table_of_a_dielectric_over_eta(tmp_path):
+    """A transmitting model's table has an eta axis: the file holds the library's 3-D
+    table and its axis; --eta is required for it and refused for the others."""
+    out = tmp_path / "e.npz"
+    args = ("--mu", "0.2,0.9", "--alpha", "0.1,0.6", "--tol", "1e-3", "-o", str(out))
+    summary = run_json("energy", "ggx_dielectric", "--eta", "0.75,1.5", *args)
+    want = brdf_rs.energy_compensation_table(
+        "ggx_dielectric", [0.2, 0.9], [0.1, 0.6], eta=[0.75, 1.5], tol=1e-3
+    )
+    with np.load(out) as data:
+        np.testing.assert_array_equal(data["e"], want.e)
+        np.testing.assert_array_equal(data["e_avg"], want.e_avg)
+        np.testing.assert_array_equal(data["eta"], [0.75, 1.5])
+        assert "total albedo" in json.loads(str(data["meta"]))["quantity"]
+    assert summary["shape"] == [2, 2, 2] and summary["e_avg"] == want.e_avg.tolist()
+    assert "--eta" in run("energy", "ggx_dielectric", *args, code=2).stderr
+    assert "--eta: only" in run("energy", "ggx", "--eta", "1.5", *args, code=2).stderr
+
+
 # ----------------------------------------------------------------------------- bench
 
 

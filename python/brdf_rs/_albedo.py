@@ -480,6 +480,12 @@ class EnergyCompensation:
     for a Schlick F0 by ``F_avg² E_avg / (1 − F_avg (1 − E_avg))``, ``F_avg = F0 + (1 − F0)/21``
     (see :meth:`multiple_scattering`; microfacet models with a Schlick F0 only: a sheen
     lobe has no Fresnel term, and its ``E`` may exceed 1).
+
+    A transmitting model's table (the rough dielectrics) has an ``eta`` axis as well:
+    ``e[i, j, k] = E(mu_i, alpha_j, eta_k)``, the total albedo (reflection +
+    transmission) of the white interface for light from above at ``eta_k`` (below 1: from
+    the denser side), ``e_avg[j, k]``, and the standard errors shaped alike; it has no
+    :meth:`multiple_scattering` lobe.
     """
 
     model: str
@@ -493,6 +499,9 @@ class EnergyCompensation:
         "randomized QMC (Owen-scrambled Sobol) of the directional albedo, E_avg by"
         " 32-point Gauss-Legendre in mu"
     )
+    #: The ``eta`` axis of a transmitting model's table (``e[i, j, k]`` at ``eta[k]``,
+    #: ``e_avg[j, k]``), None for the others.
+    eta: np.ndarray | None = None
 
     def multiple_scattering(
         self, mu_i: Any, mu_o: Any, alpha_index: Any, f0: Any = 1.0
@@ -500,8 +509,17 @@ class EnergyCompensation:
         """``f_ms`` for incidences on the table's mu grid (indices into ``mu``), RGB F0.
 
         Raises:
-            ValueError: for a model without Schlick's F0 (the sheen models).
+            ValueError: for a model without Schlick's F0 (the sheen models), and for a
+                transmitting model's table (whose ``E`` is the total albedo of the white
+                interface over ``eta``, not the reflection Kulla and Conty's lobe adds to).
         """
+        if self.eta is not None or _spec.specs()[self.model]["transmission"]:
+            raise ValueError(
+                f"multiple_scattering: Kulla and Conty's lobe completes the reflection of a"
+                f" microfacet lobe with a Schlick F0; {self.model}'s table holds the total"
+                f" albedo (reflection + transmission) of a white rough dielectric over eta,"
+                f" for which this lobe is not defined"
+            )
         if _spec.specs()[self.model]["dfg"] is None:
             raise ValueError(
                 f"multiple_scattering: Kulla and Conty's lobe completes a microfacet lobe with "
@@ -522,6 +540,7 @@ def energy_compensation_table(
     mu: Sequence[float] | np.ndarray,
     alpha: Sequence[float] | np.ndarray,
     *,
+    eta: Sequence[float] | np.ndarray | None = None,
     samples: int = 1 << 12,
     tol: float | None = 1e-5,
     seed: int = 0,
@@ -545,11 +564,38 @@ def energy_compensation_table(
       adaptive Gauss-Legendre quadrature of it in ``mu`` (:func:`_closed_form_average`),
       and ``e_avg_stderr`` a bound on that quadrature's error, not a standard error. The
       integrator's options are checked and otherwise not used (nothing is sampled).
+    - A transmitting model (``transmission``: the rough dielectrics) takes an ``eta`` axis
+      too (required; the other models refuse it): ``e[i, j, k] = E(mu_i, alpha_j, eta_k)``
+      is the total albedo (reflection + transmission, :func:`brdf_rs.albedo` with
+      ``component="total"``) of the white interface (``ks = kt = 1``, nothing absorbed)
+      for light arriving from above at ``n·wi = mu`` with ``eta`` as given: ``eta > 1``
+      from the less dense side, ``eta < 1`` from the denser side (total internal
+      reflection included; ``eta = 1``, no interface, is the straight-through delta: 1,
+      exact). ``e_avg[j, k] = 2 ∫ E mu dmu`` by the same 32-point
+      Gauss-Legendre rule over cells of its own. ``1 − E`` is the energy the single
+      scattering misses. Cells are keyed by their flat index (E_avg's after E's), so a
+      table is bitwise reproducible for a seed, and each has its standard error.
     """
     _arrays.model_name(model)
     compensated = _spec.with_energy_table()
+    transmitting = tuple(n for n, s in _spec.specs().items() if s["transmission"])
+    if model in transmitting:
+        if eta is None:
+            raise TypeError(
+                f"eta: energy_compensation_table needs an eta axis for {model}, whose"
+                f" table is E(mu, alpha, eta); pass eta=[...] (relative indices below/above)"
+            )
+        return _transmitting_table(model, mu, alpha, eta, samples, tol, seed, options)
     if model not in compensated:
-        raise ValueError(f"{model}: energy compensation tables exist for {', '.join(compensated)}")
+        raise ValueError(
+            f"{model}: energy compensation tables exist for {', '.join(compensated)}, and"
+            f" over (mu, alpha, eta) for {', '.join(transmitting)}"
+        )
+    if eta is not None:
+        raise TypeError(
+            f"eta: energy_compensation_table takes an eta axis only for the transmitting"
+            f" models ({', '.join(transmitting)}); {model} has no eta"
+        )
     _not_given(
         "energy_compensation_table",
         options,
@@ -576,6 +622,74 @@ def energy_compensation_table(
     e_avg_se = 2 * np.sqrt(np.einsum("i,ij->j", (w * x) ** 2, avg.stderr[..., 0] ** 2))
     return EnergyCompensation(
         model, mu, alpha, grid.value[..., 0], e_avg, grid.stderr[..., 0], e_avg_se
+    )
+
+
+def _transmitting_table(
+    model: str,
+    mu: Any,
+    alpha: Any,
+    eta: Any,
+    samples: int,
+    tol: float | None,
+    seed: int,
+    options: dict[str, Any],
+) -> EnergyCompensation:
+    """:func:`energy_compensation_table` for a transmitting model: the total albedo of the
+    white interface over ``(mu, alpha, eta)``."""
+    _not_given(
+        "energy_compensation_table",
+        options,
+        {
+            "ks": "ks = 1: E is the albedo of the white interface",
+            "kt": "kt = 1: E is the albedo of the white interface",
+            "component": "component = total: E is reflection + transmission",
+            "cell_ids": "one id per cell of the grid",
+        },
+    )
+    mu = _grid.axis_values(model, "mu", "mu", mu)
+    alpha = _grid.axis_values(model, "alpha", "alpha", alpha)
+    eta = _grid.axis_values(model, "eta", "eta", eta)
+    common = {"samples": samples, "tol": tol, "seed": seed, "ks": 1.0, "kt": 1.0, **options}
+    common["component"] = "total"
+    shape = (mu.size, alpha.size, eta.size)
+    ids = np.arange(math.prod(shape), dtype=np.uint64).reshape(shape)
+    grid = albedo(
+        model,
+        mu[:, None, None],
+        alpha=alpha[None, :, None],
+        eta=eta[None, None, :],
+        cell_ids=ids,
+        **common,
+    )
+    # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).
+    nodes, weights = np.polynomial.legendre.leggauss(32)
+    x, w = 0.5 * (nodes + 1), 0.5 * weights
+    ids = np.arange(x.size * alpha.size * eta.size, dtype=np.uint64) + np.uint64(ids.size)
+    avg = albedo(
+        model,
+        x[:, None, None],
+        alpha=alpha[None, :, None],
+        eta=eta[None, None, :],
+        cell_ids=ids.reshape(x.size, alpha.size, eta.size),
+        **common,
+    )
+    e_avg = 2 * np.einsum("i,ijk->jk", w * x, avg.value[..., 0])
+    e_avg_se = 2 * np.sqrt(np.einsum("i,ijk->jk", (w * x) ** 2, avg.stderr[..., 0] ** 2))
+    estimator = (
+        "randomized QMC (Owen-scrambled Sobol) of the total albedo (reflection +"
+        " transmission) of the white interface, E_avg by 32-point Gauss-Legendre in mu"
+    )
+    return EnergyCompensation(
+        model,
+        mu,
+        alpha,
+        grid.value[..., 0],
+        e_avg,
+        grid.stderr[..., 0],
+        e_avg_se,
+        estimator,
+        eta,
     )
 
 

@@ -621,11 +621,23 @@ def save_energy(result: Any, path: Path) -> Path:
     """Writes an :class:`~brdf_rs.EnergyCompensation` as ``.npz`` (arrays and metadata)."""
     from . import _atomic
 
+    quantity = (
+        "energy table: e[mu, alpha] = E(mu, alpha), the lobe's albedo seen from"
+        " the view (over the light) at kd = 0, ks = 1 (F = 1), e_avg[alpha] = 2 * integral of"
+        " E(mu) mu dmu"
+    )
+    axes: dict[str, np.ndarray] = {}
+    if result.eta is not None:
+        quantity = (
+            "energy table: e[mu, alpha, eta] = E(mu, alpha, eta), the total albedo (reflection"
+            " + transmission) of the white interface (ks = kt = 1) for light from above at"
+            " n.wi = mu (eta < 1: from the denser side), e_avg[alpha, eta] = 2 * integral of"
+            " E(mu) mu dmu"
+        )
+        axes["eta"] = result.eta
     meta = {
         "model": result.model,
-        "quantity": "energy table: e[mu, alpha] = E(mu, alpha), the lobe's albedo seen from"
-        " the view (over the light) at kd = 0, ks = 1 (F = 1), e_avg[alpha] = 2 * integral of"
-        " E(mu) mu dmu",
+        "quantity": quantity,
         "estimator": result.estimator,
         "brdf_rs": __version__,
     }
@@ -633,6 +645,7 @@ def save_energy(result: Any, path: Path) -> Path:
         path,
         mu=result.mu,
         alpha=result.alpha,
+        **axes,
         e=result.e,
         stderr=result.stderr,
         e_avg=result.e_avg,
@@ -642,17 +655,36 @@ def save_energy(result: Any, path: Path) -> Path:
     return path
 
 
+def _transmitting() -> tuple[str, ...]:
+    """The transmitting models (energy tables over ``eta`` as well)."""
+    return tuple(name for name, s in _spec.specs().items() if s["transmission"])
+
+
 def cmd_energy(args: argparse.Namespace) -> int:
     from . import _albedo
 
-    if args.model not in _spec.with_energy_table():
+    transmitting = _transmitting()
+    if args.model not in _spec.with_energy_table() + transmitting:
         known = ", ".join(_spec.with_energy_table())
-        raise UsageError(f"unknown model {args.model!r}; energy compensation takes {known}")
-    mu, alpha = args.mu, args.alpha
+        raise UsageError(
+            f"unknown model {args.model!r}; energy compensation takes {known}, and with"
+            f" --eta {', '.join(transmitting)}"
+        )
+    mu, alpha, eta = args.mu, args.alpha, args.eta
+    if args.model in transmitting and eta is None:
+        raise UsageError(f"--eta: {args.model}'s table is E(mu, alpha, eta); give the eta axis")
+    if args.model not in transmitting and eta is not None:
+        raise UsageError(f"--eta: only {', '.join(transmitting)} have an eta axis")
+    if eta is not None and args.plot is not None:
+        raise UsageError("--plot: the plot draws E(mu, alpha) tables, not ones over eta")
     out = _table_output(args.output, f"energy_{args.model}.npz", (".npz",), args.plot)
     plot_path = _plot_path(args.plot)
-    # Two runs: the E(mu, alpha) grid, then 32 Gauss-Legendre incidences for E_avg.
-    progress = _PassProgress([mu.size * alpha.size, 32 * alpha.size], args.quiet or args.json)
+    n_eta = 1 if eta is None else eta.size
+    # Two runs: the E grid, then 32 Gauss-Legendre incidences for E_avg.
+    progress = _PassProgress(
+        [mu.size * alpha.size * n_eta, 32 * alpha.size * n_eta], args.quiet or args.json
+    )
+    extra = {} if eta is None else {"eta": eta}
     start = time.perf_counter()
     completed = False
     try:
@@ -664,19 +696,23 @@ def cmd_energy(args: argparse.Namespace) -> int:
             tol=args.tol,
             seed=args.seed,
             progress=progress,
+            **extra,
         )
         completed = True
     finally:
         progress.close(completed)
     seconds = time.perf_counter() - start
     saved = _Saved(out, lambda path: save_energy(result, path))
+    axes = {
+        "mu": [float(mu[0]), float(mu[-1]), mu.size],
+        "alpha": [float(alpha[0]), float(alpha[-1]), alpha.size],
+    }
+    if eta is not None:
+        axes["eta"] = [float(eta[0]), float(eta[-1]), eta.size]
     summary: dict[str, Any] = {
         "model": args.model,
-        "axes": {
-            "mu": [float(mu[0]), float(mu[-1]), mu.size],
-            "alpha": [float(alpha[0]), float(alpha[-1]), alpha.size],
-        },
-        "shape": [mu.size, alpha.size],
+        "axes": axes,
+        "shape": list(result.e.shape),
         "output": saved.output,
         "replaced": saved.replaced,
         "seconds": seconds,
@@ -690,18 +726,24 @@ def cmd_energy(args: argparse.Namespace) -> int:
     if args.json:
         _print_json(summary)
         return 0
-    print(
-        f"{args.model} energy compensation E(mu[{mu.size}], alpha[{alpha.size}]) and E_avg:"
-        f" {saved.where}, {seconds:.2f} s"
-    )
+    grid = f"mu[{mu.size}], alpha[{alpha.size}]" + ("" if eta is None else f", eta[{eta.size}]")
+    print(f"{args.model} energy compensation E({grid}) and E_avg: {saved.where}, {seconds:.2f} s")
     print(
         f"  E in [{summary['e_range'][0]:.4g}, {summary['e_range'][1]:.4g}],"
         f" largest standard error {summary['max_stderr']:.2g}"
     )
-    print("  alpha      E_avg      1 - E_avg (lost by single scattering)")
     step = max(1, alpha.size // 8)
-    for j in [*range(0, alpha.size, step)][:8] + ([alpha.size - 1] if alpha.size > 1 else []):
-        print(f"  {alpha[j]:<9.4g}  {result.e_avg[j]:.5f}    {1 - result.e_avg[j]:.5f}")
+    rows = [*range(0, alpha.size, step)][:8] + ([alpha.size - 1] if alpha.size > 1 else [])
+    if eta is None:
+        print("  alpha      E_avg      1 - E_avg (lost by single scattering)")
+        for j in rows:
+            print(f"  {alpha[j]:<9.4g}  {result.e_avg[j]:.5f}    {1 - result.e_avg[j]:.5f}")
+    else:
+        columns = sorted({*range(0, eta.size, max(1, eta.size // 6))} | {eta.size - 1})
+        print("  E_avg (total albedo, cosine-weighted): alpha down, eta across")
+        print("  alpha    " + "".join(f"{eta[k]:>10.4g}" for k in columns))
+        for j in rows:
+            print(f"  {alpha[j]:<9.4g}" + "".join(f"{result.e_avg[j, k]:>10.5f}" for k in columns))
     if plot_path is not None:
         print(f"  plot: {summary['plot']}")
     return 0
@@ -1387,10 +1429,18 @@ def _add_energy_command(sub: Any) -> None:
         "that is not reciprocal) nothing is sampled: E is exact and E_avg's error bar bounds "
         "a quadrature's error.",
     )
-    _add_model(p, help=" or ".join(_spec.with_energy_table()))
+    _add_model(p, help=" or ".join(_spec.with_energy_table() + _transmitting()))
     _add_incidences(p)
     p.add_argument(
         "--alpha", type=_values, default="mid:0:1:32", help="roughness (default mid:0:1:32)"
+    )
+    p.add_argument(
+        "--eta",
+        type=_values,
+        default=None,
+        help="relative index axis, required for the transmitting models (and only for them):"
+        " E(mu, alpha, eta) is then the total albedo (reflection + transmission) of the white"
+        " interface for light from above, eta < 1 from the denser side",
     )
     _add_integrator(
         p,

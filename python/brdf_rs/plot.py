@@ -475,6 +475,11 @@ def energy_compensation(
         raise TypeError(
             f"result: expected a brdf_rs.EnergyCompensation, got {type(result).__name__}"
         )
+    if result.eta is not None:
+        raise ValueError(
+            f"result: the plot draws E(mu, alpha) tables; {result.model}'s is over (mu, alpha,"
+            f" eta): plot a slice (e[:, :, k]) yourself"
+        )
     fig = _figure(10.0, 3.8)
     left, right = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
     xe, x_log = _edges(result.mu)
