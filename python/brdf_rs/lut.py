@@ -568,7 +568,7 @@ def _presets() -> dict[str, Preset]:
             " (B); E(F0, F90) = F0*R + (F90 - F0)*G",
             "Unreal Engine Shaders/Private/ShadingEnergyConservationTable.usf"
             " (BuildEnergyTableCS: NoV = (x + 0.5)/N, Roughness = (y + 0.5)/N, alpha ="
-            " Roughness^2 floored at r = 0.01, channels (E, E*(1 - VoH)^5)),"
+            " max(Roughness, 0.01)^2, channels (E, E*(1 - VoH)^5)),"
             " ShadingEnergyConservation.ush (GGXEnergyLookup samples float2(NoV, Roughness)"
             " bilinearly, clamped) and Renderer/Private/ShadingEnergyConservation.cpp (32 x 32,"
             " PF_G16R16 UNORM; PF_G32R32F when generated at run time)",
