@@ -105,6 +105,38 @@ def test_dfg_channels_are_the_split_sum_integrals_in_image_order(filament):
     np.testing.assert_allclose(filament.image[..., 1], one.value[..., 0], atol=1e-15)
 
 
+def test_ue5_table_is_unreals_layout_r_the_albedo_g_the_schlick_share():
+    # Unreal's BuildEnergyTableCS: texel (x, y) of N at NoV = (x + 0.5)/N and Roughness =
+    # (y + 0.5)/N, alpha = max(Roughness, 0.01)^2; R = E with F = 1, G = E weighted by
+    # (1 - v.h)^5; GGXEnergyLookup samples float2(NoV, Roughness): x = n.v, y = roughness.
+    u = lut.preset("ue5")
+    assert (u.columns.size, u.rows.size, u.format) == (32, 32, "R16G16_UNORM")
+    assert (u.columns.quantity, u.rows.quantity) == ("mu", "perceptual")
+    assert u.channel_names == ("A+B", "B") and lut.PRESETS["ue5"].container == ".dds"
+    centres = (np.arange(32) + 0.5) / 32
+    np.testing.assert_allclose(u.columns.physical(u.columns.positions()), centres)
+    np.testing.assert_allclose(u.rows.physical(u.rows.positions()), centres**2)
+    # the builder's floor: r = 0.01, which a 128-texel axis's first texel is below
+    fine = dataclasses.replace(u.rows, size=128)
+    assert fine.physical(fine.positions())[0] == pytest.approx(1e-4)
+
+    t = lut.build(small("ue5", 6), interp_limit=4)
+    mu = (np.arange(6) + 0.5) / 6
+    alpha = ((np.arange(6) + 0.5) / 6) ** 2
+    ids = np.arange(36, dtype=np.uint64).reshape(6, 6).T  # [roughness j, mu i]
+    common = {"alpha": alpha[:, None], "kd": 0, "samples": 256, "cell_ids": ids}
+    one = brdf_rs.albedo("ggx", mu[None, :], ks=1, **common)  # F = 1: E = A + B
+    zero = brdf_rs.albedo("ggx", mu[None, :], ks=0, **common)  # F = (1 - v.h)^5: B
+    assert t.spec.rows.role == "roughness"  # image rows = roughness, columns = n.v
+    np.testing.assert_allclose(t.image[..., 0], one.value[..., 0], atol=1e-15)
+    np.testing.assert_allclose(t.image[..., 1], zero.value[..., 0], atol=1e-15)
+    # and against the split sum: R = A + B, G = B, so F0 * R + (1 - F0) * G = F0 * A + B
+    dfg = brdf_rs.dfg_table("ggx", mu, alpha, samples=256)
+    a, b = np.swapaxes(dfg.value, 0, 1)[..., 0], np.swapaxes(dfg.value, 0, 1)[..., 1]
+    np.testing.assert_allclose(t.image[..., 0], a + b, atol=1e-12)
+    np.testing.assert_allclose(t.image[..., 1], b, atol=1e-12)
+
+
 def test_cycles_energy_table_rows_are_mu_columns_roughness():
     t = lut.build(small("cycles", 6), interp_limit=4)
     r = np.maximum(np.arange(6) / 5, 3.1623e-4)

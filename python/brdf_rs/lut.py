@@ -507,6 +507,10 @@ class Preset:
 #: the Monte Carlo error there).
 _CYCLES_ROUGHNESS_FLOOR = 3.1623e-4
 
+#: The perceptual roughness floor of the UE5 preset: Unreal's table builder takes
+#: ``max(Roughness, 0.01)`` before squaring (GGX_MIN_ROUGHNESS of its path tracer's GGX).
+_UE5_ROUGHNESS_FLOOR = 0.01
+
 
 def _presets() -> dict[str, Preset]:
     r32_centres = Axis("perceptual", 32, "centres")
@@ -548,20 +552,26 @@ def _presets() -> dict[str, Preset]:
         ),
         "ue5": Preset(
             LutSpec(
-                "dfg",
+                "dfg_multiscatter",
                 "ggx",
                 Axis("mu", 32, "centres"),
-                r32_centres,
+                # UE's table builder floors r at 0.01 (alpha 1e-4): no texel of 32 is below.
+                Axis("perceptual", 32, "centres", floor=_UE5_ROUGHNESS_FLOOR),
                 "R16G16_UNORM",
+                channels=("A+B", "B"),
                 name="ue5_ggx_spec_energy",
             ),
             ".dds",
-            "Unreal Engine 5's GGX specular energy table size and format (32 x 32, two"
-            " 16-bit UNORM channels, PF_G16R16) in this library's layout: split-sum A and B"
-            " at texel centres; UE5's own channel meaning is unconfirmed, so not a drop-in"
-            " for the engine's table",
-            "Unreal Engine Renderer/Private/ShadingEnergyConservation.cpp (table resolution"
-            " 32, PF_G16R16 or PF_G32R32F); channel meaning and texel placement not confirmed",
+            "Unreal Engine 5's GGX specular energy table (View.ShadingEnergyGGXSpecTexture):"
+            " 32 x 32 R16G16 UNORM, x = n.v, y = perceptual roughness (alpha = r^2), both at"
+            " texel centres, R = integral of V (E with F = 1, = A + B), G = integral of V*Fc"
+            " (B); E(F0, F90) = F0*R + (F90 - F0)*G",
+            "Unreal Engine Shaders/Private/ShadingEnergyConservationTable.usf"
+            " (BuildEnergyTableCS: NoV = (x + 0.5)/N, Roughness = (y + 0.5)/N, alpha ="
+            " max(Roughness, 0.01)^2, channels (E, E*(1 - VoH)^5)),"
+            " ShadingEnergyConservation.ush (GGXEnergyLookup samples float2(NoV, Roughness)"
+            " bilinearly, clamped) and Renderer/Private/ShadingEnergyConservation.cpp (32 x 32,"
+            " PF_G16R16 UNORM; PF_G32R32F when generated at run time)",
         ),
         "cycles": Preset(
             LutSpec(
