@@ -47,6 +47,7 @@ __all__ = [
     "shade_gbuffer",
     "tonemap_inplace",
     "tool_defaults",
+    "view_albedo",
 ]
 
 __version__: str
