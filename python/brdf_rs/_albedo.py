@@ -578,7 +578,7 @@ def energy_compensation_table(
     """
     _arrays.model_name(model)
     compensated = _spec.with_energy_table()
-    transmitting = tuple(n for n, s in _spec.specs().items() if s["transmission"])
+    transmitting = _spec.transmitting()
     if model in transmitting:
         if eta is None:
             raise TypeError(
@@ -611,18 +611,33 @@ def energy_compensation_table(
         return _closed_form_table(model, mu, alpha, samples, tol, seed, options)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}
     grid = albedo(model, mu[:, None], alpha=alpha[None, :], **common)
-    # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).
-    nodes, weights = np.polynomial.legendre.leggauss(32)
-    x, w = 0.5 * (nodes + 1), 0.5 * weights
-    ids = (
-        np.arange(x.size * alpha.size, dtype=np.uint64) + np.uint64(mu.size * alpha.size)
-    ).reshape(x.size, alpha.size)
-    avg = albedo(model, x[:, None], alpha=alpha[None, :], cell_ids=ids, **common)
-    e_avg = 2 * np.einsum("i,ij->j", w * x, avg.value[..., 0])
-    e_avg_se = 2 * np.sqrt(np.einsum("i,ij->j", (w * x) ** 2, avg.stderr[..., 0] ** 2))
+    e_avg, e_avg_se = _gauss_average(model, {"alpha": alpha}, mu.size * alpha.size, common)
     return EnergyCompensation(
         model, mu, alpha, grid.value[..., 0], e_avg, grid.stderr[..., 0], e_avg_se
     )
+
+
+def _gauss_average(
+    model: str, axes: dict[str, np.ndarray], first_id: int, common: dict[str, Any]
+) -> tuple[np.ndarray, np.ndarray]:
+    """``E_avg = 2 ∫_0^1 E(mu) mu dmu`` over the grid of ``axes`` (the table's axes after
+    ``mu``, in order) by 32-point Gauss-Legendre on [0, 1], and its standard error (the
+    Monte Carlo part): the nodes are cells of their own, with ids from ``first_id`` on
+    (after the table's ``E`` cells)."""
+    nodes, weights = np.polynomial.legendre.leggauss(32)
+    x, w = 0.5 * (nodes + 1), 0.5 * weights
+    shape = (x.size, *(a.size for a in axes.values()))
+    ids = (np.arange(math.prod(shape), dtype=np.uint64) + np.uint64(first_id)).reshape(shape)
+    # Each axis along its own dimension of the grid (mu's nodes along the first).
+    spread: dict[str, Any] = {
+        name: a.reshape([1] * (k + 1) + [-1] + [1] * (len(axes) - k - 1))
+        for k, (name, a) in enumerate(axes.items())
+    }
+    avg = albedo(model, x.reshape(-1, *[1] * len(axes)), cell_ids=ids, **spread, **common)
+    rest = "jkl"[: len(axes)]
+    weighted = f"i,i{rest}->{rest}"
+    e_avg = 2 * np.einsum(weighted, w * x, avg.value[..., 0])
+    return e_avg, 2 * np.sqrt(np.einsum(weighted, (w * x) ** 2, avg.stderr[..., 0] ** 2))
 
 
 def _transmitting_table(
@@ -662,20 +677,7 @@ def _transmitting_table(
         cell_ids=ids,
         **common,
     )
-    # E_avg = 2 ∫_0^1 E(mu) mu dmu by Gauss-Legendre on [0, 1] (its own cells: ids offset).
-    nodes, weights = np.polynomial.legendre.leggauss(32)
-    x, w = 0.5 * (nodes + 1), 0.5 * weights
-    ids = np.arange(x.size * alpha.size * eta.size, dtype=np.uint64) + np.uint64(ids.size)
-    avg = albedo(
-        model,
-        x[:, None, None],
-        alpha=alpha[None, :, None],
-        eta=eta[None, None, :],
-        cell_ids=ids.reshape(x.size, alpha.size, eta.size),
-        **common,
-    )
-    e_avg = 2 * np.einsum("i,ijk->jk", w * x, avg.value[..., 0])
-    e_avg_se = 2 * np.sqrt(np.einsum("i,ijk->jk", (w * x) ** 2, avg.stderr[..., 0] ** 2))
+    e_avg, e_avg_se = _gauss_average(model, {"alpha": alpha, "eta": eta}, ids.size, common)
     estimator = (
         "randomized QMC (Owen-scrambled Sobol) of the total albedo (reflection +"
         " transmission) of the white interface, E_avg by 32-point Gauss-Legendre in mu"

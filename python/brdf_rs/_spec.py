@@ -167,6 +167,11 @@ def with_energy_table() -> tuple[str, ...]:
     return tuple(name for name, s in specs().items() if s["energy_table"])
 
 
+def transmitting() -> tuple[str, ...]:
+    """The transmitting models (defined on the whole sphere; energy tables over ``eta``)."""
+    return tuple(name for name, s in specs().items() if s["transmission"])
+
+
 def with_exact() -> dict[str, ExactNormalization]:
     """The models with ``normalization="exact"``, and how it is computed."""
     return {name: s["exact"] for name, s in specs().items() if s["exact"] is not None}

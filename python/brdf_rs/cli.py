@@ -655,15 +655,10 @@ def save_energy(result: Any, path: Path) -> Path:
     return path
 
 
-def _transmitting() -> tuple[str, ...]:
-    """The transmitting models (energy tables over ``eta`` as well)."""
-    return tuple(name for name, s in _spec.specs().items() if s["transmission"])
-
-
 def cmd_energy(args: argparse.Namespace) -> int:
     from . import _albedo
 
-    transmitting = _transmitting()
+    transmitting = _spec.transmitting()
     if args.model not in _spec.with_energy_table() + transmitting:
         known = ", ".join(_spec.with_energy_table())
         raise UsageError(
@@ -1429,7 +1424,7 @@ def _add_energy_command(sub: Any) -> None:
         "that is not reciprocal) nothing is sampled: E is exact and E_avg's error bar bounds "
         "a quadrature's error.",
     )
-    _add_model(p, help=" or ".join(_spec.with_energy_table() + _transmitting()))
+    _add_model(p, help=" or ".join(_spec.with_energy_table() + _spec.transmitting()))
     _add_incidences(p)
     p.add_argument(
         "--alpha", type=_values, default="mid:0:1:32", help="roughness (default mid:0:1:32)"
