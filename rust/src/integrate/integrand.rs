@@ -50,6 +50,11 @@ pub(super) struct Lobe<P> {
     /// points. There the weight is integrated after a change of variables that vanishes
     /// at the end, against a control ([`CellIntegrand::weights`]).
     ends: Ends,
+    /// The sampler's first number from which the weight is 0 for some points (a Blinn
+    /// tail's `wo` below the surface, [`Integral::Stratum`]'s `zeros_below`), where that
+    /// region begins inside the stratum: [`LobeSums::skewed_stderr`] counts a pseudo-point
+    /// at 0 in the bins that reach into it.
+    pub(super) zeros_from: Option<f64>,
 }
 
 impl<P> Lobe<P> {
@@ -162,6 +167,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         control: None,
                         stratum: None,
                         ends: Ends::NONE,
+                        zeros_from: None,
                     });
                 }
                 Integral::BeckmannVisible { alpha, f0, basis } => {
@@ -193,6 +199,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         beckmann,
                         control: None,
                         stratum: None,
+                        zeros_from: None,
                     });
                 }
                 Integral::Lobe { basis, importance } => {
@@ -252,6 +259,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         } else {
                             Ends::NONE
                         },
+                        zeros_from: None,
                     });
                 }
                 Integral::Stratum {
@@ -263,11 +271,12 @@ impl<K: Kernel> CellIntegrand<K> {
                     c_hi,
                     whole,
                     control,
+                    zeros_below,
                 } => {
                     // Strata belong to the lobe's own sampler: another sampler integrates
                     // the whole lobe once, through the stratum that stands for it.
                     let offset = lobe.offset();
-                    let (warp, control, stratum) = match sampler {
+                    let (warp, control, stratum, zeros_from) = match sampler {
                         SamplerChoice::Auto | SamplerChoice::Importance => {
                             let range = |p: f64| {
                                 let v = |c: f64| if c >= 1.0 { 1.0 } else { c.powf(p + offset) };
@@ -315,11 +324,24 @@ impl<K: Kernel> CellIntegrand<K> {
                             if whole {
                                 group = index;
                             }
-                            (warp, control.map(|c| (c, tilt)), Some((group, whole)))
+                            // Points are drawn with `v = cos^(p_draw + offset)` uniform
+                            // from `v_lo + width` (u0 = 0) down to `v_lo` (u0 → 1), so
+                            // the region of zeros is u0 beyond that of its edge. Only
+                            // for weights without a control (which is not 0 there).
+                            let zeros_from = zeros_below.filter(|_| control.is_none()).map(|c| {
+                                let v = c.powf(p_draw + offset);
+                                (1.0 - (v - v_lo) / width).clamp(0.0, 1.0)
+                            });
+                            (
+                                warp,
+                                control.map(|c| (c, tilt)),
+                                Some((group, whole)),
+                                zeros_from,
+                            )
                         }
                         _ if !whole => continue,
-                        SamplerChoice::Cosine => (Warp::CosineHemisphere, None, None),
-                        SamplerChoice::Uniform => (Warp::UniformHemisphere, None, None),
+                        SamplerChoice::Cosine => (Warp::CosineHemisphere, None, None, None),
+                        SamplerChoice::Uniform => (Warp::UniformHemisphere, None, None, None),
                     };
                     lobes.push(Lobe {
                         colour: term.colour,
@@ -331,6 +353,7 @@ impl<K: Kernel> CellIntegrand<K> {
                         control,
                         stratum,
                         ends: Ends::NONE,
+                        zeros_from,
                     });
                 }
             }
@@ -389,6 +412,7 @@ impl<K: Kernel> CellIntegrand<K> {
                 lobe.warp = Warp::CosineHemisphere;
                 lobe.control = None;
                 lobe.stratum = None;
+                lobe.zeros_from = None;
                 whole
             }
             _ => true,

@@ -86,6 +86,14 @@ pub enum Integral {
         c_hi: f64,
         whole: bool,
         control: Option<Control>,
+        /// The lobe cosine below which `wo` leaves the surface for some azimuths (the
+        /// weight is 0 there), where that begins strictly inside the stratum: a Blinn
+        /// tail whose first part has every `wo` above the surface (Torrance-Sparrow's,
+        /// away from the normal). With few Sobol points per replicate that region of
+        /// zeros is rare in its bins, and the error bar counts a pseudo-point at 0 there
+        /// (`integrate`'s `skewed_stderr`). `None` where the region is empty or the whole
+        /// stratum (the Blinn-Phong and Phong tails begin at the horizon's edge).
+        zeros_below: Option<f64>,
     },
 }
 

@@ -186,6 +186,12 @@ pub struct Bulk {
     /// the surface, and `1 − cos θ`.
     pub c_horizon: f64,
     t_horizon: f64,
+    /// `cos θ` of `θ = (90° − θi)/2`, beyond which `wo` is below the surface for some
+    /// azimuths (`h` tilted away from `wi`), where that lies strictly inside the tail
+    /// (`θe < θ < (90° + θi)/2`): Torrance-Sparrow's edge away from the normal. `None`
+    /// for Blinn-Phong's (the tail begins there) and at normal incidence (the two horizon
+    /// edges meet at 45°).
+    pub zeros_below: Option<f64>,
 }
 
 impl Bulk {
@@ -210,6 +216,7 @@ impl Bulk {
         let ln_q = (p + 2.0) * (-te).ln_1p();
         let theta_h = 0.5 * (FRAC_PI_2 + theta_i);
         let half_h = (0.5 * theta_h).sin();
+        let theta_z = 0.5 * (FRAC_PI_2 - theta_i);
         Some(Bulk {
             mu,
             s2,
@@ -220,6 +227,7 @@ impl Bulk {
             bulk: -ln_q.exp_m1(),
             c_horizon: theta_h.cos(),
             t_horizon: 2.0 * half_h * half_h,
+            zeros_below: (theta_e < theta_z && theta_z < theta_h).then(|| theta_z.cos()),
         })
     }
 
@@ -353,10 +361,10 @@ impl Bulk {
         control: Option<Control>,
         p_sobol: f64,
     ) -> Term {
-        let (c_lo, c_hi) = if bulk {
-            (self.ce, 1.0)
+        let (c_lo, c_hi, zeros_below) = if bulk {
+            (self.ce, 1.0, None)
         } else {
-            (self.c_horizon, self.ce)
+            (self.c_horizon, self.ce, self.zeros_below)
         };
         Term {
             colour,
@@ -369,6 +377,7 @@ impl Bulk {
                 c_hi,
                 whole: bulk,
                 control,
+                zeros_below,
             },
         }
     }
@@ -636,6 +645,8 @@ pub fn phong_terms(colour: [f64; 3], basis: Slots, mu: f64, p: f64, a: f64) -> O
             c_hi,
             whole,
             control,
+            // The tail α > 90° − θi begins where wo first leaves the surface.
+            zeros_below: None,
         },
     };
     let mut terms = vec![stratum(ce, 1.0, true, p, Some(control))];
