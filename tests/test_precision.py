@@ -85,9 +85,9 @@ def test_accurate_is_the_default_bit_for_bit(rng):
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_fast_tier_changes_exactly_the_models_it_names(rng, dtype):
     """The fast tier runs the accurate loops for models whose ``fast_tier`` is false
-    (same bits) and its own for the others in float64 (different last bits somewhere):
-    the list above must be the engine's. In float32 the fast tier is the accurate one,
-    bit for bit."""
+    (same bits) and its own for the others (different last bits somewhere): the list above
+    must be the engine's. In float32 it changes the models with powers only (float32
+    carries no length corrections), and gives the others the accurate bits."""
     count = 20_000
     wi = random_directions(rng, count).astype(dtype)
     wo = random_directions(rng, count).astype(dtype)
@@ -103,7 +103,7 @@ def test_fast_tier_changes_exactly_the_models_it_names(rng, dtype):
             extra.update({k: 2000.5 for k in _exponents(model)})
         a = brdf_rs.eval(model, wi, wo, **extra)
         b = brdf_rs.eval(model, wi, wo, precision="fast", **extra)
-        changed = model in FAST_MODELS and dtype == np.float64
+        changed = model in FAST_MODELS and (dtype == np.float64 or SPECS[model]["powers"])
         assert (a.tobytes() != b.tobytes()) == changed, model
 
 
@@ -111,8 +111,11 @@ def test_fast_tier_changes_exactly_the_models_it_names(rng, dtype):
 def test_fast_tier_is_within_its_bound_of_accurate_on_large_batches(rng, model):
     """With unit inputs and ``normalized=True`` the tiers differ in the power and the
     length corrections alone: per row, the fast value is within the fast power's bound (at most 5e-13 relative for a
-    quotient cos^p/mu in float64) of the accurate one, over exponents from 1e-3 to 1e8;
-    float32 values are the same in both tiers."""
+    quotient cos^p/mu in float64) of the accurate one, over exponents from 1e-3 to 1e8.
+    In float32 the models without powers give the same bits in both tiers; for the others
+    the fast power is within (4 + 3|y|)·2^-25 of the exact one (y = p·ln x, at most about
+    70 for a power above the 2^-100 flush, and about 140 where a model multiplies two such
+    powers): 1e-5 relative, or the flush's absolute slack."""
     count = 200_000
     wi, wo, n, tangent = random_case(rng, model, count)
     unit = lambda a: None if a is None else a / np.linalg.norm(a, axis=-1, keepdims=True)  # noqa: E731
@@ -133,7 +136,15 @@ def test_fast_tier_is_within_its_bound_of_accurate_on_large_batches(rng, model):
     t32 = f32(tangent)
     acc32 = brdf_rs.eval(model, *a32, tangent=t32, normalized=True, **p32)
     fast32 = brdf_rs.eval(model, *a32, tangent=t32, normalized=True, precision="fast", **p32)
-    assert acc32.tobytes() == fast32.tobytes()
+    if not SPECS[model]["powers"]:
+        assert acc32.tobytes() == fast32.tobytes()
+        return
+    assert not np.isnan(fast32).any()
+    acc32, fast32 = acc32.astype(np.float64), fast32.astype(np.float64)
+    both_inf = np.isinf(acc32) & (acc32 == fast32)
+    err = np.where(both_inf, 0.0, np.abs(fast32 - acc32))
+    assert np.all(err <= 1e-5 * np.abs(acc32) + ATOL32), float(np.max(err / np.abs(acc32)))
+    assert np.any(err > 0), "the fast tier was not used in float32"
 
 
 @pytest.mark.parametrize("model", [m for m in FAST_MODELS if m in REFERENCE_MODELS])
@@ -224,7 +235,9 @@ def test_bad_rows_behave_as_in_the_accurate_tier(dtype):
     acc = brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, check=False)
     fast = brdf_rs.eval("torrance_sparrow", wi, wo, p=40.0, check=False, precision="fast")
     ok = ~np.isnan(acc).any(axis=1)
-    rtol = 6e-13 if dtype == np.float64 else 4 * EPS32
+    # The fast power's bounds: 5e-13 in float64; (4 + 3|y|)·2^-25 in float32, with
+    # |y| = p·|ln cos| at most about 70 above the 2^-100 flush.
+    rtol = 6e-13 if dtype == np.float64 else 1e-5
     assert np.allclose(fast[ok], acc[ok], rtol=rtol, atol=0), precision
 
 

@@ -61,8 +61,9 @@ def eval(
             microfacet lobes without their length corrections, relative error at most
             1e-12 in float64 and 2e-6 in float32 on well-conditioned inputs
             (docs/numerics.md); the same results for bad inputs (NaN rows or errors).
-            Models whose ``models()`` entry has ``fast_tier`` false, and every float32
-            evaluation, give the same bits in both.
+            Models whose ``models()`` entry has ``fast_tier`` false give the same bits
+            in both, and so do those without ``powers`` in float32 (which carries no
+            length corrections).
         **params: the model's parameters (docs/models.md names). Scalars, RGB triples for
             colours, or arrays broadcasting against the batch (colours with a trailing
             axis of 3) for spatially varying parameters.
@@ -295,7 +296,7 @@ def models() -> dict[str, _spec.ModelSpec]:
     the surface),
     ``sheen_layer`` (whether a scene material may stack it over a base as a sheen layer),
     ``powers`` (whether it raises something to a power), ``fast_tier`` (whether
-    ``precision="fast"`` changes it: powers, or microfacet length corrections),
+    ``precision="fast"`` changes it: powers, or microfacet length corrections in float64),
     ``exact`` (its ``normalization="exact"``: how the factor is
     computed, the parameters it takes and the colour it scales; None where it has none) and
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,

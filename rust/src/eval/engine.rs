@@ -703,12 +703,14 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
                 }
             };
         }
-        // `K::POWERS`, `K::LENGTH_CORRECTIONS` and `F::FAST_TIER` are constants: models
-        // with neither, and `f32`, compile no fast-tier loops, nor does the baseline instruction set (x86-64 CPUs
-        // without AVX2 are rare, and the accurate loops meet the fast tier's bound).
+        // `K::POWERS`, `K::LENGTH_CORRECTIONS` and `F::EXACT_LENGTHS` are constants: models
+        // the fast tier would not change (no powers, and no length corrections in this
+        // width: `f32` carries none) compile no fast-tier loops, nor does the baseline
+        // instruction set (x86-64 CPUs without AVX2 are rare, and the accurate loops meet
+        // the fast tier's bound).
         macro_rules! pick {
             ($f:ident) => {
-                if (K::POWERS || K::LENGTH_CORRECTIONS) && F::FAST_TIER && self.fast {
+                if (K::POWERS || (K::LENGTH_CORRECTIONS && F::EXACT_LENGTHS)) && self.fast {
                     pick_mode!($f, FastPow)
                 } else {
                     pick_mode!($f, TablePow)

@@ -819,11 +819,23 @@ fn split_f32(d: f32) -> (f32, f32) {
     (m, e - if tiny { 24.0 } else { 0.0 })
 }
 
+/// The divisor of the `f32` `over` powers, d = m·2^e, as (m, e) with m in [1, 2), or as
+/// (m/2, e + 1) where d < 2^-120: x^p·2^-e (at most 2^-e) can only overflow there, and
+/// x^p·2^-(e+1) is below the quotient x^p/d, so it does not overflow where the quotient
+/// does not (a quotient within a factor 2 of `f32::MAX` over a subnormal d). An e outside
+/// (-160, 160) (d = 0, inf, NaN: callers select those away) is taken as 0.
+#[inline(always)]
+fn split_divisor_f32(d: f32) -> (f32, f32) {
+    let (m, e) = split_f32(d);
+    let e = if e > -160.0 && e < 160.0 { e } else { 0.0 };
+    let low = e < -120.0;
+    (if low { m * 0.5 } else { m }, if low { e + 1.0 } else { e })
+}
+
 /// f32 analogue of [`pow_unit_over_f64`]: x^p / d without underflow of x^p first.
 #[inline(always)]
 pub fn pow_unit_over_f32(x: f32, one_minus_x: f32, p: f32, d: f32) -> f32 {
-    let (m, e) = split_f32(d);
-    let e = if e > -160.0 && e < 160.0 { e } else { 0.0 };
+    let (m, e) = split_divisor_f32(d);
     pow_unit_scaled_f32::<false>(x, one_minus_x, p, e) / m
 }
 
@@ -968,6 +980,90 @@ pub fn pow_unit_fast_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
     pow_fast_scaled_f64(x, one_minus_x, p, 0.0, 0.0, 1.0)
 }
 
+// fdlibm's `e_logf.c` minimax coefficients of the same scheme in `f32` (|(ln(1 + s) −
+// ln(1 − s))/s − Lg(s)| < 2^-34.24 on |s| <= 0.1716, as FreeBSD and musl give them).
+const LGF1: f32 = f32::from_bits(0x3f2aaaaa); // 0.66666662693
+const LGF2: f32 = f32::from_bits(0x3eccce13); // 0.40000972152
+const LGF3: f32 = f32::from_bits(0x3e91e9ee); // 0.28498786688
+const LGF4: f32 = f32::from_bits(0x3e789e26); // 0.24279078841
+const SQRT2_F32: f32 = std::f32::consts::SQRT_2;
+const TWO_M30_F32: f32 = 9.313225746154785e-10; // 2^-30
+
+/// ln x for x in [0, 1] given with `one_minus_x` (the reduced argument from √3/2 on, as
+/// for the accurate powers), in plain `f32`: fdlibm's `logf` scheme (see
+/// [`ln_fast_f64`]), within about 1 ulp. For a complement below 2^-30, ln(1 − c) = −c to
+/// within 2^-31 relative, which keeps every intermediate out of the subnormal range. x = 0 gives a
+/// finite value (the caller selects the result).
+#[inline(always)]
+fn ln_fast_f32(x: f32, one_minus_x: f32) -> f32 {
+    let (m, e) = split_f32(x);
+    let big = m > SQRT2_F32;
+    let m = if big { m * 0.5 } else { m };
+    let near = x > SQRT3_HALF_F32;
+    let k = e + if big { 1.0 } else { 0.0 };
+    let k = if near { 0.0 } else { k };
+    let f = if near { -one_minus_x } else { m - 1.0 }; // m − 1: exact (Sterbenz)
+    // Only the complement can be that small (k = 0 then); m − 1 is 0 or at least 2^-24.
+    let tiny = near & (one_minus_x < TWO_M30_F32);
+    let fc = if tiny { -TWO_M30_F32 } else { f };
+    let s = fc / (2.0 + fc);
+    let z = s * s;
+    let z = if z < TWO_M60_F32 { TWO_M60_F32 } else { z };
+    let w = z * z;
+    let t1 = w * (LGF2 + w * LGF4);
+    let t2 = z * (LGF1 + w * LGF3);
+    let r = t2 + t1;
+    let hfsq = 0.5 * fc * fc;
+    // k·LN2_H12 is exact (|k| < 2^8, 12 significant bits).
+    let ln = k * LN2_H12_F32 - ((hfsq - (s * (hfsq + r) + k * LN2_L12_F32)) - fc);
+    if tiny { f } else { ln }
+}
+
+/// e^y·2^-e for an integer |e| < 160 and y <= 0 (the logarithm's product): exactly 0
+/// below 2^-170 (through the subnormals with one rounding, [`scale_f32`]) and +inf
+/// beyond the float range. y = n ln 2 + r with n·LN2_H12 exact (|n| < 2^9), e^r
+/// (|r| <= ln2/2) is [`exp_mant_f32`]'s polynomial: about 1 ulp, plus the error y
+/// carries in.
+#[inline(always)]
+fn exp_fast_f32(y: f32, e: f32) -> f32 {
+    let lo = (e - 170.0) * LN2_F32;
+    let hi = (e + 129.0) * LN2_F32;
+    let y = if y < lo { lo } else { y };
+    let y = if y > hi { hi } else { y };
+    let kd = y * LOG2E_F32 + SHIFT_F32;
+    let n = kd - SHIFT_F32;
+    let r = (y - n * LN2_H12_F32) - n * LN2_L12_F32;
+    scale_f32(exp_mant_f32::<false>(r, 0.0), kd - e)
+}
+
+/// x^p·2^-e for x in [0, 1] with `one_minus_x` and an integer |e| < 160: e^(p·ln x) in
+/// plain `f32`. Special cases as [`pow_unit_f32`].
+#[inline(always)]
+fn pow_fast_scaled_f32(x: f32, one_minus_x: f32, p: f32, e: f32) -> f32 {
+    let y = p * ln_fast_f32(x, one_minus_x);
+    let r = exp_fast_f32(y, e);
+    let one = exp_fast_f32(0.0, e); // 2^-e, +inf beyond the float range
+    let r = if one_minus_x == 0.0 { one } else { r };
+    let r = if x == 0.0 { 0.0 } else { r };
+    if p == 0.0 { one } else { r }
+}
+
+/// The fast tier's `f32` x^p (`brdf_rs.eval(..., precision="fast")`): the contract of
+/// [`pow_unit_f32`] (domain, the complement, special cases, no NaN, underflow through the
+/// subnormals) with the logarithm, the product p·ln x and the exponential in plain `f32`.
+///
+/// Error: ln x is within about 1 ulp and the product rounds once more, so y = p·ln x is
+/// off by about 1.5·|y|·2^-24 absolute, which e^y turns into the same relative error,
+/// plus about 1.5 ulp of its own: relative error <= (3 + 3|y|)·2^-25 (measured by
+/// `fast_pow_f32_is_within_its_bound`). |y| is the power's own condition number with
+/// respect to p (a change of p by one ulp moves x^p by |y| ulps), so the error is within
+/// what the inputs' rounding explains: about 2e-7 where |y| <= 1, and 4e-6 at the
+/// largest |y| above the flush of the `f32` lobes (|y| = 70).
+#[inline(always)]
+pub fn pow_unit_fast_f32(x: f32, one_minus_x: f32, p: f32) -> f32 {
+    pow_fast_scaled_f32(x, one_minus_x, p, 0.0)
+}
+
 // ------------------------------------------------------------- the tiers
 
 /// x^p in `tier`: [`pow_unit_f64`], [`pow_unit_table_f64`] or [`pow_unit_fast_f64`].
@@ -1016,33 +1112,43 @@ pub fn pow_unit_over_scaled_tier_f64(
     }
 }
 
-/// [`pow_unit_f32`] whatever the tier: `f32` has one power (see [`crate::math::FastPow`]
-/// for why the fast tier keeps it).
+/// x^p in `tier`: [`pow_unit_f32`], or [`pow_unit_fast_f32`] in the fast tier (`f32`
+/// has no table-driven power: the series one serves [`PowTier::Table`]).
 #[inline(always)]
-pub fn pow_unit_tier_f32(_tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> f32 {
-    pow_unit_f32(x, one_minus_x, p)
+pub fn pow_unit_tier_f32(tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> f32 {
+    match tier {
+        PowTier::Series | PowTier::Table => pow_unit_f32(x, one_minus_x, p),
+        PowTier::Fast => pow_unit_fast_f32(x, one_minus_x, p),
+    }
 }
 
-/// [`pow_unit_f32`] and true, whatever the tier (see [`pow_unit_ordinary_tier_f64`]): an
-/// ordinary path measured slower in `f32`, whose powers fall below the normal range (and
-/// out of such a path) in most blocks of an ordinary lobe (`cos^50` at `cos < 0.19`).
+/// [`pow_unit_tier_f32`] and true, whatever the tier (see [`pow_unit_ordinary_tier_f64`]):
+/// an ordinary path measured slower in `f32`, whose powers fall below the normal range
+/// (and out of such a path) in most blocks of an ordinary lobe (`cos^50` at `cos < 0.19`).
 #[inline(always)]
-pub fn pow_unit_ordinary_tier_f32(_tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> (f32, bool) {
-    (pow_unit_f32(x, one_minus_x, p), true)
+pub fn pow_unit_ordinary_tier_f32(tier: PowTier, x: f32, one_minus_x: f32, p: f32) -> (f32, bool) {
+    (pow_unit_tier_f32(tier, x, one_minus_x, p), true)
 }
 
-/// [`pow_unit_over_f32`] whatever the tier; `f32` carries no extended cosine exponent, so
-/// `kx` is ignored ([`crate::math::Real::EXTENDED_COSINES`]).
+/// [`pow_unit_over_f32`] in `tier` (the fast tier's with [`pow_unit_fast_f32`]'s power);
+/// `f32` carries no extended cosine exponent, so `kx` is ignored
+/// ([`crate::math::Real::EXTENDED_COSINES`]).
 #[inline(always)]
 pub fn pow_unit_over_scaled_tier_f32(
-    _tier: PowTier,
+    tier: PowTier,
     x: f32,
     one_minus_x: f32,
     p: f32,
     _kx: f32,
     d: f32,
 ) -> f32 {
-    pow_unit_over_f32(x, one_minus_x, p, d)
+    match tier {
+        PowTier::Series | PowTier::Table => pow_unit_over_f32(x, one_minus_x, p, d),
+        PowTier::Fast => {
+            let (m, e) = split_divisor_f32(d);
+            pow_fast_scaled_f32(x, one_minus_x, p, e) / m
+        }
+    }
 }
 
 #[cfg(test)]
@@ -1378,6 +1484,105 @@ pub(crate) mod tests {
         assert!(worst_plain <= 2.6e-13, "plain: {worst_plain:e}");
         assert!(worst_over <= 5e-13, "over: {worst_over:e}");
         eprintln!("fast pow: plain {worst_plain:e}, over {worst_over:e}");
+    }
+
+    #[test]
+    fn fast_pow_f32_is_within_its_bound() {
+        // Against the accurate `f64` power of the same `f32` inputs (within 0.64 ulp of
+        // `f64`: exact at this width).
+        let u = f64::from(f32::EPSILON) / 2.0;
+        let mut s = 29;
+        let (mut worst_plain, mut worst_over) = (0f64, 0f64);
+        let mut accurate_misses = 0;
+        for _ in 0..300_000 {
+            let x = match (uniform(&mut s) * 4.0) as u32 {
+                0 => uniform(&mut s) as f32,
+                1 => 10f64.powf(-45.0 * uniform(&mut s)) as f32,
+                _ => (1.0 - 10f64.powf(-7.5 * uniform(&mut s))) as f32,
+            };
+            // Complements of every size: exact, and far below what `x` resolves.
+            let omc = if uniform(&mut s) < 0.2 && x > 0.9 {
+                10f64.powf(-8.0 - 30.0 * uniform(&mut s)) as f32
+            } else {
+                1.0 - x
+            };
+            let x = if omc < 1e-8 { 1.0 - omc } else { x };
+            let p = 10f64.powf(uniform(&mut s) * 10.0 - 4.0) as f32;
+            // Divisors down to the subnormals (a grazing cosine), exponents of 0 among them.
+            let d = 10f64.powf(uniform(&mut s) * 83.0 - 45.0) as f32;
+            let d = if d == 0.0 { f32::from_bits(1) } else { d };
+            let p = if uniform(&mut s) < 0.05 { 0.0 } else { p };
+            let (xd, od, pd, dd) = (f64::from(x), f64::from(omc), f64::from(p), f64::from(d));
+            let want = pow_unit_f64(xd, od, pd);
+            let y = (pd * if xd > 0.75 { (-od).ln_1p() } else { xd.ln() }).abs();
+            let got = f64::from(pow_unit_fast_f32(x, omc, p));
+            assert!(!got.is_nan(), "{x} {omc} {p}");
+            if want >= f64::from(f32::MIN_POSITIVE) {
+                let rel = (got - want).abs() / want;
+                assert!(
+                    rel <= (4.0 + 3.0 * y) * u,
+                    "{x}^{p}: {got} vs {want} ({rel:e})"
+                );
+                worst_plain = worst_plain.max(rel / ((4.0 + 3.0 * y) * u));
+            } else {
+                let tol = (4.0 + 3.0 * y) * u * want + 2.0 * f64::from(f32::from_bits(1));
+                assert!((got - want).abs() <= tol, "{x}^{p}: {got} vs {want}");
+            }
+            let want = pow_unit_over_f64(xd, od, pd, dd);
+            let got = f64::from(pow_unit_over_scaled_tier_f32(
+                PowTier::Fast,
+                x,
+                omc,
+                p,
+                0.0,
+                d,
+            ));
+            assert!(!got.is_nan(), "{x} {omc} {p} {d}");
+            let y_over = (pd * xd.ln() - dd.ln()).abs().max(y);
+            if (f64::from(f32::MIN_POSITIVE)..f64::from(f32::MAX)).contains(&want) {
+                let rel = (got - want).abs() / want;
+                let bound = (5.0 + 3.0 * y_over) * u;
+                // A unit of 2^-149 more where x^p·2^-e is subnormal.
+                let tol = bound * want + 2.0 * f64::from(f32::from_bits(1));
+                assert!(
+                    (got - want).abs() <= tol,
+                    "{x}^{p}/{d}: {got} vs {want} ({rel:e})"
+                );
+                if want >= 1e-36 {
+                    worst_over = worst_over.max(rel / bound);
+                }
+            } else if want > f64::from(f32::MAX) {
+                assert!(
+                    got >= f64::from(f32::MAX) * 0.99,
+                    "{x}^{p}/{d}: {got} vs {want}"
+                );
+            }
+            // The accurate `f32` quotient, on the same arguments.
+            let acc = f64::from(pow_unit_over_f32(x, omc, p, d));
+            if (f64::from(f32::MIN_POSITIVE)..f64::from(f32::MAX)).contains(&want) {
+                // Within 2 ulps, or a unit of 2^-149 where x^p·2^-e is subnormal.
+                let rel = (acc - want).abs() / want;
+                let tol = 2.0 * u * want + 2.0 * f64::from(f32::from_bits(1));
+                if (acc - want).abs() > tol {
+                    eprintln!("accurate {x}^{p}/{d}: {acc} vs {want} ({rel:e})");
+                    accurate_misses += 1;
+                }
+            }
+        }
+        eprintln!("fast f32 pow: plain {worst_plain:.3}, over {worst_over:.3} of the bound");
+        assert_eq!(accurate_misses, 0, "accurate quotients beyond 2 ulps");
+        for (x, omc, p) in [
+            (0.0f32, 1.0f32, 0.0f32),
+            (0.0, 1.0, 2.0),
+            (1.0, 0.0, 1e30),
+            (0.5, 0.5, 0.0),
+        ] {
+            assert_eq!(
+                pow_unit_fast_f32(x, omc, p),
+                pow_unit_f32(x, omc, p),
+                "{x}^{p} special case"
+            );
+        }
     }
 
     #[test]

@@ -165,11 +165,6 @@ pub trait Real:
     /// `[2^-500, 2^500]`, `[2^-40, 2^40]`), where no square overflows or underflows
     /// beyond a subnormal that cannot matter.
     const ORDINARY_LENGTH_SQUARED: (Self, Self);
-    /// Whether the fast tier (`precision="fast"`) has loops of its own in this width:
-    /// `f64`. In `f32` it would compute the accurate tier's bits ([`FastPow`] is the
-    /// accurate power there, and there are no length errors to leave out), so the engine
-    /// runs the accurate loops and compiles none.
-    const FAST_TIER: bool;
     /// [`Real::normalize`]'s unit vector for a `v` whose squared length lies in
     /// [`Real::ORDINARY_LENGTH_SQUARED`], bit for bit, without the range selects (which
     /// scale no such vector): the normalization of an ordinary block, in either tier (a
@@ -241,7 +236,7 @@ pub trait Real:
 }
 
 /// The three ways to compute `x^p` ([`Real::pow_unit`] and its `over` variants), one per
-/// [`PowUnit`]. In `f32` all three are the series power.
+/// [`PowUnit`]. `f32` has no table-driven power (the series one serves there).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PowTier {
     /// Table-free, within well under an ulp ([`fastmath::pow_unit_f64`]): vectorizes in
@@ -315,13 +310,11 @@ impl PowUnit for TablePow {
     const TIER: PowTier = PowTier::Table;
 }
 
-/// The fast tier's power (`precision="fast"`): in `f64`, `exp(p·ln x)` in plain floating
-/// point, table-free and vectorizable, within a stated relative error instead of an ulp
-/// ([`fastmath::pow_unit_fast_f64`]: at most 2.5e-13 for a normal result). In `f32`, the
-/// series power ([`fastmath::pow_unit_f32`], 0.68 ulp): `y = p·ln x` rounded in `f32` is
-/// off by up to `|y|·2^-24`, 4e-6 at `|y| = 70`, beyond the tier's 2e-6, and the same
-/// power computed in `f64` (measured) ran slower than the series one, whose float-float
-/// logarithm keeps 16 lanes.
+/// The fast tier's power (`precision="fast"`): `exp(p·ln x)` in plain floating point,
+/// table-free and vectorizable, within a stated relative error instead of an ulp: in
+/// `f64` at most 2.5e-13 for a normal result ([`fastmath::pow_unit_fast_f64`]); in `f32`
+/// `(4 + 3|y|)·2^-25` with `y = p·ln x`, the power's own condition number with respect to
+/// `p` ([`fastmath::pow_unit_fast_f32`]).
 pub struct FastPow;
 
 impl PowUnit for FastPow {
@@ -397,7 +390,6 @@ macro_rules! impl_real {
             const EXACT_LENGTHS: bool = $exact_lengths;
             const EXTENDED_COSINES: bool = $exact_lengths;
             const ORDINARY_LENGTH_SQUARED: (Self, Self) = $ordinary;
-            const FAST_TIER: bool = $exact_lengths;
 
             #[inline(always)]
             fn from_f64(x: f64) -> Self {

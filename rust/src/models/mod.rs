@@ -237,8 +237,9 @@ macro_rules! declare_models {
             }
 
             /// Returns whether `precision="fast"` computes the model differently from the
-            /// accurate tier (in `f64`): it has powers ([`Kernel::POWERS`]) or length
-            /// corrections the fast tier leaves out ([`Kernel::LENGTH_CORRECTIONS`]).
+            /// accurate tier: it has powers ([`Kernel::POWERS`], in either width) or length
+            /// corrections the fast tier leaves out ([`Kernel::LENGTH_CORRECTIONS`], in
+            /// `f64`).
             pub fn fast_tier(self) -> bool {
                 match self {
                     $(ModelKind::$variant => {
