@@ -4,7 +4,8 @@
 //! * `pow_unit_f64(x, one_minus_x, p)` / `pow_unit_f32`: x^p for x in [0, 1],
 //!   accurate even when x is within 1e-12 of 1 (uses the caller's 1 - x).
 //! * `pow_unit_table_f64`: the same f64 power from tables, for loops whose table
-//!   lookups vectorize (see below), and `pow_unit_fast_f64`, the fast tier's; the
+//!   lookups vectorize (see below), and `pow_unit_fast_f64` / `pow_unit_fast_f32`, the
+//!   fast tier's (plain floating point, a stated relative error); the
 //!   `_tier_` functions choose among the three ([`crate::math::PowTier`]), `over`
 //!   variants included.
 //! * `exp_f64` / `exp_f32`: e^x for all x (overflow to +inf, gradual underflow).

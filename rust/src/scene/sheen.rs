@@ -220,8 +220,7 @@ mod tests {
             assert_eq!(spec.family, Family::A);
             // The layer's E: integrated (reciprocal lobes with energy tables) or known.
             assert!(
-                (spec.energy_table && spec.reciprocal)
-                    || kind.sheen_view_albedo(0.5, 0.5).is_some(),
+                (spec.energy_table && spec.reciprocal) || kind.view_albedo_closed_form(),
                 "{}",
                 kind.name()
             );
