@@ -166,6 +166,17 @@ def test_energy_compensation_figure(tmp_path):
     assert png_size(tmp_path / "e.png") == (round(10.0 * 50), round(3.8 * 50))
     curve = next(line for line in fig.axes[1].lines if line.get_label() == "E_avg(α)")
     np.testing.assert_array_equal(curve.get_ydata(), result.e_avg)
+    assert fig.axes[0].get_xlabel() == "μ = cos θi"
+
+
+def test_energy_compensation_figure_of_a_view_albedo_says_mu_is_the_views():
+    """A lobe whose E is the albedo seen from the view (not reciprocal) labels μ as the
+    view's cosine."""
+    views = [m for m, s in brdf_rs.models().items() if s["view_albedo_closed_form"]]
+    assert views
+    result = brdf_rs.energy_compensation_table(views[0], [0.25, 0.75], [0.2, 0.6])
+    fig = plot.energy_compensation(result, dpi=50)
+    assert fig.axes[0].get_xlabel() == "μ = cos θo (view)"
 
 
 def test_convergence_from_the_benchmark_json_and_from_a_dict(tmp_path):

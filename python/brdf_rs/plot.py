@@ -490,7 +490,10 @@ def energy_compensation(
         left.set_yscale("log")
     if x_log:
         left.set_xscale("log")
-    left.set_xlabel("μ = cos θi", fontsize=10)
+    # A lobe that is not reciprocal has its E taken from the view (the albedo seen from
+    # the view, docs/models.md), so μ is the view's cosine there.
+    view = bool(_spec.specs()[result.model]["view_albedo_closed_form"])
+    left.set_xlabel("μ = cos θo (view)" if view else "μ = cos θi", fontsize=10)
     left.set_ylabel("α (roughness)", fontsize=10)
     left.set_title(f"{result.model}: single-scattering albedo E(μ, α), F = 1", fontsize=11)
     se = result.e_avg_stderr
