@@ -697,6 +697,20 @@ def test_single_channel_unorm_energy_table(tmp_path):
     assert t.decoded.shape == (4, 4, 1)
 
 
+def test_the_budget_of_a_table_computed_without_sampling_says_so():
+    """An energy table whose E is in closed form samples nothing: its budget's confidence
+    does not speak of Monte Carlo errors, and its texels have no Monte Carlo error."""
+    views = [m for m, s in brdf_rs.models().items() if s["view_albedo_closed_form"]]
+    assert views
+    axes = (lut.Axis("mu", 4), lut.Axis("perceptual", 4))
+    closed = lut.build(lut.LutSpec("energy", views[0], *axes), interp_limit=4)
+    assert "closed form" in closed.budget.confidence
+    assert "Monte Carlo" not in closed.budget.confidence
+    assert closed.budget.channels[0] == "E" and closed.budget.mc_max_stderr[0] == 0.0
+    sampled = lut.build(lut.LutSpec("energy", "ggx", *axes, samples=64), interp_limit=4)
+    assert "Monte Carlo" in sampled.budget.confidence
+
+
 def test_meet_error_picks_the_first_size_and_format_whose_total_fits():
     spec = lut.LutSpec(
         "energy",

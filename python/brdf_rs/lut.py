@@ -266,6 +266,15 @@ class Axis:
         return dataclasses.asdict(self)
 
 
+#: :attr:`Budget.confidence` for a table computed without sampling.
+_CLOSED_FORM_CONFIDENCE = (
+    "an estimate per point checked: the texels come from a closed form and a quadrature"
+    " with an error bound (mc_max_stderr holds the largest bound, counted 3 times in"
+    " total), nothing is sampled; the interpolation error is measured at the points"
+    " checked, not bounded over the whole table"
+)
+
+
 def parse_axis(text: str, what: str = "axis") -> Axis:
     """An :class:`Axis` from ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]]``, e.g.
     ``mu:centres:128`` or ``perceptual:ends:32:0:1:1e-4``."""
@@ -768,8 +777,11 @@ class Budget:
 
     ``mc_max_stderr``: the largest Monte Carlo standard error of a texel (one sigma;
     about 99.7 % of texels are within 3 of them of the exact integral when the errors are
-    normal). ``quant_worst`` / ``quant_rms``: the exact largest and RMS difference
-    between the stored (quantized, decoded) texels and the float64 integrals.
+    normal). For a table computed without sampling (an energy table whose E is in closed
+    form, :meth:`LutSpec.recipe`'s ``estimator``) it is the largest error bound of a
+    texel instead, and ``confidence`` says so. ``quant_worst`` / ``quant_rms``: the
+    exact largest and RMS difference between the stored (quantized, decoded) texels and
+    the float64 integrals.
     ``interp_worst``: the largest difference between the bilinear lookup of the float64
     table and a fresh Monte Carlo integral (an independent seed) at ``interp_points``
     points between the texels (midpoints between neighbouring texels, and the range
@@ -903,6 +915,8 @@ def _budget(
         interp_worst_interior=interior.tolist(),
         total=_total(qw, iw, rse, mc).tolist(),
     )
+    if _estimator(spec.kind, spec.model) != _ESTIMATOR[spec.kind]:
+        budget = dataclasses.replace(budget, confidence=_CLOSED_FORM_CONFIDENCE)
     return budget, Checks(mq, rq, ref, ref_se)
 
 
