@@ -489,11 +489,17 @@ _ESTIMATOR = {
 }
 
 
-def _estimator(kind: str, model: str) -> str:
-    """How a table's values are computed: :data:`_ESTIMATOR`, except for the energy table
-    of a model whose albedo seen from the view is in closed form (nothing is sampled)."""
+def _closed_form(kind: str, model: str) -> bool:
+    """Whether the table samples nothing: the energy table of a model whose albedo seen
+    from the view is in closed form."""
     spec = _spec.specs().get(model)
-    if kind == "energy" and spec is not None and spec["view_albedo_closed_form"]:
+    return kind == "energy" and spec is not None and bool(spec["view_albedo_closed_form"])
+
+
+def _estimator(kind: str, model: str) -> str:
+    """How a table's values are computed: :data:`_ESTIMATOR`, except for a table that
+    samples nothing (:func:`_closed_form`)."""
+    if _closed_form(kind, model):
         return (
             "brdf_rs.energy_compensation_table: E the closed form of the albedo seen from the"
             " view, E_avg by adaptive Gauss-Legendre in mu with an error bound"
@@ -915,7 +921,7 @@ def _budget(
         interp_worst_interior=interior.tolist(),
         total=_total(qw, iw, rse, mc).tolist(),
     )
-    if _estimator(spec.kind, spec.model) != _ESTIMATOR[spec.kind]:
+    if _closed_form(spec.kind, spec.model):
         budget = dataclasses.replace(budget, confidence=_CLOSED_FORM_CONFIDENCE)
     return budget, Checks(mq, rq, ref, ref_se)
 
