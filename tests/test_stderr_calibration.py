@@ -184,9 +184,32 @@ def test_quick_run_writes_json_and_markdown(tmp_path, capsys):
     assert "P(|z|>3)" in capsys.readouterr().out
 
 
+def test_confirm_reruns_rows_over_the_goal_on_fresh_cells(tmp_path, monkeypatch):
+    # Every row over the goal (made negative here) is rerun on K times the cells, with
+    # cell ids after the first run's: the same cells again would give the same z.
+    monkeypatch.setattr(sc, "GOAL", -1.0)
+    case = sc.select(["ggx mu=0.7 alpha=0.3"])[0]
+    out = tmp_path / "calibration"
+    argv = ["--cases", case.label, "--cells", "30", "--samples", "256", "--confirm", "2"]
+    assert sc.main([*argv, "--out", str(out)]) == 0
+    rows = json.loads(out.with_suffix(".json").read_text())["rows"]
+    assert rows and all("confirm" in r for r in rows)
+    for r in rows:
+        again = r["confirm"]
+        assert again["cells"] == 60
+        budget = sc.Budget(256) if r["budget"] == "n=256" else sc.Budget(256, 1e-4)
+        fresh = sc.calibrate(case, r["reference"], r["sequence"], budget, 60, first_cell=30)
+        assert again["rms_error"] == fresh["rms_error"]
+        first = sc.calibrate(case, r["reference"], r["sequence"], budget, 30)
+        assert first["rms_error"] == r["rms_error"] != again["rms_error"]
+    md = out.with_suffix(".md").read_text()
+    assert f"{len(rows)} of {len(rows)} above -1.0 there" in md
+
+
 @pytest.mark.parametrize(
     ("argv", "name"),
     [
+        (["--confirm", "-1"], "--confirm"),
         (["--cells", "0"], "--cells"),
         (["--samples", "1"], "--samples"),
         (["--tol", "0"], "--tol"),
