@@ -1,5 +1,6 @@
-"""Prints a hash of ``brdf_rs.eval``'s bits per model and dtype, of ``brdf_rs.sample`` and
-``brdf_rs.pdf`` per model, and of a few tables, to compare two builds.
+"""Prints a hash of ``brdf_rs.eval``'s bits per model, dtype and precision tier, of
+``brdf_rs.sample`` and ``brdf_rs.pdf`` per model, and of a few tables, to compare two
+builds.
 
 The inputs are fixed (seeded): random directions above and below the surface, near
 the horizon, tilted normals and tangents, and each model's parameters drawn inside their
@@ -14,11 +15,14 @@ values changed.
 from __future__ import annotations
 
 import hashlib
+import itertools
 
 import brdf_rs
 import numpy as np
 
 N = 50_000
+#: The tiers of ``brdf_rs.eval``'s ``precision=``.
+PRECISIONS = ("accurate", "fast")
 #: Parameters without defaults.
 EXTRA = {
     "toon_diffuse": {"thresholds": [-0.2, 0.4], "colors": [[0.1, 0, 0], [0.5, 0.5, 0], [1, 1, 1]]}
@@ -55,7 +59,7 @@ def main() -> None:
         t = np.cross(n, directions(rng))
         t /= np.linalg.norm(t, axis=1, keepdims=True)
         params = {**parameters(rng, spec), **EXTRA.get(name, {})}
-        for dtype in (np.float64, np.float32):
+        for dtype, precision in itertools.product((np.float64, np.float32), PRECISIONS):
             try:
                 takes_tangent = spec["tangent"] or spec["tangent_optional"]
                 tangent = t.astype(dtype) if takes_tangent else None
@@ -65,12 +69,14 @@ def main() -> None:
                     wo.astype(dtype),
                     n.astype(dtype),
                     tangent=tangent,
+                    precision=precision,
                     **params,
                 )
                 digest = hashlib.sha256(np.ascontiguousarray(f).tobytes()).hexdigest()[:16]
             except (ValueError, TypeError) as exc:
                 digest = f"error: {type(exc).__name__}"
-            print(f"{name:24s} {np.dtype(dtype).name:8s} {digest}")
+            label = np.dtype(dtype).name + ("" if precision == "accurate" else f" {precision}")
+            print(f"{name:24s} {label:13s} {digest}")
         print(f"{name:24s} sample   {sampling(name, spec, wi, wo, n, t, params, rng)}")
     tables()
 

@@ -762,6 +762,15 @@ fn scale_f32(m: f32, kd: f32) -> f32 {
     if sub { f32::from_bits(rb) } else { rn }
 }
 
+/// 2^-e, exactly, for an integer |e| < 160: +inf beyond the float range (e < -128), the
+/// subnormals and 0 below it. The value of the `f32` powers' special cases (x = 1, p = 0)
+/// in their scaled forms, without evaluating an exponential for it.
+#[inline(always)]
+fn pow2_neg_f32(e: f32) -> f32 {
+    // scale_f32 takes n = -e up to 128; n = 129 gives +inf.
+    scale_f32(1.0, SHIFT_F32 - e.max(-129.0))
+}
+
 /// f32 analogue of [`exp2_dd_f64`]: 2^(yh + yl - e), |e| <= 160; exactly 0 below
 /// 2^-170, +inf beyond the float range.
 #[inline(always)]
@@ -798,7 +807,7 @@ fn pow_unit_scaled_f32<const FMA: bool>(x: f32, one_minus_x: f32, p: f32, e: f32
     let yh = p1 * t1;
     let yl = mla32::<FMA>(p - p1, t1, p * t2);
     let r = exp2_dd_f32::<FMA>(yh, yl, e);
-    let one = exp2_dd_f32::<FMA>(0.0, 0.0, e);
+    let one = pow2_neg_f32(e);
     let r = if one_minus_x == 0.0 { one } else { r };
     let r = if x == 0.0 { 0.0 } else { r };
     if p == 0.0 { one } else { r }
@@ -1043,7 +1052,7 @@ fn exp_fast_f32(y: f32, e: f32) -> f32 {
 fn pow_fast_scaled_f32(x: f32, one_minus_x: f32, p: f32, e: f32) -> f32 {
     let y = p * ln_fast_f32(x, one_minus_x);
     let r = exp_fast_f32(y, e);
-    let one = exp_fast_f32(0.0, e); // 2^-e, +inf beyond the float range
+    let one = pow2_neg_f32(e);
     let r = if one_minus_x == 0.0 { one } else { r };
     let r = if x == 0.0 { 0.0 } else { r };
     if p == 0.0 { one } else { r }
@@ -1602,6 +1611,19 @@ pub(crate) mod tests {
                 let rel = (f64::from(log_f32(yf)) - f64::from(yf).ln()).abs();
                 assert!(rel <= 4.0 * f64::from(f32::EPSILON) * f64::from(yf).ln().abs().max(1.0));
             }
+        }
+    }
+
+    #[test]
+    fn pow2_neg_f32_is_exact() {
+        // The special cases' 2^-e of the scaled f32 powers: exact, through the subnormals
+        // to 0 and to +inf beyond the range, and the value the exponentials gave for it.
+        for e in -159..=159 {
+            let ef = e as f32;
+            let want = 2f64.powi(-e) as f32;
+            assert_eq!(pow2_neg_f32(ef).to_bits(), want.to_bits(), "2^-({e})");
+            assert_eq!(exp2_dd_f32::<false>(0.0, 0.0, ef).to_bits(), want.to_bits());
+            assert_eq!(exp_fast_f32(0.0, ef).to_bits(), want.to_bits());
         }
     }
 }
