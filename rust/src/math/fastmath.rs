@@ -304,6 +304,15 @@ fn scale_in_f64<const NORMAL: bool>(m: f64, kd: f64) -> f64 {
     if sub { f64::from_bits(rb) } else { rn }
 }
 
+/// 2^-e, exactly, for an integer |e| <= 1100: +inf beyond the float range (e < -1024), the
+/// subnormals and 0 below it. The value of the `f64` powers' special cases (x = 1, p = 0)
+/// in their scaled forms, without evaluating an exponential for it.
+#[inline(always)]
+fn pow2_neg_f64(e: f64) -> f64 {
+    // scale_f64 takes n = -e up to 1024; n = 1025 gives +inf.
+    scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e })
+}
+
 /// 2^(yh + yl - e) for an integer |e| <= 1100 (pow path; `e` = 0 for a plain power);
 /// exactly 0 below 2^-1100 and +inf beyond the float range.
 #[inline(always)]
@@ -343,7 +352,7 @@ fn pow_unit_scaled_f64<const FMA: bool>(x: f64, one_minus_x: f64, p: f64, e: f64
     let yh = p1 * t1;
     let yl = mla::<FMA>(p - p1, t1, p * t2);
     let r = exp2_dd_f64::<FMA>(yh, yl, e);
-    let one = exp2_dd_f64::<FMA>(0.0, 0.0, e); // 2^-e, exact (or +inf)
+    let one = pow2_neg_f64(e);
     special_cases_f64(x, one_minus_x, p, r, one)
 }
 
@@ -401,8 +410,7 @@ fn over_from_halves_f64<const OVER: bool>(
     let e = if big { e + 1.0 } else { e };
     let m = if big { m * 0.5 } else { m };
     let r = exp(e);
-    // 2^-e, exact (+inf for e < -1024)
-    let one = scale_f64(1.0, SHIFT_F64 - if e < -1025.0 { -1025.0 } else { e });
+    let one = pow2_neg_f64(e);
     let r = special_cases_f64(x, one_minus_x, p, r, one);
     if OVER { r / m } else { r }
 }
@@ -1611,6 +1619,24 @@ pub(crate) mod tests {
                 let rel = (f64::from(log_f32(yf)) - f64::from(yf).ln()).abs();
                 assert!(rel <= 4.0 * f64::from(f32::EPSILON) * f64::from(yf).ln().abs().max(1.0));
             }
+        }
+    }
+
+    #[test]
+    fn pow2_neg_f64_is_exact() {
+        // As below, for the f64 powers (|e| <= 1100).
+        for e in -1100..=1100 {
+            let ef = e as f64;
+            let want = if e < -1023 {
+                f64::INFINITY
+            } else if e > 1074 {
+                // 2^-1075 rounds to even (0); below it, 0.
+                0.0
+            } else {
+                2f64.powi(-e.min(1022)) * 2f64.powi(-(e - e.min(1022)))
+            };
+            assert_eq!(pow2_neg_f64(ef).to_bits(), want.to_bits(), "2^-({e})");
+            assert_eq!(exp2_dd_f64::<false>(0.0, 0.0, ef).to_bits(), want.to_bits());
         }
     }
 
