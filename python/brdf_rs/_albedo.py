@@ -557,7 +557,9 @@ def energy_compensation_table(
     - A reciprocal lobe: ``E`` is its directional albedo, integrated by
       :func:`brdf_rs.albedo` (randomized QMC with ``samples``, ``tol``, ``seed`` and the
       other ``options``; standard errors), ``E_avg`` by a 32-point Gauss-Legendre rule in
-      ``mu`` over cells of their own.
+      ``mu`` over cells of their own. ``e_avg_stderr`` is the Monte Carlo part of its
+      error: the rule's own error is not included, below the noise at the default ``tol``
+      but not at a tight one (``scripts/energy_quadrature_check.py``; docs/models.md).
     - A kernel with ``view_albedo_closed_form`` (a lobe that is not reciprocal, whose
       albedo over ``wo`` that :func:`brdf_rs.albedo` integrates is not ``E``): ``E`` is the
       closed form, exact (``stderr`` 0; ``E(0) = 0``, as ``f`` is 0 there). ``E_avg`` is an
