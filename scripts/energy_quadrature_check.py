@@ -1,16 +1,28 @@
-"""How far the energy tables' E_avg quadrature is from a finer one.
+"""How far the energy tables' E_avg quadrature is from a finer one, and how other rules
+with the same number of cells would do.
 
     python scripts/energy_quadrature_check.py [--model ggx_dielectric] [--tol 1e-5]
     python scripts/energy_quadrature_check.py --model ggx --tol 1e-8
+    python scripts/energy_quadrature_check.py --eta 0.67 --alpha 0.05 0.8 --tol 1e-6
 
 ``brdf_rs.energy_compensation_table`` integrates ``E_avg = 2 ∫ E(mu) mu dmu`` with a
 32-point Gauss-Legendre rule in ``mu`` over cells of its own, and ``e_avg_stderr`` is the
 Monte Carlo part only. This prints, at a few roughnesses (and, for the transmitting
-models, indices on both sides of 1), the 32-point value minus a 64-point one (other
-nodes, other seed) next to their combined standard error: where the difference stays
-within a few standard errors, the rule's error is below the noise. E is computed as the
-table computes it: ``kd = 0, ks = 1`` for a conductor's lobe, the white interface's total
-albedo (``ks = kt = 1``) for a transmitting model.
+models, indices on both sides of 1), each rule's value minus a 128-point Gauss-Legendre
+one (other nodes, other seed) next to their combined standard error: where the
+difference stays within a few standard errors, the rule's error is below the noise. The
+rules, 32 cells each:
+
+- ``gl32``: the tables' rule, 32-point Gauss-Legendre in ``mu``;
+- ``gl32_sqrt``: 32-point Gauss-Legendre in ``t = sqrt(mu)`` (``mu = t²``), whose nodes
+  crowd towards grazing incidence, where ``E`` of a smooth lobe falls within ``mu`` of
+  about ``alpha``;
+- ``split``: for a transmitting model with ``eta < 1``, 16-point Gauss-Legendre on each
+  side of the critical cosine ``sqrt(1 − eta²)`` of total internal reflection, where
+  ``E`` bends (``gl32`` elsewhere).
+
+E is computed as the table computes it: ``kd = 0, ks = 1`` for a conductor's lobe, the
+white interface's total albedo (``ks = kt = 1``) for a transmitting model.
 """
 
 from __future__ import annotations
@@ -23,13 +35,33 @@ import brdf_rs
 import numpy as np
 
 
-def e_avg(model: str, n: int, tol: float, seed: int, **params: Any) -> tuple[float, float]:
-    """``(E_avg, stderr)`` by ``n``-point Gauss-Legendre over direct albedo calls."""
+def gauss(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """``n``-point Gauss-Legendre nodes and weights on ``[a, b]``."""
     x, w = np.polynomial.legendre.leggauss(n)
-    x, w = (x + 1) / 2, w / 2
-    a = brdf_rs.albedo(model, x, tol=tol, seed=seed, **params)
-    value = 2 * np.sum(w * x * a.value[:, 0])
-    return float(value), float(2 * np.sqrt(np.sum((w * x * a.stderr[:, 0]) ** 2)))
+    return a + (b - a) * (x + 1) / 2, w * (b - a) / 2
+
+
+def rule(name: str, eta: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes ``mu`` and weights ``v`` with ``E_avg ≈ 2 Σ v·E(mu)`` (the weights hold the
+    factor ``mu`` and the change of variables)."""
+    if name == "gl32_sqrt":
+        t, w = gauss(32)
+        return t * t, w * 2 * t * t * t
+    if name == "split" and eta is not None and eta < 1:
+        c = float(np.sqrt(1 - eta * eta))
+        (x1, w1), (x2, w2) = gauss(16, 0.0, c), gauss(16, c, 1.0)
+        x, w = np.r_[x1, x2], np.r_[w1, w2]
+        return x, w * x
+    x, w = gauss(128 if name == "gl128" else 32)
+    return x, w * x
+
+
+def e_avg(model: str, name: str, tol: float, seed: int, **params: Any) -> tuple[float, float]:
+    """``(E_avg, stderr)`` by rule ``name`` over direct albedo calls."""
+    mu, v = rule(name, params.get("eta"))
+    a = brdf_rs.albedo(model, mu, tol=tol, seed=seed, **params)
+    value = 2 * np.sum(v * a.value[:, 0])
+    return float(value), float(2 * np.sqrt(np.sum((v * a.stderr[:, 0]) ** 2)))
 
 
 def main() -> None:
@@ -39,6 +71,9 @@ def main() -> None:
     parser.add_argument(
         "--alpha", type=float, nargs="+", default=None, help="roughnesses (a default set)"
     )
+    parser.add_argument(
+        "--eta", type=float, nargs="+", default=None, help="indices (a default set)"
+    )
     args = parser.parse_args()
     spec = brdf_rs.models()[args.model]
     transmitting = spec["transmission"]
@@ -46,23 +81,30 @@ def main() -> None:
         parser.error(f"--model: {args.model} has no energy table")
     if transmitting:
         alphas = args.alpha or [0.05, 0.2, 0.8]
-        cases = [
-            ({"eta": eta, "ks": 1.0, "kt": 1.0}, f"{eta:<7g}") for eta in (0.67, 0.95, 1.05, 1.5)
-        ]
+        cases = [{"eta": eta, "ks": 1.0, "kt": 1.0} for eta in args.eta or (0.67, 0.95, 1.05, 1.5)]
+        rules = ("gl32", "gl32_sqrt", "split")
     else:
+        if args.eta is not None:
+            parser.error(f"--eta: {args.model} has no eta")
         alphas = args.alpha or [0.005, 0.02, 0.1, 0.4, 1.0]
-        cases = [({"kd": 0.0, "ks": 1.0}, "")]
-    print(f"{args.model}, tol {args.tol:g}")
-    print(f"alpha   {'eta     ' if transmitting else ''}E_avg(GL32)  GL32 - GL64   combined stderr")
+        cases = [{"kd": 0.0, "ks": 1.0}]
+        rules = ("gl32", "gl32_sqrt")
+    print(f"{args.model}, tol {args.tol:g}; error: the rule's E_avg minus 128-point Gauss-Legendre")
+    print(f"{'alpha':<7} {'eta':<7} {'rule':<10} {'E_avg':<10} {'error':>10} {'comb. stderr':>13}")
     for alpha in alphas:
-        for params, label in cases:
+        for params in cases:
             t = time.perf_counter()
-            v32, s32 = e_avg(args.model, 32, args.tol, 7, alpha=alpha, **params)
-            v64, s64 = e_avg(args.model, 64, args.tol, 8, alpha=alpha, **params)
-            print(
-                f"{alpha:<7g} {label}{v32:.7f}    {v32 - v64:+.2e}     "
-                f"{np.hypot(s32, s64):.1e}   ({time.perf_counter() - t:.1f} s)"
-            )
+            ref, ref_se = e_avg(args.model, "gl128", args.tol, 9, alpha=alpha, **params)
+            eta = f"{params['eta']:g}" if "eta" in params else "-"
+            for name in rules:
+                if name == "split" and params["eta"] >= 1:
+                    continue
+                v, se = e_avg(args.model, name, args.tol, 7, alpha=alpha, **params)
+                print(
+                    f"{alpha:<7g} {eta:<7} {name:<10} {v:.7f}  {v - ref:>+10.2e} "
+                    f"{np.hypot(se, ref_se):>13.1e}"
+                )
+            print(f"  ({time.perf_counter() - t:.1f} s)")
 
 
 if __name__ == "__main__":
