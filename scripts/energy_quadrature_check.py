@@ -19,7 +19,7 @@ rules, 32 cells each:
   about ``alpha``;
 - ``split``: for a transmitting model with ``eta < 1``, 16-point Gauss-Legendre on each
   side of the critical cosine ``sqrt(1 − eta²)`` of total internal reflection, where
-  ``E`` bends (``gl32`` elsewhere).
+  ``E`` bends (not run for ``eta >= 1``).
 
 E is computed as the table computes it: ``kd = 0, ks = 1`` for a conductor's lobe, the
 white interface's total albedo (``ks = kt = 1``) for a transmitting model.
@@ -43,16 +43,18 @@ def gauss(n: int, a: float = 0.0, b: float = 1.0) -> tuple[np.ndarray, np.ndarra
 
 def rule(name: str, eta: float | None) -> tuple[np.ndarray, np.ndarray]:
     """Nodes ``mu`` and weights ``v`` with ``E_avg ≈ 2 Σ v·E(mu)`` (the weights hold the
-    factor ``mu`` and the change of variables)."""
+    factor ``mu`` and the change of variables). ``split`` needs ``eta < 1``."""
     if name == "gl32_sqrt":
         t, w = gauss(32)
         return t * t, w * 2 * t * t * t
-    if name == "split" and eta is not None and eta < 1:
+    if name == "split":
+        if eta is None or not eta < 1:
+            raise ValueError(f"split: needs eta < 1, got {eta}")
         c = float(np.sqrt(1 - eta * eta))
         (x1, w1), (x2, w2) = gauss(16, 0.0, c), gauss(16, c, 1.0)
         x, w = np.r_[x1, x2], np.r_[w1, w2]
-        return x, w * x
-    x, w = gauss(128 if name == "gl128" else 32)
+    else:
+        x, w = gauss({"gl32": 32, "gl128": 128}[name])
     return x, w * x
 
 

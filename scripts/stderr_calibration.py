@@ -709,9 +709,7 @@ def run(
                         first_cell=cells,
                     )
                     row["confirm"] = {"cells": confirm * cells, **again}
-                    echo(
-                        f"  rerun on {confirm * cells} fresh cells: " + format_row({**row, **again})
-                    )
+                    echo("  " + format_rerun(row))
     return rows
 
 
@@ -737,6 +735,11 @@ def over_goal(r: dict[str, Any]) -> bool:
 def confirmed_over_goal(r: dict[str, Any]) -> bool:
     """Over the goal, and (where it was rerun on fresh cells) over it in the rerun too."""
     return over_goal(r) and ("confirm" not in r or r["confirm"]["p_abs_z_gt_3"] > GOAL)
+
+
+def format_rerun(r: dict[str, Any]) -> str:
+    """A row's rerun on fresh cells (``--confirm``), formatted as a row."""
+    return f"rerun on {r['confirm']['cells']} fresh cells: " + format_row({**r, **r["confirm"]})
 
 
 def format_row(r: dict[str, Any]) -> str:
@@ -908,10 +911,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for r in over:
         print("  " + format_row(r))
         if "confirm" in r:
-            print(
-                f"    rerun on {r['confirm']['cells']} fresh cells: "
-                + format_row({**r, **r["confirm"]})
-            )
+            print("    " + format_rerun(r))
     if any("confirm" in r for r in over):
         confirmed = sum(confirmed_over_goal(r) for r in over)
         print(f"{confirmed} of {len(over)} above {GOAL} in their rerun on fresh cells")
