@@ -558,8 +558,10 @@ def main() -> None:
             )
         (pages / f"{name}.md").write_text(model_page(name, spec), encoding="utf-8")
         print(f"{pages / name}.md  ({time.perf_counter() - start:.1f} s)")
+    # The overviews show every model of a family: a run limited to some models keeps
+    # the committed ones.
     for family, items in overview.items():
-        if items:
+        if items and args.models is None:
             images, labels = zip(*items, strict=True)
             plot.spheres(
                 images,

@@ -81,6 +81,36 @@ def test_images_are_pngs_of_the_requested_size(docs):
         assert png_size(img / f"overview_{family}.png")[0] > 0
 
 
+def test_committed_overviews_show_every_model_of_their_family():
+    """docs/models/img/overview_*.png: one panel (1.25 in at 100 dpi, 8 to a row) per
+    model the scenes render; a run of the script limited to some models keeps them."""
+    specs = brdf_rs.models().values()
+    for family in ("A", "B"):
+        count = sum(s["family"] == family and not s["transmission"] for s in specs)
+        width, height = png_size(
+            ROOT / "docs" / "models" / "img" / f"overview_{family.lower()}.png"
+        )
+        assert width == 125 * min(count, 8), (family, width, count)
+        assert height == 150 * -(-count // 8), (family, height, count)
+
+
+def test_a_run_for_some_models_keeps_the_overviews(tmp_path):
+    img = tmp_path / "models" / "img"
+    img.mkdir(parents=True)
+    kept = b"not an image: the run must leave it alone"
+    (img / "overview_a.png").write_bytes(kept)
+    args = ["--resolution", "small", "--out", str(tmp_path), "--models", "lambert"]
+    result = subprocess.run(
+        [sys.executable, str(SCRIPT), *args],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert result.returncode == 0, result.stderr
+    assert (img / "overview_a.png").read_bytes() == kept
+    assert (img / "lambert_sphere.png").exists()
+
+
 def test_sphere_images_show_the_model(docs):
     # Rendered, not drawn: the lit side of every sphere is brighter than the corner, and
     # the white Lambert sphere matches a direct render at that size.
