@@ -65,15 +65,26 @@ pub trait Microfacets: 'static {
     /// The warp that draws its visible normals at roughness `alpha`.
     fn visible_normals(alpha: f64) -> Warp;
 
-    /// Returns `D(h)·G2/(4 mu_i mu_o)` given `cos θh ≥ 0`, `sin²θh`, the cosines
-    /// `mu = [mu_i, mu_o]` (positive) and their `sin²θ = |n × w|²`: [`smith_quotient`]
-    /// of the NDF and the `μ·Λ(μ)`s (the NDF flushed as [`Real::flush_subnormal`] does).
+    /// Returns `w·D(h)·G2/(4 mu_i mu_o)` given a weight `w >= 0` (the Fresnel part),
+    /// `cos θh ≥ 0`, `sin²θh`, the cosines `mu = [mu_i, mu_o]` (positive) and their
+    /// `sin²θ = |n × w|²`: [`smith_quotient`] of the weighted NDF and the `μ·Λ(μ)`s (the
+    /// NDF flushed as [`Real::flush_subnormal`] does). The weight joins the numerator
+    /// before the last division by the larger cosine: at grazing incidence the lobe alone
+    /// can exceed the float range where a tiny Fresnel part (`eta` near 1) keeps the value
+    /// finite. `w = 0` gives 0.
     #[inline(always)]
-    fn lobe<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
+    fn lobe<F: Real>(
+        p: &Self::Prepared<F>,
+        w: F,
+        cos_th: F,
+        sin2_th: F,
+        mu: [F; 2],
+        sin2: [F; 2],
+    ) -> F {
         let ndf = F::flush_subnormal(Self::ndf(p, cos_th, sin2_th));
         let l_i = Self::mu_lambda(p, mu[0], sin2[0]);
         let l_o = Self::mu_lambda(p, mu[1], sin2[1]);
-        smith_quotient(ndf, mu[0], mu[1], l_i, l_o)
+        smith_quotient(weighted(w, ndf), mu[0], mu[1], l_i, l_o)
     }
 }
 
@@ -110,11 +121,11 @@ impl Microfacets for Ggx {
     /// larger cosine and `q = min·P_i P_o + (mu_o/m)·a_i P_o + (mu_i/m)·a_o P_i` (fewer
     /// roundings than the `μ·Λ(μ)` quotient).
     #[inline(always)]
-    fn lobe<F: Real>(p: &(F, F), cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
+    fn lobe<F: Real>(p: &(F, F), w: F, cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
         let (alpha2, d_scale) = *p;
         let [mu_i, mu_o] = mu;
         let denom = sin2_th + alpha2 * cos_th * cos_th;
-        let ndf = d_scale / (denom * denom);
+        let ndf = weighted(w, d_scale / (denom * denom));
         let a_i = alpha2 * sin2[0];
         let a_o = alpha2 * sin2[1];
         let p_i = F::TWO * ((mu_i * mu_i + a_i).sqrt() + mu_i);
@@ -337,13 +348,14 @@ where
         let sin2_th = (d.n - h).length_squared() * ((d.n + h).length_squared() * F::from_f64(0.25));
         let sin2 = [d.wi, d.wo].map(|w| d.n.cross(w).length_squared());
         let mu = [mu_i.abs(), mu_o.abs()];
-        // D·G2/(4|mu_i||mu_o|), of the exact unit vectors.
-        let lobe = M::lobe(&pp.lobe, max(cos_th, F::ZERO), sin2_th, mu, sin2);
-        let lobe = microfacet_length_correction(lobe, e_n, e_i, e_o, h);
         // F at |wi·h| from wi's side.
         let channel = fresnel::Conductor::select(i_above, &pp.above, &pp.below);
         let (r2, e) = if i_above { pp.r_above } else { pp.r_below };
         let fr = reflectance(&channel, hv.cos_b, r2, e);
+        // The Fresnel part times D·G2/(4|mu_i||mu_o|), of the exact unit vectors.
+        let part = if reflect { fr } else { refracted };
+        let lobe = M::lobe(&pp.lobe, part, max(cos_th, F::ZERO), sin2_th, mu, sin2);
+        let lobe = microfacet_length_correction(lobe, e_n, e_i, e_o, h);
         // eta = 1: no interface, the transmission is the delta wo = −wi (0 as a function
         // value, also where rounding leaves wi + wo a little off 0). h in the tangent
         // plane cannot be turned to n's side: no facet refracts the pair.
@@ -351,14 +363,8 @@ where
         let transmits = len > 0.0 && physical && interface && cos_th > F::ZERO;
         let valid =
             mu_i != F::ZERO && mu_o != F::ZERO && if reflect { hv.defined } else { transmits };
-        let reflected = weighted(fr, lobe);
-        let transmitted = weighted(refracted, lobe);
         [0, 1, 2].map(|c| {
-            let v = if reflect {
-                weighted(pp.ks[c], reflected)
-            } else {
-                weighted(pp.kt[c], transmitted)
-            };
+            let v = weighted(if reflect { pp.ks[c] } else { pp.kt[c] }, lobe);
             if valid { v } else { F::ZERO }
         })
     }
