@@ -84,7 +84,7 @@ FRESNEL_VARIANTS = (
 SHEEN = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth", "zeltner_sheen")
 #: Defined on the whole sphere (they transmit): their sampling tests are in
 #: tests/test_dielectric.py, which histograms the sphere rather than the hemisphere.
-DIELECTRIC = ("ggx_dielectric", "beckmann_dielectric")
+DIELECTRIC = ("ggx_dielectric", "beckmann_dielectric", "ggx_dielectric_ms")
 MUS = (0.05, 0.5, 0.95)
 EXPONENTS = (1.0, 10.0, 100.0, 1e3, 1e4)
 TILTED = (0.35, -0.25, 0.9)

@@ -84,7 +84,9 @@ def test_quick_stress_meets_the_goals(quick_report, model, dtype):
 
 
 def test_quick_stress_is_quick_and_covers_every_category(quick_report):
-    assert quick_report.wall < 30, quick_report.wall  # about 4 s on the 2-core CI machine
+    # About 16 s alone on the 2-core machine, twice that beside other test processes;
+    # the full run takes minutes.
+    assert quick_report.wall < 60, quick_report.wall
     assert {s.model for s in quick_report.summaries} == set(MODEL_NAMES)
     labels = {c["label"] for v in quick_report.worst.values() for c in v}
     assert labels  # the worst cases are reported with their inputs

@@ -40,6 +40,8 @@ import mpmath
 from mpmath import mpf
 from mpmath.libmp import from_man_exp
 
+from . import reference
+
 __all__ = ["condition", "eval_float", "eval_mp"]
 
 Colour = tuple[mpf, mpf, mpf]
@@ -569,6 +571,14 @@ def _ggx_dielectric(g: _Geometry, ks: Colour, kt: Colour, eta: mpf, alpha: mpf) 
     return _dielectric(g, ks, kt, eta, alpha, _ggx_ndf, _ggx_lambda_of)
 
 
+def _ggx_dielectric_ms(g: _Geometry, ks: Colour, kt: Colour, eta: mpf, alpha: mpf) -> Colour:
+    """``ggx_dielectric`` over the library's table of its white albedo at ``wi``, the
+    table read exactly (its values are floats) and blended at the working precision."""
+    e = reference.dielectric_energy(g.mu_i, g.sin_i, alpha, eta, mpmath.sqrt, mpmath.log)
+    red, green, blue = _ggx_dielectric(g, ks, kt, eta, alpha)
+    return (red / e, green / e, blue / e)
+
+
 def _beckmann_dielectric(g: _Geometry, ks: Colour, kt: Colour, eta: mpf, alpha: mpf) -> Colour:
     return _dielectric(g, ks, kt, eta, alpha, _beckmann_ndf, _beckmann_lambda)
 
@@ -982,6 +992,7 @@ _MODELS: dict[str, _Model] = {
         "A", _with_fresnel(_beckmann, _gen_schlick_channel), _GEN_SCHLICK_DEFAULTS
     ),
     "ggx_dielectric": _Model("A", _ggx_dielectric, _DIELECTRIC_DEFAULTS, sphere=True),
+    "ggx_dielectric_ms": _Model("A", _ggx_dielectric_ms, _DIELECTRIC_DEFAULTS, sphere=True),
     "beckmann_dielectric": _Model("A", _beckmann_dielectric, _DIELECTRIC_DEFAULTS, sphere=True),
     "ward": _Model(
         "A",

@@ -37,7 +37,7 @@ import decimal
 import math
 import sys
 from collections.abc import Callable, Iterable, Sequence
-from typing import SupportsFloat, cast
+from typing import Any, SupportsFloat, cast
 
 __all__ = ["DEFAULTS", "MODELS", "eval"]
 
@@ -1139,6 +1139,101 @@ def beckmann_dielectric(
     return _dielectric(wi, wo, n, ks, kt, eta, _beckmann_terms(alpha))
 
 
+_ENERGY_TABLE: list[list[list[list[float]]]] = []
+
+
+def _energy_table() -> list[list[list[list[float]]]]:
+    """``ggx_dielectric``'s total albedo ``E[side][i][j][k]``, the table embedded in the
+    library (read once; its values are the data, the interpolation below is this
+    module's own)."""
+    if not _ENERGY_TABLE:
+        from ._brdf_rs import ggx_dielectric_energy_table
+
+        _ENERGY_TABLE.extend(ggx_dielectric_energy_table().astype(float).tolist())
+    return _ENERGY_TABLE
+
+
+def _cubic_weights(x: Any, last: int) -> list[tuple[int, Any]]:
+    """Catmull-Rom nodes and weights about ``x`` on ``[0, last]`` (clamped); at the ends
+    the missing outer node is the linear extrapolation of the inner two."""
+    x = min(max(x, 0 * x), last + 0 * x)
+    j = min(int(x), last - 1)
+    w = x - j
+    weights = [
+        (2 * w**2 - w**3 - w) / 2,
+        (3 * w**3 - 5 * w**2 + 2) / 2,
+        (4 * w**2 - 3 * w**3 + w) / 2,
+        (w**3 - w**2) / 2,
+    ]
+    if j == 0:
+        weights = [0 * w, weights[1] + 2 * weights[0], weights[2] - weights[0], weights[3]]
+    if j + 2 > last:
+        weights = [weights[0], weights[1] - weights[3], weights[2] + 2 * weights[3], 0 * w]
+    return list(zip([max(j - 1, 0), j, j + 1, min(j + 2, last)], weights, strict=True))
+
+
+def dielectric_energy(
+    mu_i: Any,
+    sin_i: Any,
+    alpha: Any,
+    eta: Any,
+    sqrt: Callable[[Any], Any] = math.sqrt,
+    log: Callable[[Any], Any] = math.log,
+) -> Any:
+    """``E(|mu_i|, alpha, r_i)`` of ``ggx_dielectric_ms``'s table (docs/models.md): the
+    total albedo of ``ggx_dielectric``'s white interface for light at ``mu_i = n·wi``
+    (its sign the side: ``r_i = eta`` above, ``1/eta`` below; ``sin_i = |n × wi|``), 1 at
+    ``eta = 1``.
+
+    Linear in ``x = (sqrt(t) + t)/2``, ``t = mu/(mu + alpha·sqrt(1 − mu²))``, Catmull-Rom in
+    ``log alpha`` over [1e-3, 1] and in ``u = s^(1/4)``, ``s = |eta − 1|/(eta + 1)``, held
+    within the values blended. ``sqrt``, ``log`` (and the arithmetic of the arguments)
+    choose the precision: floats here, mpmath in the 50-digit reference."""
+    if eta == 1:
+        return 1 + 0 * eta
+    table = _energy_table()
+    nt, na, ns = len(table[0]), len(table[0][0]), len(table[0][0][0])
+    side = table[0] if (mu_i > 0) == (eta > 1) else table[1]
+    mu = min(abs(mu_i), 1 + 0 * mu_i)
+    t = mu / (mu + min(max(alpha, 1e-3 + 0 * alpha), 1 + 0 * alpha) * min(sin_i, 1 + 0 * sin_i))
+    x = (sqrt(t) + t) / 2 * (nt - 1)
+    x = min(max(x, 0 * x), nt - 1 + 0 * x)
+    i = min(int(x), nt - 2)
+    rows = [(i, 1 - (x - i)), (i + 1, x - i)]
+    alpha = min(max(alpha, 1e-3 + 0 * alpha), 1 + 0 * alpha)
+    columns = _cubic_weights(log(alpha * 1000) / log(1000 + 0 * alpha) * (na - 1), na - 1)
+    s = min(abs(eta - 1) / (eta + 1), 1 + 0 * eta)
+    depths = _cubic_weights(sqrt(sqrt(s)) * (ns - 1), ns - 1)
+    total = 0 * mu
+    values = []
+    for a, wa in rows:
+        for b, wb in columns:
+            for c, wc in depths:
+                v = side[a][b][c]
+                values.append(v)
+                total += wa * wb * wc * v
+    return min(max(total, min(values) + 0 * mu), max(values) + 0 * mu)
+
+
+def ggx_dielectric_ms(
+    wi: Sequence[float],
+    wo: Sequence[float],
+    n: Sequence[float],
+    *,
+    ks: Colour,
+    kt: Colour,
+    eta: float,
+    alpha: float,
+) -> RGB:
+    """:func:`ggx_dielectric` divided by :func:`dielectric_energy` of ``wi``'s side
+    (Turquin's scaling; docs/models.md)."""
+    f = ggx_dielectric(wi, wo, n, ks=ks, kt=kt, eta=eta, alpha=alpha)
+    n_unit, wi_unit = _normalize(n), _normalize(wi)
+    mu_i = _dot(n_unit, wi_unit)
+    e = dielectric_energy(mu_i, _length(_cross(n_unit, wi_unit)), alpha, eta)
+    return _three(v / e for v in f)
+
+
 # ---------------------------------------------------------------------------------------
 # Sheen and cloth
 # ---------------------------------------------------------------------------------------
@@ -1497,6 +1592,7 @@ MODELS: dict[str, Callable[..., RGB]] = {
         ggx_gen_schlick,
         beckmann_gen_schlick,
         ggx_dielectric,
+        ggx_dielectric_ms,
         beckmann_dielectric,
         ward,
         ashikhmin_shirley,
@@ -1536,6 +1632,7 @@ DEFAULTS: dict[str, dict[str, object]] = {
     "ggx_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
     "beckmann_gen_schlick": {"kd": 0.0, "f0": 0.04, "f90": 1.0, "exponent": 5.0, "alpha": 0.5},
     "ggx_dielectric": {"ks": 1.0, "kt": 1.0, "eta": 1.5, "alpha": 0.5},
+    "ggx_dielectric_ms": {"ks": 1.0, "kt": 1.0, "eta": 1.5, "alpha": 0.5},
     "beckmann_dielectric": {"ks": 1.0, "kt": 1.0, "eta": 1.5, "alpha": 0.5},
     "ward": {"kd": 0.0, "ks": 1.0, "alpha_x": 0.2, "alpha_y": 0.2},
     "ashikhmin_shirley": {"Rd": 0.5, "Rs": 0.05, "nu": 100.0, "nv": 100.0},

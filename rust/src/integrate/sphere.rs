@@ -101,7 +101,7 @@ struct Bounds {
 
 impl Bounds {
     /// The bounds for the colours `ks`, `kt`, each weight scaled by at most `scale` (the
-    /// smooth radius's Jacobian).
+    /// smooth radius's Jacobian, and the model's factor over its interface).
     fn new(ks: [f64; 3], kt: [f64; 3], scale: f64) -> Self {
         Bounds {
             lo: std::array::from_fn(|c| scale * ks[c].min(kt[c]).min(0.0)),
@@ -283,12 +283,18 @@ pub(super) fn integrate_cell<K: Kernel>(
         )),
         _ => None,
     };
+    // The model's factor over the interface's closed-form weights (the kernel's own
+    // weights include it); every weight is at most the colour times it.
+    let scale = K::interface_scale(slots, mu);
     // The smooth radius's Jacobian 2s (at most 2) widens the range of a point's value.
     let smooth = closed.as_ref().is_some_and(|g| g.smooth);
-    let bounds = Bounds::new(ks, kt, if smooth { 2.0 } else { 1.0 });
+    let bounds = Bounds::new(ks, kt, scale * if smooth { 2.0 } else { 1.0 });
     let point = |u: [f64; 2]| -> [f64; 3] {
         let (r, t) = match &closed {
-            Some(glass) => glass.weights(u),
+            Some(glass) => {
+                let (r, t) = glass.weights(u);
+                (r * scale, t * scale)
+            }
             None => weights::<K>(&sampler, &prepared, wi, u),
         };
         std::array::from_fn(|c| {

@@ -168,6 +168,14 @@ pub trait Kernel: 'static {
         None
     }
 
+    /// For a transmitting model: the factor its value carries over the single-scattering
+    /// interface of its sampler for light arriving at cosine `mu` from above, the same
+    /// for every `wo` (the albedo integrator multiplies the interface's closed-form
+    /// weights by it). 1 for the interfaces themselves.
+    fn interface_scale(_slots: &[f64], _mu: f64) -> f64 {
+        1.0
+    }
+
     /// For a sheen layer's model: the lobe's albedo seen from the view at unit colour
     /// (`kd = 0`, `ks = 1`, roughness `alpha`), `∫ f(wi, wo)·(n·wi) dωi` over the light at
     /// `n·wo = mu_o`, where the model gives it in closed form; `None` where it must be
@@ -295,6 +303,7 @@ declare_models! {
     GgxGenSchlick => ggx_gen_schlick::GgxGenSchlick,
     BeckmannGenSchlick => beckmann_gen_schlick::BeckmannGenSchlick,
     GgxDielectric => ggx_dielectric::GgxDielectric,
+    GgxDielectricMs => ggx_dielectric_ms::GgxDielectricMs,
     BeckmannDielectric => beckmann_dielectric::BeckmannDielectric,
     Ward => ward::Ward,
     AshikhminShirley => ashikhmin_shirley::AshikhminShirley,

@@ -328,6 +328,18 @@ fn view_albedo<'py>(
     Ok(out.into_pyarray(py))
 }
 
+/// Returns the table of the rough GGX dielectric's total albedo that its compensated form
+/// divides by ([`crate::models::tables::DielectricEnergy`]): `E[side, i, j, k]` as float32
+/// of shape `(2, NT, NA, NS)`, for the references, which interpolate it themselves.
+#[pyfunction]
+fn ggx_dielectric_energy_table<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+    use crate::models::tables::{DielectricEnergy, GGX_DIELECTRIC};
+    let shape = ndarray::IxDyn(&DielectricEnergy::SHAPE);
+    let table = ndarray::ArrayD::from_shape_vec(shape, GGX_DIELECTRIC.values())
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(table.into_pyarray(py))
+}
+
 /// Returns the spec table: one dict per model.
 #[pyfunction]
 fn models<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
@@ -684,8 +696,9 @@ fn isa() -> &'static str {
 mod brdf_rs_ext {
     #[pymodule_export]
     use super::{
-        albedo, check_param_names, check_params, eval_f32, eval_f64, isa, max_num_threads, models,
-        num_threads, param_admits, pdf, sample, set_num_threads, tool_defaults, view_albedo,
+        albedo, check_param_names, check_params, eval_f32, eval_f64, ggx_dielectric_energy_table,
+        isa, max_num_threads, models, num_threads, param_admits, pdf, sample, set_num_threads,
+        tool_defaults, view_albedo,
     };
 
     #[pymodule_export]

@@ -2,9 +2,11 @@
 //! and embedded in the binary.
 
 pub mod beckmann_e;
+pub mod ggx_dielectric_e;
 pub mod ggx_e;
 pub mod nodes;
 
+use super::sheen::Dd;
 use crate::math::{Real, clamp, max};
 
 use nodes::{NA, NT};
@@ -62,6 +64,40 @@ fn node<F: Real>(x: F, last: usize) -> Node<F> {
     }
 }
 
+/// The four nodes about `x`'s interval on `[0, last]` and their cubic (Catmull-Rom)
+/// weights, which sum to 1. At the ends of the range the missing outer node is the linear
+/// extrapolation of the two inner ones (`L₋₁ = 2L₀ − L₁`), folded into their weights (the
+/// outer index is clamped and gets weight 0).
+#[inline(always)]
+fn cubic<F: Real>(x: Node<F>, last: usize) -> ([usize; 4], [F; 4]) {
+    let j = x.index;
+    let w = x.weight;
+    let (w2, w3) = (w * w, w * w * w);
+    let half = F::from_f64(0.5);
+    let (two, three, four, five) = (
+        F::from_f64(2.0),
+        F::from_f64(3.0),
+        F::from_f64(4.0),
+        F::from_f64(5.0),
+    );
+    let mut weights = [
+        half * (two * w2 - w3 - w),
+        half * (three * w3 - five * w2 + two),
+        half * (four * w2 - three * w3 + w),
+        half * (w3 - w2),
+    ];
+    if j == 0 {
+        let c = weights[0];
+        weights = [F::ZERO, weights[1] + two * c, weights[2] - c, weights[3]];
+    }
+    if j + 2 > last {
+        let c = weights[3];
+        weights = [weights[0], weights[1] - c, weights[2] + two * c, F::ZERO];
+    }
+    let nodes = [j.saturating_sub(1), j, j + 1, (j + 2).min(last)];
+    (nodes, weights)
+}
+
 /// A roughness between the table's nodes: four node columns and their cubic
 /// (Catmull-Rom) weights in log alpha, which sum to 1 (at the ends of the range the
 /// outer node is extrapolated linearly, and its column gets weight 0).
@@ -79,34 +115,10 @@ impl EnergyTable {
     pub fn alpha_node<F: Real>(&self, alpha: F) -> AlphaNode<F> {
         // log(alpha / 1e-3) / log(1e3) · (NA − 1)
         let scale = F::from_f64((NA - 1) as f64 / 1e3f64.ln());
-        let a = node((alpha * F::from_f64(1e3)).ln() * scale, NA - 1);
-        let j = a.index;
-        let w = a.weight;
-        let (w2, w3) = (w * w, w * w * w);
-        let half = F::from_f64(0.5);
-        let (two, three, four, five) = (
-            F::from_f64(2.0),
-            F::from_f64(3.0),
-            F::from_f64(4.0),
-            F::from_f64(5.0),
+        let (columns, weights) = cubic(
+            node((alpha * F::from_f64(1e3)).ln() * scale, NA - 1),
+            NA - 1,
         );
-        let mut weights = [
-            half * (two * w2 - w3 - w),
-            half * (three * w3 - five * w2 + two),
-            half * (four * w2 - three * w3 + w),
-            half * (w3 - w2),
-        ];
-        // At the ends of the range the missing outer node is the linear extrapolation of
-        // the two inner ones (L₋₁ = 2L₀ − L₁), folded into their weights.
-        if j == 0 {
-            let c = weights[0];
-            weights = [F::ZERO, weights[1] + two * c, weights[2] - c, weights[3]];
-        }
-        if j + 2 > NA - 1 {
-            let c = weights[3];
-            weights = [weights[0], weights[1] - c, weights[2] + two * c, F::ZERO];
-        }
-        let columns = [j.saturating_sub(1), j, j + 1, (j + 2).min(NA - 1)];
         AlphaNode {
             columns,
             alphas: columns.map(|c| F::from_f64(nodes::ALPHA[c])),
@@ -197,6 +209,200 @@ impl EnergyTable {
     }
 }
 
+/// The square root of a double-width number, to about its width.
+#[inline(always)]
+fn dd_sqrt(a: Dd<f64>) -> Dd<f64> {
+    let s = a.value().sqrt();
+    if s == 0.0 {
+        return Dd::new(0.0, 0.0);
+    }
+    let r = a.plus(Dd::two_prod(s, s).negated());
+    Dd::two_sum(s, r.value() / (2.0 * s))
+}
+
+/// The interval of the dielectric table's incidence coordinate
+/// `x = (sqrt(t) + t)/2·(NT − 1)`, `t = mu/(mu + alpha·sin)`, for the cosine `mu` and
+/// sine `sin` of the incidence (both in [0, 1]). Formed in double width: `x` reaches 64,
+/// and its rounding in `f64` alone, times the table's slope, shows in `E`.
+#[inline(always)]
+fn incidence_node(mu: f64, sin: f64, alpha: f64) -> Node<f64> {
+    use ggx_dielectric_e::NT;
+    let d = Dd::new(mu, 0.0).plus(Dd::two_prod(sin, alpha));
+    let t = Dd::new(mu, 0.0).over(d);
+    // (NT − 1)/2 = 32: an exact scaling.
+    dd_node(
+        dd_sqrt(t)
+            .plus(t)
+            .times(Dd::new(0.5 * (NT - 1) as f64, 0.0)),
+        NT - 1,
+    )
+}
+
+/// The node interval of a coordinate `x` in double width on `[0, last]` (clamped): the
+/// weight from `x`'s two parts, to an ulp of the weight.
+#[inline(always)]
+fn dd_node(x: Dd<f64>, last: usize) -> Node<f64> {
+    let (hi, lo) = x.parts();
+    let top = (last - 1) as f64;
+    let index = if hi.is_nan() {
+        0.0
+    } else {
+        hi.floor().clamp(0.0, top)
+    };
+    let weight = ((hi - index) + lo).clamp(0.0, 1.0);
+    Node {
+        index: index as usize,
+        weight,
+    }
+}
+
+/// `ln 1000` in double width.
+const LN_1000: Dd<f64> = Dd::new(6.907_755_278_982_137, 2.369_515_526_854_504e-16);
+
+/// `ggx_dielectric`'s total albedo `E = R + T` of the white interface (`ks = kt = 1`,
+/// nothing absorbed) for light arriving at cosine `mu` from either side, as a table over
+/// `(mu, alpha, r)`, `r` the relative index seen from the light's side (`eta` from
+/// above, `1/eta` from below): [`ggx_dielectric_e`], computed by brdf-rs itself
+/// (`scripts/gen_tables.py dielectric`), one table for `r > 1` and one for `r < 1`.
+///
+/// The axes, on which `E` is read linearly in the first and by cubic (Catmull-Rom)
+/// weights in the other two (linear weights there left up to 0.8% where `E` bends):
+/// - incidence `x = (sqrt(t) + t)/2`, `t = mu/(mu + alpha·sqrt(1 − mu²))`, as the
+///   conductors' [`EnergyTable`] (the shadowing loss lives in a layer of width ~alpha at
+///   grazing incidence);
+/// - roughness `log alpha` over `[1e-3, 1]`;
+/// - index `u = s^(1/4)`, `s = |r − 1|/(r + 1)` over `[0, 1]` (`s = 1` at `r = 1e7` or
+///   `1e-7`): `E` changes fastest near `r = 1`, where the critical angle and the Fresnel
+///   term's rise sweep through grazing incidence as `mu ≈ 2·sqrt(s)`.
+///
+/// How far the interpolant is from `E` is measured by `scripts/dielectric_furnace.py`
+/// (docs/models.md, `ggx_dielectric_ms`).
+///
+/// `r = 1` exactly has no interface (the light goes straight through, `E = 1`); the
+/// table's `s = 0` nodes hold the limit `r → 1`, which differs: the rough interface's
+/// shadowing takes its share however close to 1 `r` is.
+pub struct DielectricEnergy {
+    /// `E` as little-endian `f32`, indexed `[side][i][j][k]` (side 0: `r > 1`).
+    bytes: &'static [u8],
+}
+
+/// `ggx_dielectric`'s table.
+pub static GGX_DIELECTRIC: DielectricEnergy = DielectricEnergy {
+    bytes: ggx_dielectric_e::E,
+};
+
+/// A roughness and index on a [`DielectricEnergy`] table, prepared once per parameter
+/// set.
+#[derive(Clone, Copy, Debug)]
+pub struct DielectricNode {
+    alpha: f64,
+    /// The roughness and index nodes and their cubic weights.
+    a: ([usize; 4], [f64; 4]),
+    u: ([usize; 4], [f64; 4]),
+    /// Whether light from above enters the denser medium (`eta > 1`).
+    above_enters: bool,
+    /// `eta != 1`.
+    interface: bool,
+}
+
+impl DielectricEnergy {
+    /// The table's shape: sides, incidence, roughness and index nodes.
+    pub const SHAPE: [usize; 4] = [
+        2,
+        ggx_dielectric_e::NT,
+        ggx_dielectric_e::NA,
+        ggx_dielectric_e::NS,
+    ];
+
+    /// Returns every stored `E` in the table's order (`[side][i][j][k]`).
+    pub fn values(&self) -> Vec<f32> {
+        self.bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    }
+
+    /// Returns the node of roughness `alpha` (clamped to `[1e-3, 1]`) and relative index
+    /// `eta` (below over above).
+    pub fn node(&self, alpha: f64, eta: f64) -> DielectricNode {
+        use ggx_dielectric_e::{NA, NS};
+        let alpha = alpha.clamp(1e-3, 1.0);
+        // Both coordinates in double width, as the incidence's: (ln α − ln 1e-3)·(NA −
+        // 1)/ln 1e3, from ln α (accurate where α is large and E depends on it most), and
+        // u = s^(1/4)·(NS − 1) with s = |r − 1|/(r + 1), the same number for r = eta and
+        // r = 1/eta.
+        let span = Dd::new((NA - 1) as f64, 0.0).over(LN_1000);
+        let a = dd_node(Dd::new(alpha.ln(), 0.0).plus(LN_1000).times(span), NA - 1);
+        let gap = Dd::two_sum(eta, -1.0);
+        let gap = if gap.value() < 0.0 {
+            gap.negated()
+        } else {
+            gap
+        };
+        let s = gap.over(Dd::two_sum(eta, 1.0));
+        let s = if s.value() > 1.0 {
+            Dd::new(1.0, 0.0)
+        } else {
+            s
+        };
+        let root = dd_sqrt(dd_sqrt(s)).times(Dd::new((NS - 1) as f64, 0.0));
+        let u = dd_node(root, NS - 1);
+        let (a, u) = (cubic(a, NA - 1), cubic(u, NS - 1));
+        DielectricNode {
+            alpha,
+            a,
+            u,
+            above_enters: eta > 1.0,
+            interface: eta != 1.0,
+        }
+    }
+
+    /// Returns `E` for light at `mu_i = n·wi` (its sign says the side; `|mu_i|` is the
+    /// cosine) with `sin_i = |n × wi|`, 1 without an interface. The sine is taken as
+    /// given, not as `sqrt(1 − mu²)`: near normal incidence that form turns an ulp of
+    /// `mu` into 1e-8 of the sine. NaN reads as grazing incidence.
+    pub fn energy(&self, p: &DielectricNode, mu_i: f64, sin_i: f64) -> f64 {
+        use ggx_dielectric_e::{NA, NS, NT};
+        if !p.interface {
+            return 1.0;
+        }
+        let side = usize::from((mu_i > 0.0) != p.above_enters);
+        let (mu, sin) = if mu_i.is_nan() || sin_i.is_nan() {
+            (0.0, 1.0)
+        } else {
+            (mu_i.abs().min(1.0), sin_i.min(1.0))
+        };
+        let x = incidence_node(mu, sin, p.alpha);
+        let value = |i: usize, j: usize, k: usize| {
+            let at = 4 * (((side * NT + i) * NA + j) * NS + k);
+            let b = &self.bytes[at..at + 4];
+            f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        };
+        // Each blend is its second node plus the weighted differences from it (the weights
+        // sum to 1), so that the weights' rounding multiplies the small differences
+        // between neighbouring nodes, not E: index axis, then roughness, then incidence.
+        let blend = |v: [f64; 4], w: &[f64; 4]| {
+            v[1] + (w[0] * (v[0] - v[1]) + w[2] * (v[2] - v[1]) + w[3] * (v[3] - v[1]))
+        };
+        let (mut least, mut most) = (f64::INFINITY, 0.0f64);
+        let mut row = |i: usize| {
+            let along_a = p.a.0.map(|j| {
+                let v = p.u.0.map(|k| value(i, j, k));
+                for &e in &v {
+                    (least, most) = (least.min(e), most.max(e));
+                }
+                blend(v, &p.u.1)
+            });
+            blend(along_a, &p.a.1)
+        };
+        let (lo, hi) = (row(x.index), row(x.index + 1));
+        let sum = lo + x.weight * (hi - lo);
+        // The cubic can overshoot where E bends sharply: held within the values it
+        // blends (all positive, at most 1).
+        sum.clamp(least, most)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -244,6 +450,64 @@ mod tests {
                     let direct32 = f64::from(loss_direct(table, mu as f32, a32));
                     // Float32 divides each `t` out: the direct version, bit for bit.
                     assert_eq!(fast32, direct32, "{name} f32 alpha {alpha} mu {mu}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn dielectric_energy_reads_its_nodes_and_sides() {
+        use ggx_dielectric_e::{NA, NS, NT};
+        let stored = |side: usize, i: usize, j: usize, k: usize| {
+            let at = 4 * (((side * NT + i) * NA + j) * NS + k);
+            let b = &ggx_dielectric_e::E[at..at + 4];
+            f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        };
+        for (i, j, k) in [
+            (1, 0, 1),
+            (20, 7, 5),
+            (40, 12, 17),
+            (64, 24, 30),
+            (33, 3, 31),
+        ] {
+            let x = i as f64 / (NT - 1) as f64;
+            let t = (((1.0 + 8.0 * x).sqrt() - 1.0) / 2.0).powi(2);
+            let alpha = 1e-3 * 1e3f64.powf(j as f64 / (NA - 1) as f64);
+            let mu = t * alpha / ((1.0 - t).powi(2) + (t * alpha).powi(2)).sqrt();
+            let s = (k as f64 / (NS - 1) as f64).powi(4);
+            let r = (1.0 + s) / (1.0 - s);
+            for (side, eta, sign) in [
+                (0, r, 1.0),
+                (1, 1.0 / r, 1.0),
+                (0, 1.0 / r, -1.0),
+                (1, r, -1.0),
+            ] {
+                let sin = ((1.0 - mu) * (1.0 + mu)).sqrt();
+                let e = GGX_DIELECTRIC.energy(&GGX_DIELECTRIC.node(alpha, eta), sign * mu, sin);
+                let want = stored(side, i, j, k);
+                assert!(
+                    (e - want).abs() <= 1e-9,
+                    "{i} {j} {k} side {side}: {e} vs {want}"
+                );
+            }
+        }
+        // No interface: E = 1 from both sides.
+        let none = GGX_DIELECTRIC.node(0.5, 1.0);
+        assert_eq!(GGX_DIELECTRIC.energy(&none, 0.3, 0.9), 1.0);
+        assert_eq!(GGX_DIELECTRIC.energy(&none, -0.3, 0.9), 1.0);
+    }
+
+    #[test]
+    fn dielectric_energy_stays_within_the_values_it_blends() {
+        for ia in 0..=60 {
+            let alpha = 1e-3 * 1e3f64.powf(f64::from(ia) / 60.0);
+            for ie in 0..=60 {
+                let eta = 10f64.powf(-7.0 + 14.0 * f64::from(ie) / 60.0);
+                let p = GGX_DIELECTRIC.node(alpha, eta);
+                for im in -100..=100 {
+                    let mu = (f64::from(im) / 100.0).powi(3);
+                    let e = GGX_DIELECTRIC.energy(&p, mu, (1.0 - mu * mu).sqrt());
+                    assert!(e > 0.0 && e <= 1.0, "alpha {alpha} eta {eta} mu {mu}: {e}");
                 }
             }
         }
