@@ -60,7 +60,6 @@ pub struct Prepared<F: Real> {
     node: DielectricNode,
 }
 
-
 impl Kernel for GgxDielectricMs {
     type Prepared<F: Real> = Prepared<F>;
 
