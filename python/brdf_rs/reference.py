@@ -1185,7 +1185,7 @@ def dielectric_energy(
     (its sign the side: ``r_i = eta`` above, ``1/eta`` below; ``sin_i = |n × wi|``), 1 at
     ``eta = 1``.
 
-    Linear in ``x = (sqrt(t) + t)/2``, ``t = mu/(mu + alpha·sqrt(1 − mu²))``, Catmull-Rom in
+    Linear in ``x = (sqrt(t) + t)/2``, ``t = mu/(mu + alpha·sin_i)``, Catmull-Rom in
     ``log alpha`` over [1e-3, 1] and in ``u = s^(1/4)``, ``s = |eta − 1|/(eta + 1)``, held
     within the values blended. ``sqrt``, ``log`` (and the arithmetic of the arguments)
     choose the precision: floats here, mpmath in the 50-digit reference."""
@@ -1195,12 +1195,12 @@ def dielectric_energy(
     nt, na, ns = len(table[0]), len(table[0][0]), len(table[0][0][0])
     side = table[0] if (mu_i > 0) == (eta > 1) else table[1]
     mu = min(abs(mu_i), 1 + 0 * mu_i)
-    t = mu / (mu + min(max(alpha, 1e-3 + 0 * alpha), 1 + 0 * alpha) * min(sin_i, 1 + 0 * sin_i))
+    alpha = min(max(alpha, 1e-3 + 0 * alpha), 1 + 0 * alpha)
+    t = mu / (mu + alpha * min(sin_i, 1 + 0 * sin_i))
     x = (sqrt(t) + t) / 2 * (nt - 1)
     x = min(max(x, 0 * x), nt - 1 + 0 * x)
     i = min(int(x), nt - 2)
     rows = [(i, 1 - (x - i)), (i + 1, x - i)]
-    alpha = min(max(alpha, 1e-3 + 0 * alpha), 1 + 0 * alpha)
     columns = _cubic_weights(log(alpha * 1000) / log(1000 + 0 * alpha) * (na - 1), na - 1)
     s = min(abs(eta - 1) / (eta + 1), 1 + 0 * eta)
     depths = _cubic_weights(sqrt(sqrt(s)) * (ns - 1), ns - 1)

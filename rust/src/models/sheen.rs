@@ -273,6 +273,18 @@ impl<F: Real> Dd<F> {
         Dd::new(q, r / other.hi).renormalized()
     }
 
+    /// The square root, to about the width (one Newton step from the rounded root; 0 for
+    /// 0).
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        let s = self.hi.sqrt();
+        if s == F::ZERO {
+            return Dd::new(F::ZERO, F::ZERO);
+        }
+        let r = self.plus(Dd::two_prod(s, s).negated());
+        Dd::two_sum(s, r.hi / (F::TWO * s))
+    }
+
     #[inline(always)]
     pub fn negated(self) -> Self {
         Dd::new(F::ZERO - self.hi, F::ZERO - self.lo)

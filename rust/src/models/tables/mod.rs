@@ -209,17 +209,6 @@ impl EnergyTable {
     }
 }
 
-/// The square root of a double-width number, to about its width.
-#[inline(always)]
-fn dd_sqrt(a: Dd<f64>) -> Dd<f64> {
-    let s = a.value().sqrt();
-    if s == 0.0 {
-        return Dd::new(0.0, 0.0);
-    }
-    let r = a.plus(Dd::two_prod(s, s).negated());
-    Dd::two_sum(s, r.value() / (2.0 * s))
-}
-
 /// The interval of the dielectric table's incidence coordinate
 /// `x = (sqrt(t) + t)/2·(NT − 1)`, `t = mu/(mu + alpha·sin)`, for the cosine `mu` and
 /// sine `sin` of the incidence (both in [0, 1]). Formed in double width: `x` reaches 64,
@@ -231,9 +220,7 @@ fn incidence_node(mu: f64, sin: f64, alpha: f64) -> Node<f64> {
     let t = Dd::new(mu, 0.0).over(d);
     // (NT − 1)/2 = 32: an exact scaling.
     dd_node(
-        dd_sqrt(t)
-            .plus(t)
-            .times(Dd::new(0.5 * (NT - 1) as f64, 0.0)),
+        t.sqrt().plus(t).times(Dd::new(0.5 * (NT - 1) as f64, 0.0)),
         NT - 1,
     )
 }
@@ -266,8 +253,9 @@ const LN_1000: Dd<f64> = Dd::new(6.907_755_278_982_137, 2.369_515_526_854_504e-1
 /// (`scripts/gen_tables.py dielectric`), one table for `r > 1` and one for `r < 1`.
 ///
 /// The axes, on which `E` is read linearly in the first and by cubic (Catmull-Rom)
-/// weights in the other two (linear weights there left up to 0.8% where `E` bends):
-/// - incidence `x = (sqrt(t) + t)/2`, `t = mu/(mu + alpha·sqrt(1 − mu²))`, as the
+/// weights in the other two:
+/// - incidence `x = (sqrt(t) + t)/2`, `t = mu/(mu + alpha·sin)` with `sin` the sine of
+///   the incidence, as the
 ///   conductors' [`EnergyTable`] (the shadowing loss lives in a layer of width ~alpha at
 ///   grazing incidence);
 /// - roughness `log alpha` over `[1e-3, 1]`;
@@ -314,12 +302,27 @@ impl DielectricEnergy {
         ggx_dielectric_e::NS,
     ];
 
+    /// Returns the stored `E` at `[side][i][j][k]`.
+    #[inline(always)]
+    fn stored(&self, side: usize, i: usize, j: usize, k: usize) -> f32 {
+        use ggx_dielectric_e::{NA, NS, NT};
+        let at = 4 * (((side * NT + i) * NA + j) * NS + k);
+        let b = &self.bytes[at..at + 4];
+        f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+    }
+
     /// Returns every stored `E` in the table's order (`[side][i][j][k]`).
     pub fn values(&self) -> Vec<f32> {
-        self.bytes
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect()
+        let [sides, nt, na, ns] = Self::SHAPE;
+        let mut out = Vec::with_capacity(sides * nt * na * ns);
+        for side in 0..sides {
+            for i in 0..nt {
+                for j in 0..na {
+                    out.extend((0..ns).map(|k| self.stored(side, i, j, k)));
+                }
+            }
+        }
+        out
     }
 
     /// Returns the node of roughness `alpha` (clamped to `[1e-3, 1]`) and relative index
@@ -345,7 +348,7 @@ impl DielectricEnergy {
         } else {
             s
         };
-        let root = dd_sqrt(dd_sqrt(s)).times(Dd::new((NS - 1) as f64, 0.0));
+        let root = s.sqrt().sqrt().times(Dd::new((NS - 1) as f64, 0.0));
         let u = dd_node(root, NS - 1);
         let (a, u) = (cubic(a, NA - 1), cubic(u, NS - 1));
         DielectricNode {
@@ -362,7 +365,6 @@ impl DielectricEnergy {
     /// given, not as `sqrt(1 − mu²)`: near normal incidence that form turns an ulp of
     /// `mu` into 1e-8 of the sine. NaN reads as grazing incidence.
     pub fn energy(&self, p: &DielectricNode, mu_i: f64, sin_i: f64) -> f64 {
-        use ggx_dielectric_e::{NA, NS, NT};
         if !p.interface {
             return 1.0;
         }
@@ -373,11 +375,7 @@ impl DielectricEnergy {
             (mu_i.abs().min(1.0), sin_i.min(1.0))
         };
         let x = incidence_node(mu, sin, p.alpha);
-        let value = |i: usize, j: usize, k: usize| {
-            let at = 4 * (((side * NT + i) * NA + j) * NS + k);
-            let b = &self.bytes[at..at + 4];
-            f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        };
+        let value = |i: usize, j: usize, k: usize| f64::from(self.stored(side, i, j, k));
         // Each blend is its second node plus the weighted differences from it (the weights
         // sum to 1), so that the weights' rounding multiplies the small differences
         // between neighbouring nodes, not E: index axis, then roughness, then incidence.
