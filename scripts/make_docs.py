@@ -30,9 +30,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: Image sizes and sample counts: "full" for the committed docs, "small" for tests.
 RESOLUTIONS = {
-    "full": {"sphere": 160, "dpi": 100, "overview": 96, "mu": 48, "samples": 4096},
-    "small": {"sphere": 24, "dpi": 24, "overview": 16, "mu": 6, "samples": 256},
+    "full": {"sphere": 160, "dpi": 100, "overview": 96, "mu": 48, "samples": 4096, "paths": 256},
+    "small": {"sphere": 24, "dpi": 24, "overview": 16, "mu": 6, "samples": 256, "paths": 4},
 }
+
+#: Scatterings a path through a transmitting model's sphere may take.
+GLASS_BOUNCES = 12
 
 #: Parameters beyond the defaults that make a telling sphere and lobe (a tinted diffuse
 #: term under a specular lobe, the assignment's toon colours). Models not listed use
@@ -162,7 +165,7 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         "",
         family_line(spec),
         "",
-        *([] if spec["transmission"] else [f"![{name} on a sphere](img/{name}_sphere.png)"]),
+        f"![{name} on a sphere](img/{name}_sphere.png)",
         f"![{name}: lobe in the plane of incidence](img/{name}_lobe.png)",
         "",
         "## Formula",
@@ -207,7 +210,11 @@ def model_page(name: str, spec: dict[str, Any]) -> str:
         "## Pictures",
         "",
         (
-            "No sphere: scenes render reflecting models only."
+            f"**Sphere**: {_call(showcase) or 'the defaults'}, a solid sphere on a"
+            " checkerboard under a sky, path traced with the model's own sampler"
+            " (`brdf_rs.plot.render_glass_sphere`: paths that refract in and out, up to"
+            f" {GLASS_BOUNCES} scatterings; the floor and sky are the only light, so no"
+            " shadows or caustics), ACES tone map."
             if spec["transmission"]
             else f"**Sphere**: {_call(showcase) or 'the defaults'}{base}. Orthographic view,"
             " a white key light from the upper right and a 30% fill from the left"
@@ -538,7 +545,12 @@ def main() -> None:
         spec = specs[name]
         params = SHOWCASE.get(name, {})
         base = {"base": SPECULAR_BASE} if spec["scene_slot"] == "specular" else {}
-        if not spec["transmission"]:  # scenes refuse transmitting models
+        if spec["transmission"]:  # scenes shade reflection only: traced here
+            glass = plot.render_glass_sphere(
+                name, size=res["sphere"], samples=res["paths"], bounces=GLASS_BOUNCES, **params
+            )
+            brdf_rs.save_image(img / f"{name}_sphere.png", glass)
+        else:
             sphere = plot.render_sphere(name, size=res["sphere"], **base, **params)
             brdf_rs.save_image(img / f"{name}_sphere.png", sphere)
             small = plot.render_sphere(name, size=res["overview"], **base, **params)

@@ -17,7 +17,8 @@ itself). Functions that draw one panel also take ``ax=`` to draw into your own a
 - :func:`energy_compensation`: ``E(mu, alpha)`` and ``E_avg(alpha)`` of a microfacet model.
 - :func:`convergence`: error against time (``benches/albedo_convergence.py`` results).
 - :func:`spheres`: rendered images side by side with labels; :func:`render_sphere`
-  renders one model on a sphere (no matplotlib needed).
+  renders one model on a sphere, :func:`render_glass_sphere` a transmitting one as a
+  solid sphere on a checkerboard (neither needs matplotlib).
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ __all__ = [
     "convergence",
     "energy_compensation",
     "polar_lobe",
+    "render_glass_sphere",
     "render_sphere",
     "spheres",
     "table_heatmap",
@@ -692,3 +694,149 @@ def render_sphere(
         "output": {"tonemap": tonemap, "exposure": exposure},
     }
     return scenes.render(scene)
+
+
+def render_glass_sphere(
+    model: str,
+    *,
+    size: int = 160,
+    samples: int = 64,
+    bounces: int = 12,
+    seed: int = 0,
+    furnace: bool = False,
+    tonemap: str = "aces",
+    exposure: float = 0.0,
+    **params: Any,
+) -> npt.NDArray[np.float32]:
+    """Renders a transmitting model (a rough dielectric) as a solid sphere on a
+    checkerboard: a ``(size, size, 3)`` float32 display image.
+
+    The picture users expect of glass, which the scan-line scenes cannot draw (they shade
+    reflection only): each pixel averages ``samples`` paths traced with the model's own
+    :func:`brdf_rs.sample`, reflecting off or refracting through the sphere's surface
+    (whose normal points out, so ``eta`` is the sphere's index relative to the air) up
+    to ``bounces`` times; a path that leaves the sphere ends on the floor (a
+    checkerboard, its own light source) or in the sky (a gradient, brightest at the
+    horizon); one still inside after ``bounces`` scatterings adds nothing. Perspective
+    view from above the floor; no light sources, so no shadows or caustics.
+    ``furnace=True`` replaces floor and sky by a uniform white environment of radiance 1
+    (a white furnace): a sphere that neither loses nor adds energy disappears into it,
+    and how dark it looks is the energy its model loses (with ``tonemap="none"`` the
+    pixels are the radiance itself).
+
+    A sample's weight is ``f(wo, wi)·|cos|/pdf`` with ``wi`` toward the camera: ``f``
+    from the light's direction ``wo`` to the viewer, by the reciprocity the dielectrics
+    obey (``f(wi, wo)/eta_o² = f(wo, wi)/eta_i²``). ``eta`` is a scalar here (one
+    sphere), the other parameters as :func:`brdf_rs.sample` takes them. Deterministic
+    for a given ``seed``.
+    """
+    from . import _images, _sampling
+
+    specs = _spec.specs()
+    if model not in specs:
+        raise ValueError(f"model: unknown model {model!r}; known models: {', '.join(specs)}")
+    if not specs[model]["transmission"]:
+        raise ValueError(f"model: {model!r} does not transmit; use render_sphere")
+    size, samples, bounces = (
+        _positive_int("size", size),
+        _positive_int("samples", samples),
+        _positive_int("bounces", bounces),
+    )
+    defaults = {p["name"]: p["default"] for p in specs[model]["params"]}
+    eta = np.asarray(params.get("eta", defaults.get("eta", 1.0)), dtype=np.float64)
+    if eta.ndim != 0:
+        raise ValueError(f"eta: expected a scalar (one sphere), got shape {eta.shape}")
+    pixels = size * size
+    # Two streams: the pixels' jitter does not depend on what the paths do.
+    jitter_rng, path_rng = (np.random.default_rng([int(seed), k]) for k in (0, 1))
+    image = np.zeros((pixels, 3))
+    for _ in range(samples):
+        o, d = _glass_camera(size, jitter_rng)
+        weight = np.ones((pixels, 3))
+        alive = np.arange(pixels)
+        for _ in range(bounces):
+            t = _sphere_hit(o, d)
+            gone = ~np.isfinite(t)
+            image[alive[gone]] += weight[gone] * _backdrop(o[gone], d[gone], furnace)
+            alive, o, d, weight, t = alive[~gone], o[~gone], d[~gone], weight[~gone], t[~gone]
+            if alive.size == 0:
+                break
+            p = o + t[:, None] * d
+            n = p - _GLASS_CENTRE  # radius 1
+            n /= np.linalg.norm(n, axis=1, keepdims=True)
+            wi = -d
+            u = path_rng.random((alive.size, 2))
+            wo, w, _ = _sampling.sample(model, wi, u, n, **params)
+            cos_i, cos_o = np.einsum("ij,ij->i", wi, n), np.einsum("ij,ij->i", wo, n)
+            # f(wo, wi) = f(wi, wo)·(eta_i/eta_o)²: each direction's medium's index.
+            ratio = np.where(cos_i > 0, 1.0, eta) / np.where(cos_o > 0, 1.0, eta)
+            weight = weight * w * (ratio * ratio)[:, None]
+            keep = np.any(weight > 0, axis=1)
+            alive, p, n, d, weight = alive[keep], p[keep], n[keep], wo[keep], weight[keep]
+            # Leave the surface on the side the new direction points to.
+            side = np.sign(np.einsum("ij,ij->i", d, n))
+            o = p + (1e-9 * side)[:, None] * n
+    linear = (image / samples).reshape(size, size, 3)
+    return _images.tonemap(linear, tonemap, exposure)
+
+
+#: The glass sphere's scene: a unit sphere resting on the floor y = 0, seen from above
+#: the floor with a 40° field of view.
+_GLASS_CENTRE = np.array([0.0, 1.0, 0.0])
+_GLASS_EYE = np.array([0.0, 1.8, 4.8])
+_GLASS_HALF_FOV = np.tan(np.radians(20.0))
+
+
+def _glass_camera(size: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """One jittered camera ray per pixel (row-major, top row first): origins, unit
+    directions."""
+    forward = _GLASS_CENTRE - _GLASS_EYE + np.array([0.0, -0.1, 0.0])
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    rows, cols = np.divmod(np.arange(size * size), size)
+    jitter = rng.random((size * size, 2))
+    x = (2 * (cols + jitter[:, 0]) / size - 1) * _GLASS_HALF_FOV
+    y = (1 - 2 * (rows + jitter[:, 1]) / size) * _GLASS_HALF_FOV
+    d = forward + x[:, None] * right + y[:, None] * up
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return np.broadcast_to(_GLASS_EYE, d.shape).copy(), d
+
+
+def _sphere_hit(o: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Distance along each ray to the glass sphere's surface (the nearer crossing ahead
+    of the origin), inf for a ray that misses it."""
+    oc = o - _GLASS_CENTRE
+    b = np.einsum("ij,ij->i", oc, d)
+    disc = b * b - (np.einsum("ij,ij->i", oc, oc) - 1.0)
+    root = np.sqrt(np.maximum(disc, 0.0))
+    near, far = -b - root, -b + root
+    t = np.where(near > 1e-9, near, far)
+    return np.where((disc > 0) & (t > 1e-9), t, np.inf)
+
+
+def _positive_int(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise ValueError(f"{name}: expected a positive integer, got {value!r}")
+    return int(value)
+
+
+def _backdrop(o: np.ndarray, d: np.ndarray, furnace: bool) -> np.ndarray:
+    """Radiance seen along rays that leave the sphere: a checkerboard floor at y = 0
+    (squares of 2/3, fading into the horizon's haze far from the sphere) below a sky; or 1
+    everywhere in the furnace."""
+    if furnace:
+        return np.ones_like(d)
+    horizon, zenith = np.array([0.95, 0.93, 0.9]), np.array([0.15, 0.3, 0.7])
+    sky = horizon + (zenith - horizon) * np.clip(d[:, 1], 0.0, 1.0)[:, None] ** 0.4
+    down = d[:, 1] < -1e-12
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(down, -o[:, 1] / d[:, 1], 0.0)
+    floor = down & (t > 0)
+    q = o + np.where(floor, t, 0.0)[:, None] * d
+    checker = (np.floor(q[:, 0] * 1.5) + np.floor(q[:, 2] * 1.5)) % 2
+    albedo = np.where(checker[:, None] > 0, [0.8, 0.8, 0.75], [0.05, 0.05, 0.06])
+    haze = np.exp(-np.hypot(q[:, 0], q[:, 2]) / 25.0)[:, None]
+    ground = albedo * haze + horizon * (1 - haze)
+    return np.asarray(np.where(floor[:, None], ground, sky))
