@@ -23,7 +23,7 @@ from conftest import (
 
 EPS64 = np.finfo(np.float64).eps
 EPS32 = np.finfo(np.float32).eps
-N_RANDOM = 10_000
+N_RANDOM = 5_000
 # float32 lobes below 2^-100 are flushed to 0 (a lobe feeds at most a normalization
 # factor ~1e4 and G/(4 mu_i mu_o) ~1e3 before the output): absolute slack.
 ATOL32 = 2.0**-100 * 1e8
