@@ -359,7 +359,9 @@ model). What changes for them:
   `sample` draws `wo = −wi` with weight `kt` and reports its density as `inf`, while
   `pdf()` reports 0 for every direction.
 - **Scenes** shade reflection only (lights and viewer on `n`'s side): a scene refuses a
-  transmitting model by name.
+  transmitting model by name. `brdf_rs.plot.render_glass_sphere` path-traces one as a
+  solid sphere (light refracted in and out, with the `eta²` factors of the radiance it
+  carries), on a checkerboard or in a white furnace.
 
 ## Colours
 
@@ -479,6 +481,8 @@ TITLES = {
 CAPTIONS = {
     "albedo_convergence": "RMS error of the whole table against wall time, log-log, one line"
     " per sampling method: lower and further left is better.",
+    "dielectric_table": "RMS error of the 32³ table against wall time, one point per"
+    " tolerance, log-log; the dotted lines mark RMS 1e-4 and 10 s.",
     "eval_layouts": "Million evaluations per second for each way of passing the directions:"
     " contiguous, reversed rows, Fortran order, an outer product of broadcast arrays.",
     "eval_throughput": "Million evaluations per second of every model (log scale), NumPy"

@@ -274,7 +274,9 @@ pub(super) fn integrate_cell_isa<K: Kernel>(
 ) -> CellResult {
     // A transmitting model integrates over the whole sphere with its own sampler.
     if let Some(sampler) = K::transmission_sampler(slots) {
-        return super::sphere::integrate_cell::<K>(sampler, mu, slots, cell, options, progress);
+        return super::sphere::integrate_cell::<K>(
+            isa, sampler, mu, slots, cell, options, progress,
+        );
     }
     #[cfg(target_arch = "x86_64")]
     {

@@ -1,6 +1,7 @@
 //! The integrator's loops that do not depend on the model, compiled once per instruction
 //! set rather than once per model: the warps' directions and densities for a block of
-//! points, and GGX's and Beckmann's closed-form lobe weights ([`ClosedFormLobe`]).
+//! points, GGX's and Beckmann's closed-form lobe weights ([`ClosedFormLobe`]) and those
+//! of the GGX interface's two lobes ([`GgxGlass`]).
 //!
 //! A cell's model-specific work is then one evaluation loop over the block
 //! (`CellIntegrand::weights`). Before this split every model carried its own copy of
@@ -14,6 +15,7 @@
 use glam::DVec3;
 
 use super::POINTS;
+use super::sphere::GgxGlass;
 use crate::math::series::sin_cos_pi;
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
@@ -86,6 +88,13 @@ pub(super) trait Loops {
         u1: &[f64],
         w: &mut [f64],
     );
+
+    /// The closed-form weights of a GGX interface, reflection and transmission
+    /// ([`GgxGlass::fill`]).
+    ///
+    /// # Safety
+    /// See the trait.
+    unsafe fn glass(glass: &GgxGlass, u0: &[f64], u1: &[f64], refl: &mut [f64], trans: &mut [f64]);
 }
 
 /// A lobe drawn from its visible normals whose weights are known in closed form (GGX's,
@@ -301,6 +310,16 @@ macro_rules! isa_loops {
                 w: &mut [f64]
             ) {
                 lobe.weights(fold, u0, u1, w)
+            });
+
+            forward!($(#[$attr])? fn glass(
+                glass: &GgxGlass,
+                u0: &[f64],
+                u1: &[f64],
+                refl: &mut [f64],
+                trans: &mut [f64]
+            ) {
+                glass.fill(u0, u1, refl, trans)
             });
         }
     };

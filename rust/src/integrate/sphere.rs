@@ -26,7 +26,9 @@ use std::sync::atomic::Ordering;
 
 use glam::DVec3;
 
+use super::POINTS;
 use super::cell::pooled_with_previous;
+use super::loops::{self, Loops};
 use super::options::{AlbedoOptions, CellResult, Component, Progress, Rounds};
 use super::sums::{PSEUDO_POINTS, mean_and_stderr};
 use crate::math::geometry::ggx_mu_lambda;
@@ -34,6 +36,7 @@ use crate::models::{Directions, Kernel};
 use crate::sampling::dielectric::DielectricSampler;
 use crate::sampling::streams::{Sequence, Stream};
 use crate::sampling::{GgxVisibleNormals, Warp, reflect};
+use crate::simd::Isa;
 
 /// The grey weights `(reflection, transmission)` of one point `u` at `wi` (`n = +z`).
 fn weights<K: Kernel>(
@@ -147,7 +150,7 @@ impl Bounds {
 /// square-root singularity in `u0` and the weights change fastest, becomes smooth in `s`.
 /// Random points keep Heitz's `r² = u0` (the Jacobian's own spread would cost more than the
 /// smoothness gains them).
-struct GgxGlass {
+pub(super) struct GgxGlass {
     normals: GgxVisibleNormals,
     wi: DVec3,
     alpha2: f64,
@@ -182,53 +185,141 @@ impl GgxGlass {
         self.mu_l_i * mu_o / (mu_o * self.mu_l_i + self.wi.z * l_o)
     }
 
-    /// The grey weights `(reflection, transmission)` of the point `u`.
-    #[inline(always)]
+    /// The grey weights `(reflection, transmission)` of the point `u` (the block loop's
+    /// for one point: what the tests hold the other estimators to).
+    #[cfg(test)]
     fn weights(&self, u: [f64; 2]) -> (f64, f64) {
-        let (r, jacobian) = if self.smooth {
-            let s = 1.0 - u[0];
-            ((u[0] * (1.0 + s)).sqrt(), 2.0 * s)
+        let (mut r, mut t) = ([0.0], [0.0]);
+        if self.fold {
+            self.fill_case::<true>(&[u[0]], &[u[1]], &mut r, &mut t);
         } else {
-            (u[0].sqrt(), 1.0)
-        };
-        let h = self.normals.half_vector(r, u[1], !self.fold);
-        let (wi, mu_i, eta) = (self.wi, self.wi.z, self.eta);
-        let c = wi.dot(h);
-        if !(c > 0.0) || !(h.z > 0.0) {
-            return (0.0, 0.0);
+            self.fill_case::<false>(&[u[0]], &[u[1]], &mut r, &mut t);
         }
-        // The refraction: sin²θt = (1 − c²)/eta²; past the critical angle F = 1.
-        let sin2_t = (1.0 - c) * (1.0 + c) / (eta * eta);
-        let (f, t_mu) = if sin2_t < 1.0 {
+        (r[0], t[0])
+    }
+
+    /// The weights of a block of points: `refl[j]` and `trans[j]` those of `(u0[j],
+    /// u1[j])`. One loop per fold, its body straight-line code (every branch a select),
+    /// so that it runs across the vector lanes of the instruction set it is compiled for
+    /// ([`Loops::glass`]); the same arithmetic in every lane and instruction set, so the
+    /// same bits.
+    #[inline(always)]
+    pub(super) fn fill(&self, u0: &[f64], u1: &[f64], refl: &mut [f64], trans: &mut [f64]) {
+        if self.fold {
+            self.fill_case::<true>(u0, u1, refl, trans);
+        } else {
+            self.fill_case::<false>(u0, u1, refl, trans);
+        }
+    }
+
+    #[inline(always)]
+    fn fill_case<const FOLD: bool>(
+        &self,
+        u0: &[f64],
+        u1: &[f64],
+        refl: &mut [f64],
+        trans: &mut [f64],
+    ) {
+        let (wi, mu_i, eta) = (self.wi, self.wi.z, self.eta);
+        let smooth = self.smooth;
+        let points = u0.iter().zip(u1).zip(refl.iter_mut().zip(trans.iter_mut()));
+        for ((&u, &a), (refl, trans)) in points {
+            let s = 1.0 - u;
+            let (r, jacobian) = if smooth {
+                ((u * (1.0 + s)).sqrt(), 2.0 * s)
+            } else {
+                (u.sqrt(), 1.0)
+            };
+            let h = self.normals.half_vector(r, a, !FOLD);
+            let c = wi.dot(h);
+            let facing = c > 0.0 && h.z > 0.0;
+            // The refraction: sin²θt = (1 − c²)/eta²; past the critical angle F = 1 (the
+            // square root's argument is then negative: its NaN is not selected).
+            let sin2_t = (1.0 - c) * (1.0 + c) / (eta * eta);
+            let refracts = sin2_t < 1.0;
             let cos_t = (1.0 - sin2_t).sqrt();
             let rs = (c - eta * cos_t) / (c + eta * cos_t);
             let rp = (eta * c - cos_t) / (eta * c + cos_t);
+            let f = if refracts {
+                0.5 * (rs * rs + rp * rp)
+            } else {
+                1.0
+            };
             // wo_t = −wi/eta + h·(c/eta − cos_t), a unit vector; its n-component.
-            (
-                0.5 * (rs * rs + rp * rp),
-                -mu_i / eta + h.z * (c / eta - cos_t),
-            )
-        } else {
-            (1.0, 0.0)
-        };
-        let r_mu = 2.0 * c * h.z - mu_i;
-        let reflected = if r_mu > 0.0 {
-            f * self.g(r_mu.min(1.0))
-        } else {
-            0.0
-        };
-        let transmitted = if t_mu < 0.0 && f < 1.0 {
-            (1.0 - f) * self.g((-t_mu).min(1.0))
-        } else {
-            0.0
-        };
-        (jacobian * reflected, jacobian * transmitted)
+            let t_mu = if refracts {
+                -mu_i / eta + h.z * (c / eta - cos_t)
+            } else {
+                0.0
+            };
+            let r_mu = 2.0 * c * h.z - mu_i;
+            let reflected = if r_mu > 0.0 {
+                f * self.g(r_mu.min(1.0))
+            } else {
+                0.0
+            };
+            let transmitted = if t_mu < 0.0 && f < 1.0 {
+                (1.0 - f) * self.g((-t_mu).min(1.0))
+            } else {
+                0.0
+            };
+            *refl = if facing { jacobian * reflected } else { 0.0 };
+            *trans = if facing { jacobian * transmitted } else { 0.0 };
+        }
     }
+}
+
+/// Point scratch of one block: the points and their two weights.
+struct GlassBlock {
+    u0: [f64; POINTS],
+    u1: [f64; POINTS],
+    refl: [f64; POINTS],
+    trans: [f64; POINTS],
+}
+
+impl GlassBlock {
+    fn new() -> Self {
+        GlassBlock {
+            u0: [0.0; POINTS],
+            u1: [0.0; POINTS],
+            refl: [0.0; POINTS],
+            trans: [0.0; POINTS],
+        }
+    }
+}
+
+/// [`GgxGlass::fill`] with the loop compiled for `isa` (whose token proves the CPU runs
+/// it).
+fn glass_weights(
+    isa: Isa,
+    glass: &GgxGlass,
+    u0: &[f64],
+    u1: &[f64],
+    refl: &mut [f64],
+    trans: &mut [f64],
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        match isa {
+            Isa::Avx512(_) => {
+                // SAFETY: an `Isa::Avx512` token is made only in `simd`, after `detected`
+                // found every feature `loops::Avx512` enables on this CPU.
+                return unsafe { loops::Avx512::glass(glass, u0, u1, refl, trans) };
+            }
+            Isa::Avx2(_) => {
+                // SAFETY: likewise, `Isa::Avx2` proves the features of `loops::Avx2`.
+                return unsafe { loops::Avx2::glass(glass, u0, u1, refl, trans) };
+            }
+            Isa::Baseline => {}
+        }
+    }
+    // SAFETY: the baseline loops enable no feature beyond the target's own.
+    unsafe { loops::Baseline::glass(glass, u0, u1, refl, trans) }
 }
 
 /// Integrates one cell of a transmitting model at incidence `mu` (the model's sampler
 /// `sampler`, its raw parameter `slots`, whose colours `ks` and `kt` weigh the two parts).
 pub(super) fn integrate_cell<K: Kernel>(
+    isa: Isa,
     sampler: DielectricSampler,
     mu: f64,
     slots: &[f64],
@@ -289,20 +380,15 @@ pub(super) fn integrate_cell<K: Kernel>(
     // The smooth radius's Jacobian 2s (at most 2) widens the range of a point's value.
     let smooth = closed.as_ref().is_some_and(|g| g.smooth);
     let bounds = Bounds::new(ks, kt, scale * if smooth { 2.0 } else { 1.0 });
-    let point = |u: [f64; 2]| -> [f64; 3] {
-        let (r, t) = match &closed {
-            Some(glass) => {
-                let (r, t) = glass.weights(u);
-                (r * scale, t * scale)
-            }
-            None => weights::<K>(&sampler, &prepared, wi, u),
-        };
+    // A point's value: the colours weigh its two parts.
+    let value = |r: f64, t: f64| -> [f64; 3] {
         std::array::from_fn(|c| {
             let a = if ks[c] == 0.0 { 0.0 } else { ks[c] * r };
             let b = if kt[c] == 0.0 { 0.0 } else { kt[c] * t };
             a + b
         })
     };
+    let mut block = GlassBlock::new();
     let rounds = Rounds::new(options);
     let streams_count = rounds.streams;
     let mut per_stream = rounds.first(options.samples);
@@ -324,15 +410,35 @@ pub(super) fn integrate_cell<K: Kernel>(
             .zip(sums.iter_mut())
             .zip(shifts.iter_mut())
         {
-            for _ in 0..count {
-                let x = point(stream.next_point());
-                let shift = *shift.get_or_insert(x);
-                for c in 0..3 {
-                    let d = x[c] - shift[c];
-                    sum[c] += x[c];
-                    shifted[c] += d;
-                    squares[c] += d * d;
+            let mut left = count;
+            while left > 0 {
+                let len = left.min(POINTS as u64) as usize;
+                let (u0, u1) = (&mut block.u0[..len], &mut block.u1[..len]);
+                let (refl, trans) = (&mut block.refl[..len], &mut block.trans[..len]);
+                stream.fill(u0, u1);
+                match &closed {
+                    Some(glass) => {
+                        glass_weights(isa, glass, u0, u1, refl, trans);
+                        refl.iter_mut().for_each(|r| *r *= scale);
+                        trans.iter_mut().for_each(|t| *t *= scale);
+                    }
+                    None => {
+                        for (j, (r, t)) in refl.iter_mut().zip(trans.iter_mut()).enumerate() {
+                            (*r, *t) = weights::<K>(&sampler, &prepared, wi, [u0[j], u1[j]]);
+                        }
+                    }
                 }
+                for (&r, &t) in refl.iter().zip(trans.iter()) {
+                    let x = value(r, t);
+                    let shift = *shift.get_or_insert(x);
+                    for c in 0..3 {
+                        let d = x[c] - shift[c];
+                        sum[c] += x[c];
+                        shifted[c] += d;
+                        squares[c] += d * d;
+                    }
+                }
+                left -= len as u64;
             }
         }
         progress
@@ -404,6 +510,7 @@ pub(super) fn integrate_cell<K: Kernel>(
 mod tests {
     use super::*;
     use crate::models::ggx_dielectric::GgxDielectric;
+    use crate::simd::isa;
 
     fn slots(eta: f64, alpha: f64) -> Vec<f64> {
         use crate::models::dielectric::{ALPHA, ETA, KS, KT};
@@ -423,7 +530,7 @@ mod tests {
             component,
             ..AlbedoOptions::default()
         };
-        integrate_cell::<GgxDielectric>(sampler, mu, &s, 7, &options, &Progress::default())
+        integrate_cell::<GgxDielectric>(isa(), sampler, mu, &s, 7, &options, &Progress::default())
     }
 
     /// Near-smooth interfaces: R → F(mu), T → 1 − F(mu).
@@ -500,11 +607,59 @@ mod tests {
                     sequence,
                     ..AlbedoOptions::default()
                 };
-                integrate_cell::<GgxDielectric>(sampler, mu, &s, 3, &options, &Progress::default())
+                integrate_cell::<GgxDielectric>(
+                    isa(),
+                    sampler,
+                    mu,
+                    &s,
+                    3,
+                    &options,
+                    &Progress::default(),
+                )
             };
             let (q, p) = (run(Sequence::Sobol), run(Sequence::Random));
             let bound = 5.0 * q.stderr[0].hypot(p.stderr[0]) + 1e-12;
             assert!((q.value[0] - p.value[0]).abs() < bound, "{q:?} {p:?}");
+        }
+    }
+
+    /// The block loop of every instruction set gives the bits of the one-point weights
+    /// (the cells' values do not depend on the CPU), over points that cover the disk's
+    /// rim, its centre and the critical angle of both sides.
+    #[test]
+    fn block_weights_are_the_point_weights_in_every_instruction_set() {
+        let n = POINTS;
+        let u0: Vec<f64> = (0..n)
+            .map(|j| ((j as f64 + 0.5) / n as f64).powi(3))
+            .collect();
+        let u1: Vec<f64> = (0..n)
+            .map(|j| (j as f64 * 0.618_033_988_75).fract())
+            .collect();
+        for (alpha, eta, mu) in [
+            (0.3, 1.5, 0.6_f64),
+            (0.05, 1.0 / 1.5, 0.2),
+            (1.0, 1.1, 0.01),
+        ] {
+            for (smooth, fold) in [(true, true), (false, false), (true, false)] {
+                let wi = DVec3::new(((1.0 - mu) * (1.0 + mu)).sqrt(), 0.0, mu);
+                let glass = GgxGlass::new(alpha, eta, wi, smooth, fold);
+                let (mut r, mut t) = (vec![0.0; n], vec![0.0; n]);
+                glass_weights(isa(), &glass, &u0, &u1, &mut r, &mut t);
+                let (mut rb, mut tb) = (vec![0.0; n], vec![0.0; n]);
+                // SAFETY: the baseline runs on every CPU of the target.
+                unsafe { loops::Baseline::glass(&glass, &u0, &u1, &mut rb, &mut tb) };
+                for j in 0..n {
+                    let (pr, pt) = glass.weights([u0[j], u1[j]]);
+                    let case = (alpha, eta, mu, smooth, fold, j);
+                    assert_eq!(r[j].to_bits(), pr.to_bits(), "{case:?}");
+                    assert_eq!(t[j].to_bits(), pt.to_bits(), "{case:?}");
+                    assert_eq!(
+                        (rb[j].to_bits(), tb[j].to_bits()),
+                        (pr.to_bits(), pt.to_bits())
+                    );
+                }
+                assert!(r.iter().chain(&t).any(|&x| x > 0.0));
+            }
         }
     }
 
