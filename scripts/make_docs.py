@@ -481,7 +481,7 @@ TITLES = {
 CAPTIONS = {
     "albedo_convergence": "RMS error of the whole table against wall time, log-log, one line"
     " per sampling method: lower and further left is better.",
-    "dielectric_table": "RMS error of the 32³ table against wall time, one point per"
+    "dielectric_table": "RMS error of the table against wall time, one point per"
     " tolerance, log-log; the dotted lines mark RMS 1e-4 and 10 s.",
     "eval_layouts": "Million evaluations per second for each way of passing the directions:"
     " contiguous, reversed rows, Fortran order, an outer product of broadcast arrays.",

@@ -1,7 +1,7 @@
 //! The integrator's loops that do not depend on the model, compiled once per instruction
 //! set rather than once per model: the warps' directions and densities for a block of
 //! points, GGX's and Beckmann's closed-form lobe weights ([`ClosedFormLobe`]) and those
-//! of the GGX interface's two lobes ([`GgxGlass`]).
+//! of their rough interfaces' two lobes ([`ClosedFormGlass`]).
 //!
 //! A cell's model-specific work is then one evaluation loop over the block
 //! (`CellIntegrand::weights`). Before this split every model carried its own copy of
@@ -15,7 +15,7 @@
 use glam::DVec3;
 
 use super::POINTS;
-use super::sphere::GgxGlass;
+use super::sphere::ClosedFormGlass;
 use crate::math::series::sin_cos_pi;
 use crate::sampling::{Frame, Warp, reflect, reflected_pdf};
 
@@ -89,12 +89,18 @@ pub(super) trait Loops {
         w: &mut [f64],
     );
 
-    /// The closed-form weights of a GGX interface, reflection and transmission
-    /// ([`GgxGlass::fill`]).
+    /// The closed-form weights of a rough interface, reflection and transmission
+    /// ([`ClosedFormGlass::fill`]).
     ///
     /// # Safety
     /// See the trait.
-    unsafe fn glass(glass: &GgxGlass, u0: &[f64], u1: &[f64], refl: &mut [f64], trans: &mut [f64]);
+    unsafe fn glass<G: ClosedFormGlass>(
+        glass: &G,
+        u0: &[f64],
+        u1: &[f64],
+        refl: &mut [f64],
+        trans: &mut [f64],
+    );
 }
 
 /// A lobe drawn from its visible normals whose weights are known in closed form (GGX's,
@@ -312,8 +318,8 @@ macro_rules! isa_loops {
                 lobe.weights(fold, u0, u1, w)
             });
 
-            forward!($(#[$attr])? fn glass(
-                glass: &GgxGlass,
+            forward!($(#[$attr])? fn glass<G: ClosedFormGlass>(
+                glass: &G,
                 u0: &[f64],
                 u1: &[f64],
                 refl: &mut [f64],
