@@ -15,10 +15,10 @@ integrator).
   F = 1 albedo (which is 1: no table needed) and prints what it found. ~10 minutes.
 - ``dielectric``: rust/src/models/tables/ggx_dielectric_e.rs, embedded in the binary: the
   total albedo E (reflection + transmission, ks = kt = 1) of ``ggx_dielectric`` for light
-  from either side of the interface, over (mu, alpha, s) with s = |r − 1|/(r + 1), r the
-  relative index seen from the light's side: one table for r > 1 (entering the denser
-  medium) and one for r < 1 (leaving it). ``ggx_dielectric_ms`` divides by it. Each cell
-  to a standard error of 1e-4 (randomized QMC, seed 0). ~2 minutes on 2 cores.
+  from either side of the interface, over (mu, alpha, |ln r|), r the relative index seen
+  from the light's side: one table for r > 1 (entering the denser medium) and one for
+  r < 1 (leaving it), 97 x 49 x 97 nodes each. ``ggx_dielectric_ms`` divides by it. Each
+  cell to a standard error of 1e-4 (randomized QMC, seed 0). ~2.5 minutes on 2 cores.
 
     python scripts/gen_tables.py [energy] [exact] [dielectric]   # all by default
     python scripts/gen_tables.py exact-check          # measures the Ward interpolation error
@@ -29,9 +29,11 @@ from __future__ import annotations
 import datetime
 import itertools
 import json
+import math
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import brdf_rs
@@ -360,27 +362,56 @@ def exact_check() -> None:
 
 # ----------------------------------------------------------------- dielectric energy
 
-#: Nodes of the dielectric energy table: incidence as the conductors' tables (t, uniform
-#: in x = (sqrt(t) + t)/2), roughness log-uniform in [1e-3, 1], and the index as
-#: u = s^(1/4), s = |r − 1|/(r + 1), uniform in [0, 1]: E changes fastest near r = 1,
-#: where the critical angle and the Fresnel term's rise sweep through grazing incidence
-#: (at mu ≈ 2 sqrt(s)). s = 0 is integrated at r = 1 ± 2e-6 (the limit r → 1, not the
-#: delta of r = 1), s = 1 at the parameter range's end, r = 1e7 or 1e-7.
-DT_NT = 65
-DT_NA = 25
-DT_NS = 33
-DT_X = np.linspace(0.0, 1.0, DT_NT)
-DT_T = ((np.sqrt(1 + 8 * DT_X) - 1) / 2) ** 2
-DT_T[-1] = 1.0
-DT_ALPHA = np.geomspace(1e-3, 1.0, DT_NA)
-DT_S = np.linspace(0.0, 1.0, DT_NS) ** 4
+#: Nodes of the dielectric energy table. Incidence: t = mu/(mu + alpha·sin) (as the
+#: conductors' tables) uniform in x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4:
+#: half the nodes logarithmic in t down to t ~ 1e-4, where E falls to 0 (light from the
+#: denser side) or rises to 1 (from the rarer side) in a layer of grazing incidence whose
+#: width shrinks with |eta − 1|, half as the conductors' tables. Roughness log-uniform in
+#: [1e-3, 1]. Index: y = |ln r| (the same for r and 1/r) uniform in
+#: v = ln(1 + y·2^19)/(2 ln(1 + Y_MAX·2^19)) + y/(2 Y_MAX), Y_MAX = ln 1e7: logarithmic in
+#: |r − 1| from about 2e-6 up (that layer), uniform in ln r towards r = 1e7 (where the
+#: transmission falls as 1/r). v = 0 is integrated at r = 1 ± 1e-10 (the limit r → 1, not
+#: the delta of r = 1).
+DT_NT = 97
+DT_NA = 49
+DT_NS = 97
+DT_T_SCALE = 1e4
+DT_Y_SCALE = 2.0**19
+DT_Y_MAX = math.log(1e7)
 DT_TOL = 1e-4
 
 
-def dielectric_index(s: np.ndarray) -> np.ndarray:
-    """The relative index r > 1 of each s node (r = (1 + s)/(1 − s), ends as above)."""
-    s = np.clip(s, 1e-6, (1e7 - 1) / (1e7 + 1))
-    return (1 + s) / (1 - s)
+def dt_x_of_t(t: np.ndarray) -> np.ndarray:
+    """The incidence coordinate in [0, 1] of t (as the kernel computes it)."""
+    return 0.5 * np.log1p(t * DT_T_SCALE) / math.log1p(DT_T_SCALE) + 0.25 * (np.sqrt(t) + t)
+
+
+def dt_v_of_y(y: np.ndarray) -> np.ndarray:
+    """The index coordinate in [0, 1] of y = |ln r|."""
+    scale = math.log1p(DT_Y_MAX * DT_Y_SCALE)
+    return 0.5 * np.log1p(y * DT_Y_SCALE) / scale + 0.5 * y / DT_Y_MAX
+
+
+def _invert(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, top: float) -> np.ndarray:
+    """The increasing function f's inverse at x, by bisection on [0, top]."""
+    lo, hi = np.zeros_like(x), np.full_like(x, top)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        below = f(mid) < x
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+DT_T = _invert(dt_x_of_t, np.linspace(0.0, 1.0, DT_NT), 1.0)
+DT_T[-1] = 1.0
+DT_ALPHA = np.geomspace(1e-3, 1.0, DT_NA)
+DT_Y = _invert(dt_v_of_y, np.linspace(0.0, 1.0, DT_NS), DT_Y_MAX)
+DT_Y[-1] = DT_Y_MAX
+
+
+def dielectric_index(y: np.ndarray) -> np.ndarray:
+    """The relative index r > 1 of each y node (r = e^y, within [1 + 1e-10, 1e7])."""
+    return np.clip(np.exp(y), 1 + 1e-10, 1e7)
 
 
 def dielectric_e(enter: bool, first_cell: int) -> tuple[np.ndarray, float, float]:
@@ -389,7 +420,7 @@ def dielectric_e(enter: bool, first_cell: int) -> tuple[np.ndarray, float, float
     t = DT_T.copy()
     t[0] = T0
     mu = mu_of_t(t[:, None, None], DT_ALPHA[None, :, None])
-    r = dielectric_index(DT_S)
+    r = dielectric_index(DT_Y)
     eta = (r if enter else 1.0 / r)[None, None, :]
     ids = first_cell + np.arange(DT_NT * DT_NA * DT_NS).reshape(DT_NT, DT_NA, DT_NS)
     start = time.perf_counter()
@@ -422,13 +453,14 @@ def dielectric_table() -> None:
 //! {brdf_rs.__version__}: do not edit. ggx_dielectric's total albedo E (ks = kt = 1);
 //! largest standard error {worst:.1e}.
 
-/// Incidence nodes: `t = mu/(mu + alpha·sqrt(1 − mu²))` uniform in `x = (sqrt(t) + t)/2`
-/// over [0, 1] (the first integrated at t = {T0:g}).
+/// Incidence nodes: `t = mu/(mu + alpha·sin)` uniform in
+/// `x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4` over [0, 1] (the first
+/// integrated at t = {T0:g}).
 pub const NT: usize = {DT_NT};
 /// Roughness nodes, log-uniform in [1e-3, 1].
 pub const NA: usize = {DT_NA};
-/// Index nodes, uniform in `u = s^(1/4)` over [0, 1], `s = |r − 1|/(r + 1)`, `r` the
-/// relative index seen from the light's side.
+/// Index nodes, uniform in `v = ln(1 + y·2^19)/(2 ln(1 + Y·2^19)) + y/(2Y)` over [0, 1],
+/// `y = |ln r|`, `Y = ln 1e7`, `r` the relative index seen from the light's side.
 pub const NS: usize = {DT_NS};
 
 /// `E` as little-endian `f32`, indexed `[side][i][j][k]`: side 0 for light from the

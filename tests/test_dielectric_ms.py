@@ -5,7 +5,8 @@ the white interface (``ks = kt = 1``) for light at ``wi``, read from an embedded
 ``r_i`` the relative index seen from ``wi``'s side. What these tests hold it to:
 
 - the white furnace: with ``ks = kt = 1`` its albedo is 1 within 1% for alpha up to 1,
-  from above and (by sampling) from below the surface;
+  from above (grazing incidence and an index near 1 included) and (by sampling) from
+  below the surface;
 - the factor depends on ``wi`` alone and is ``1/albedo(ggx_dielectric)`` of ``wi``'s
   side (within the table's error), in both dtypes and both precision tiers;
 - sampling is ``ggx_dielectric``'s (same directions and densities, weights times the
@@ -38,6 +39,18 @@ def test_white_furnace_from_above_within_one_percent(eta):
     single = brdf_rs.albedo(BASE, mu, alpha=alpha, eta=eta, tol=5e-5, **WHITE)
     r = brdf_rs.albedo(MODEL, mu, alpha=alpha, eta=eta, tol=5e-5, **WHITE)
     # The test has teeth: the single scattering loses more than 1% somewhere here.
+    assert single.value.min() < 0.97
+    assert np.abs(r.value - 1.0).max() <= 0.01, r.value[..., 0]
+
+
+@pytest.mark.parametrize("eta", [1.001, 1 / 1.001, 1 + 1e-5, 1 / (1 + 1e-5), 1e3, 1e-3, 1e7])
+def test_white_furnace_at_grazing_incidence_near_and_far_from_one(eta):
+    """Where the table's grazing layers are: an index near 1 (light from the denser side
+    turned back across the surface, from the rarer side reflected whole) and far from it."""
+    mu = np.array([1e-3, 3e-3, 0.01, 0.03, 0.1])[:, None]
+    alpha = np.array([1e-3, 0.03, 0.3, 0.6, 1.0])[None, :]
+    single = brdf_rs.albedo(BASE, mu, alpha=alpha, eta=eta, tol=5e-5, **WHITE)
+    r = brdf_rs.albedo(MODEL, mu, alpha=alpha, eta=eta, tol=5e-5, **WHITE)
     assert single.value.min() < 0.97
     assert np.abs(r.value - 1.0).max() <= 0.01, r.value[..., 0]
 

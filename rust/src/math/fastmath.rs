@@ -492,6 +492,13 @@ pub fn log_f64(x: f64) -> f64 {
 
 // ------------------------------------------------------- table-driven pow (f64)
 
+/// ln x as `(hi, lo)`, `hi + lo` within about 2^-68 of ln x relatively, for a normal
+/// positive finite `x` (the double-width logarithm of the table-driven pow below).
+#[inline]
+pub fn log_dd_f64(x: f64) -> (f64, f64) {
+    log_dd_in_f64::<true>(x, 0.0, false, 0.0)
+}
+
 /// log(x 2^-kx) as hi + lo (|lo| <~ 2^-52 |hi|), relative error about 2^-68, for
 /// 0 < xr < inf (subnormal fine). With `near`, the reduced argument is taken as
 /// 1 - `omc` exactly (xr must then be 1 - omc rounded, in [0.705, 1], and kx = 0).

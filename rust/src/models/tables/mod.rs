@@ -7,6 +7,7 @@ pub mod ggx_e;
 pub mod nodes;
 
 use super::sheen::Dd;
+use crate::math::fastmath::log_dd_f64;
 use crate::math::{Real, clamp, max};
 
 use nodes::{NA, NT};
@@ -210,19 +211,30 @@ impl EnergyTable {
 }
 
 /// The interval of the dielectric table's incidence coordinate
-/// `x = (sqrt(t) + t)/2·(NT − 1)`, `t = mu/(mu + alpha·sin)`, for the cosine `mu` and
-/// sine `sin` of the incidence (both in [0, 1]). Formed in double width: `x` reaches 64,
-/// and its rounding in `f64` alone, times the table's slope, shows in `E`.
+/// `x = (ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4)·(NT − 1)`,
+/// `t = mu/(mu + alpha·sin)`, for the cosine `mu` and sine `sin` of the incidence (both
+/// in [0, 1]). Formed in double width: `x` reaches 96, and its rounding in `f64` alone,
+/// times the table's slope, shows in `E`.
 #[inline(always)]
 fn incidence_node(mu: f64, sin: f64, alpha: f64) -> Node<f64> {
     use ggx_dielectric_e::NT;
     let d = Dd::new(mu, 0.0).plus(Dd::two_prod(sin, alpha));
     let t = Dd::new(mu, 0.0).over(d);
-    // (NT − 1)/2 = 32: an exact scaling.
-    dd_node(
-        t.sqrt().plus(t).times(Dd::new(0.5 * (NT - 1) as f64, 0.0)),
-        NT - 1,
-    )
+    // (NT − 1)/2 = 48 and (NT − 1)/4 = 24: exact scalings.
+    let log_part = ln_1p(t.times(Dd::new(1e4, 0.0)))
+        .times(Dd::new(0.5 * (NT - 1) as f64, 0.0).over(LN_1P_1E4));
+    let power_part = t.sqrt().plus(t).times(Dd::new(0.25 * (NT - 1) as f64, 0.0));
+    dd_node(log_part.plus(power_part), NT - 1)
+}
+
+/// `ln(1 + z)` in double width for `z ≥ 0`.
+#[inline(always)]
+fn ln_1p(z: Dd<f64>) -> Dd<f64> {
+    let (z_hi, z_lo) = z.parts();
+    let (w_hi, w_lo) = Dd::two_sum(1.0, z_hi).plus(Dd::new(z_lo, 0.0)).parts();
+    let (l_hi, l_lo) = log_dd_f64(w_hi);
+    // ln(w_hi + w_lo) = ln(w_hi) + w_lo/w_hi to the width (|w_lo/w_hi| < 2^-52).
+    Dd::new(l_hi, 0.0).plus(Dd::new(l_lo + w_lo / w_hi, 0.0))
 }
 
 /// The node interval of a coordinate `x` in double width on `[0, last]` (clamped): the
@@ -245,6 +257,12 @@ fn dd_node(x: Dd<f64>, last: usize) -> Node<f64> {
 
 /// `ln 1000` in double width.
 const LN_1000: Dd<f64> = Dd::new(6.907_755_278_982_137, 2.369_515_526_854_504e-16);
+/// `ln(1 + 1e4)`, the dielectric table's incidence scale, in double width.
+const LN_1P_1E4: Dd<f64> = Dd::new(9.210_440_366_976_517, -8.682_930_911_085_415e-16);
+/// `Y = ln 1e7`, the largest `|ln r|` of the dielectric table, in double width.
+const LN_1E7: Dd<f64> = Dd::new(16.118_095_650_958_32, -6.313_509_366_674_493e-16);
+/// `ln(1 + Y·2^19)`, the dielectric table's index scale, in double width.
+const LN_1P_Y: Dd<f64> = Dd::new(15.949_739_143_278_078, -2.342_043_344_584_035_5e-16);
 
 /// `ggx_dielectric`'s total albedo `E = R + T` of the white interface (`ks = kt = 1`,
 /// nothing absorbed) for light arriving at cosine `mu` from either side, as a table over
@@ -254,14 +272,17 @@ const LN_1000: Dd<f64> = Dd::new(6.907_755_278_982_137, 2.369_515_526_854_504e-1
 ///
 /// The axes, on which `E` is read linearly in the first and by cubic (Catmull-Rom)
 /// weights in the other two:
-/// - incidence `x = (sqrt(t) + t)/2`, `t = mu/(mu + alpha·sin)` with `sin` the sine of
-///   the incidence, as the
+/// - incidence `x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4`,
+///   `t = mu/(mu + alpha·sin)` with `sin` the sine of the incidence: half the nodes as the
 ///   conductors' [`EnergyTable`] (the shadowing loss lives in a layer of width ~alpha at
-///   grazing incidence);
+///   grazing incidence), half logarithmic in `t` down to about 1e-4, for the layer of
+///   grazing incidence, narrower the closer `r` is to 1, in which `E` falls to 0 (light
+///   from the denser side: the refracted and reflected rays turn back across the
+///   surface) or rises to 1 (from the rarer side);
 /// - roughness `log alpha` over `[1e-3, 1]`;
-/// - index `u = s^(1/4)`, `s = |r − 1|/(r + 1)` over `[0, 1]` (`s = 1` at `r = 1e7` or
-///   `1e-7`): `E` changes fastest near `r = 1`, where the critical angle and the Fresnel
-///   term's rise sweep through grazing incidence as `mu ≈ 2·sqrt(s)`.
+/// - index `v = ln(1 + y·2^19)/(2 ln(1 + Y·2^19)) + y/(2Y)`, `y = |ln r|`, `Y = ln 1e7`:
+///   logarithmic in `|r − 1|` from about 2e-6 (the layer's width follows it), uniform
+///   in `ln r` towards `r = 1e7` (the transmission falls as `1/r`).
 ///
 /// How far the interpolant is from `E` is measured by `scripts/dielectric_furnace.py`
 /// (docs/models.md, `ggx_dielectric_ms`).
@@ -332,24 +353,27 @@ impl DielectricEnergy {
         let alpha = alpha.clamp(1e-3, 1.0);
         // Both coordinates in double width, as the incidence's: (ln α − ln 1e-3)·(NA −
         // 1)/ln 1e3, from ln α (accurate where α is large and E depends on it most), and
-        // u = s^(1/4)·(NS − 1) with s = |r − 1|/(r + 1), the same number for r = eta and
-        // r = 1/eta.
+        // v·(NS − 1) from y = |ln eta|, the same number for r = eta and r = 1/eta.
         let span = Dd::new((NA - 1) as f64, 0.0).over(LN_1000);
         let a = dd_node(Dd::new(alpha.ln(), 0.0).plus(LN_1000).times(span), NA - 1);
-        let gap = Dd::two_sum(eta, -1.0);
-        let gap = if gap.value() < 0.0 {
-            gap.negated()
+        // eta is in [1e-7, 1e7] (validated), normal and positive; NaN reads as no index.
+        let (hi, lo) = if eta.is_finite() && eta > 0.0 {
+            log_dd_f64(eta)
         } else {
-            gap
+            (0.0, 0.0)
         };
-        let s = gap.over(Dd::two_sum(eta, 1.0));
-        let s = if s.value() > 1.0 {
-            Dd::new(1.0, 0.0)
+        let y = Dd::new(hi, lo);
+        let y = if hi < 0.0 { y.negated() } else { y };
+        let y = if y.value() > LN_1E7.value() {
+            LN_1E7
         } else {
-            s
+            y
         };
-        let root = s.sqrt().sqrt().times(Dd::new((NS - 1) as f64, 0.0));
-        let u = dd_node(root, NS - 1);
+        // (NS − 1)/2 = 24: exact.
+        let half = Dd::new(0.5 * (NS - 1) as f64, 0.0);
+        let log_part = ln_1p(y.times(Dd::new(524_288.0, 0.0))).times(half.over(LN_1P_Y));
+        let linear_part = y.times(half.over(LN_1E7));
+        let u = dd_node(log_part.plus(linear_part), NS - 1);
         let (a, u) = (cubic(a, NA - 1), cubic(u, NS - 1));
         DielectricNode {
             alpha,
@@ -461,19 +485,35 @@ mod tests {
             let b = &ggx_dielectric_e::E[at..at + 4];
             f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         };
+        // The axes' coordinates in plain f64, inverted by bisection.
+        let x_of_t = |t: f64| 0.5 * (t * 1e4).ln_1p() / 1e4f64.ln_1p() + 0.25 * (t.sqrt() + t);
+        let top = 1e7f64.ln();
+        let v_of_y =
+            |y: f64| 0.5 * (y * 524_288.0).ln_1p() / (top * 524_288.0).ln_1p() + 0.5 * y / top;
+        let invert = |f: &dyn Fn(f64) -> f64, target: f64, hi: f64| {
+            let (mut lo, mut hi) = (0.0, hi);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if f(mid) < target {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            0.5 * (lo + hi)
+        };
         for (i, j, k) in [
             (1, 0, 1),
             (20, 7, 5),
             (40, 12, 17),
-            (64, 24, 30),
-            (33, 3, 31),
+            (96, 48, 30),
+            (33, 3, 95),
+            (60, 30, 60),
         ] {
-            let x = i as f64 / (NT - 1) as f64;
-            let t = (((1.0 + 8.0 * x).sqrt() - 1.0) / 2.0).powi(2);
+            let t = invert(&x_of_t, i as f64 / (NT - 1) as f64, 1.0);
             let alpha = 1e-3 * 1e3f64.powf(j as f64 / (NA - 1) as f64);
             let mu = t * alpha / ((1.0 - t).powi(2) + (t * alpha).powi(2)).sqrt();
-            let s = (k as f64 / (NS - 1) as f64).powi(4);
-            let r = (1.0 + s) / (1.0 - s);
+            let r = invert(&v_of_y, k as f64 / (NS - 1) as f64, top).exp();
             for (side, eta, sign) in [
                 (0, r, 1.0),
                 (1, 1.0 / r, 1.0),
