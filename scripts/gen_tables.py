@@ -17,8 +17,8 @@ integrator).
   total albedo E (reflection + transmission, ks = kt = 1) of ``ggx_dielectric`` for light
   from either side of the interface, over (mu, alpha, |ln r|), r the relative index seen
   from the light's side: one table for r > 1 (entering the denser medium) and one for
-  r < 1 (leaving it), 97 x 49 x 97 nodes each. ``ggx_dielectric_ms`` divides by it. Each
-  cell to a standard error of 1e-4 (randomized QMC, seed 0). ~2.5 minutes on 2 cores.
+  r < 1 (leaving it), 97 x 49 x 129 nodes each. ``ggx_dielectric_ms`` divides by it.
+  Each cell to a standard error of 1e-4 (randomized QMC, seed 0). ~3 minutes on 2 cores.
 
     python scripts/gen_tables.py [energy] [exact] [dielectric]   # all by default
     python scripts/gen_tables.py exact-check          # measures the Ward interpolation error
@@ -362,28 +362,33 @@ def exact_check() -> None:
 
 # ----------------------------------------------------------------- dielectric energy
 
-#: Nodes of the dielectric energy table. Incidence: t = mu/(mu + alpha·sin) (as the
-#: conductors' tables) uniform in x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4:
-#: half the nodes logarithmic in t down to t ~ 1e-4, where E falls to 0 (light from the
-#: denser side) or rises to 1 (from the rarer side) in a layer of grazing incidence whose
-#: width shrinks with |eta − 1|, half as the conductors' tables. Roughness log-uniform in
-#: [1e-3, 1]. Index: y = |ln r| (the same for r and 1/r) uniform in
-#: v = ln(1 + y·2^19)/(2 ln(1 + Y_MAX·2^19)) + y/(2 Y_MAX), Y_MAX = ln 1e7: logarithmic in
-#: |r − 1| from about 2e-6 up (that layer), uniform in ln r towards r = 1e7 (where the
-#: transmission falls as 1/r). v = 0 is integrated at r = 1 ± 1e-10 (the limit r → 1, not
-#: the delta of r = 1).
+#: Nodes of the dielectric energy table. Index: y = |ln r| (the same for r and 1/r)
+#: uniform in v = ln(1 + y·2^50)/(2 ln(1 + Y_MAX·2^50)) + y/(2 Y_MAX), Y_MAX = ln 1e7:
+#: logarithmic in |r − 1| from the last ulps before 1, uniform in ln r towards r = 1e7
+#: (where the transmission falls as 1/r); v = 0 is integrated at r = 1 ± 2^-52, the
+#: closest index to 1 a float holds. Roughness log-uniform in [1e-3, 1]. Incidence: the
+#: nodes sit at x = q^(1/4)/2 + (sqrt(t) + t)/4, which depends on all three:
+#: - t = mu/(mu + alpha·sin) as the conductors' tables (the shadowing loss lives within
+#:   mu of about alpha of grazing);
+#: - q = mu/(mu + w·sin), w = y/(alpha + y): an index near 1 opens a layer of grazing
+#:   incidence, mu below about y/alpha, in which E falls towards 0 (light from the
+#:   denser side is turned back across the surface) or rises to 1 (from the rarer side,
+#:   reflected whole). In q the layer holds still as y → 0, so that E is smooth along
+#:   the index axis at a fixed x.
 DT_NT = 97
 DT_NA = 49
-DT_NS = 97
-DT_T_SCALE = 1e4
-DT_Y_SCALE = 2.0**19
+DT_NS = 129
+DT_Y_SCALE = 2.0**50
 DT_Y_MAX = math.log(1e7)
 DT_TOL = 1e-4
 
 
-def dt_x_of_t(t: np.ndarray) -> np.ndarray:
-    """The incidence coordinate in [0, 1] of t (as the kernel computes it)."""
-    return 0.5 * np.log1p(t * DT_T_SCALE) / math.log1p(DT_T_SCALE) + 0.25 * (np.sqrt(t) + t)
+def dt_x(mu: np.ndarray, alpha: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The incidence coordinate in [0, 1] (as the kernel computes it)."""
+    sin = np.sqrt(np.maximum((1 - mu) * (1 + mu), 0.0))
+    t = mu / (mu + alpha * sin)
+    q = mu * (alpha + y) / (mu * (alpha + y) + y * sin)
+    return 0.5 * np.sqrt(np.sqrt(q)) + 0.25 * (np.sqrt(t) + t)
 
 
 def dt_v_of_y(y: np.ndarray) -> np.ndarray:
@@ -402,24 +407,35 @@ def _invert(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, top: float) ->
     return 0.5 * (lo + hi)
 
 
-DT_T = _invert(dt_x_of_t, np.linspace(0.0, 1.0, DT_NT), 1.0)
-DT_T[-1] = 1.0
 DT_ALPHA = np.geomspace(1e-3, 1.0, DT_NA)
 DT_Y = _invert(dt_v_of_y, np.linspace(0.0, 1.0, DT_NS), DT_Y_MAX)
+DT_Y[0] = 2.0**-52
 DT_Y[-1] = DT_Y_MAX
 
 
+def dielectric_mu() -> np.ndarray:
+    """The incidence cosine of every node, shaped (NT, NA, NS): x's inverse in mu for
+    each roughness and index (the first node at mu = 1e-300, the last at 1)."""
+    x = np.linspace(0.0, 1.0, DT_NT)[:, None, None]
+    alpha, y = DT_ALPHA[None, :, None], DT_Y[None, None, :]
+    shape = (DT_NT, DT_NA, DT_NS)
+    x, alpha, y = (np.broadcast_to(a, shape) for a in (x, alpha, y))
+    mu = _invert(lambda m: dt_x(m, alpha, y), x, 1.0)
+    mu[0] = 1e-300
+    mu[-1] = 1.0
+    return mu
+
+
 def dielectric_index(y: np.ndarray) -> np.ndarray:
-    """The relative index r > 1 of each y node (r = e^y, within [1 + 1e-10, 1e7])."""
-    return np.clip(np.exp(y), 1 + 1e-10, 1e7)
+    """The relative index r > 1 of each y node (r = e^y, 1 + 2^-52 at y = 2^-52, at
+    most 1e7)."""
+    return np.where(y <= 2.0**-52, 1 + 2.0**-52, np.minimum(np.exp(y), 1e7))
 
 
 def dielectric_e(enter: bool, first_cell: int) -> tuple[np.ndarray, float, float]:
-    """E[i, j, k] at (T[i], ALPHA[j], S[k]) for light entering (r > 1) or leaving (r < 1)
+    """E[i, j, k] at the (x_i, ALPHA[j], Y[k]) node for light entering (r > 1) or leaving (r < 1)
     the denser medium, its largest stderr and the seconds it took."""
-    t = DT_T.copy()
-    t[0] = T0
-    mu = mu_of_t(t[:, None, None], DT_ALPHA[None, :, None])
+    mu = dielectric_mu()
     r = dielectric_index(DT_Y)
     eta = (r if enter else 1.0 / r)[None, None, :]
     ids = first_cell + np.arange(DT_NT * DT_NA * DT_NS).reshape(DT_NT, DT_NA, DT_NS)
@@ -429,15 +445,18 @@ def dielectric_e(enter: bool, first_cell: int) -> tuple[np.ndarray, float, float
         mu,
         ks=1.0,
         kt=1.0,
-        alpha=DT_ALPHA[None, :, None],
-        eta=eta,
+        alpha=np.broadcast_to(DT_ALPHA[None, :, None], mu.shape),
+        eta=np.broadcast_to(eta, mu.shape),
         samples=1 << 10,
         tol=DT_TOL,
         cell_ids=ids,
     )
     seconds = time.perf_counter() - start
-    # The white interface absorbs nothing: an estimate above 1 is noise.
-    e = np.clip(res.value[..., 0], 0.0, 1.0)
+    # The white interface absorbs nothing: an estimate above 1 is noise. Below the cells'
+    # standard error (deep in the layer of grazing incidence from the denser side, where E
+    # falls towards 0) the estimate cannot tell E from 0: the table holds DT_TOL there,
+    # which caps the compensation 1/E at 1/DT_TOL.
+    e = np.clip(res.value[..., 0], DT_TOL, 1.0)
     return e, float(res.stderr.max()), seconds
 
 
@@ -453,13 +472,12 @@ def dielectric_table() -> None:
 //! {brdf_rs.__version__}: do not edit. ggx_dielectric's total albedo E (ks = kt = 1);
 //! largest standard error {worst:.1e}.
 
-/// Incidence nodes: `t = mu/(mu + alpha·sin)` uniform in
-/// `x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4` over [0, 1] (the first
-/// integrated at t = {T0:g}).
+/// Incidence nodes, uniform in `x = q^(1/4)/2 + (sqrt(t) + t)/4` over [0, 1], with
+/// `t = mu/(mu + alpha·sin)` and `q = mu/(mu + w·sin)`, `w = y/(alpha + y)`.
 pub const NT: usize = {DT_NT};
 /// Roughness nodes, log-uniform in [1e-3, 1].
 pub const NA: usize = {DT_NA};
-/// Index nodes, uniform in `v = ln(1 + y·2^19)/(2 ln(1 + Y·2^19)) + y/(2Y)` over [0, 1],
+/// Index nodes, uniform in `v = ln(1 + y·2^50)/(2 ln(1 + Y·2^50)) + y/(2Y)` over [0, 1],
 /// `y = |ln r|`, `Y = ln 1e7`, `r` the relative index seen from the light's side.
 pub const NS: usize = {DT_NS};
 

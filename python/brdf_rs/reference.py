@@ -1185,11 +1185,12 @@ def dielectric_energy(
     (its sign the side: ``r_i = eta`` above, ``1/eta`` below; ``sin_i = |n × wi|``), 1 at
     ``eta = 1``.
 
-    Linear in ``x = ln(1 + 1e4·t)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4``,
-    ``t = mu/(mu + alpha·sin_i)``, Catmull-Rom in ``log alpha`` over [1e-3, 1] and in
-    ``v = ln(1 + 2^19·y)/(2 ln(1 + 2^19·Y)) + y/(2Y)``, ``y = |ln eta|``, ``Y = ln 1e7``,
-    held within the values blended. ``sqrt``, ``log`` (and the arithmetic of the
-    arguments) choose the precision: floats here, mpmath in the 50-digit reference."""
+    Linear in ``x = q^(1/4)/2 + (sqrt(t) + t)/4``, ``t = mu/(mu + alpha·sin_i)``,
+    ``q = mu/(mu + w·sin_i)``, ``w = y/(alpha + y)``; Catmull-Rom in ``log alpha`` over
+    [1e-3, 1] and in ``v = ln(1 + 2^50·y)/(2 ln(1 + 2^50·Y)) + y/(2Y)``,
+    ``y = |ln eta|``, ``Y = ln 1e7``; held within the values blended. ``sqrt``, ``log``
+    (and the arithmetic of the arguments) choose the precision: floats here, mpmath in
+    the 50-digit reference."""
     if eta == 1:
         return 1 + 0 * eta
     table = _energy_table()
@@ -1197,16 +1198,18 @@ def dielectric_energy(
     side = table[0] if (mu_i > 0) == (eta > 1) else table[1]
     one = 1 + 0 * mu_i
     mu = min(abs(mu_i), one)
+    sin = min(sin_i, one)
     alpha = min(max(alpha, 1e-3 + 0 * alpha), 1 + 0 * alpha)
-    t = mu / (mu + alpha * min(sin_i, one))
-    x = (log(1 + 10000 * t) / (2 * log(10001 * one)) + (sqrt(t) + t) / 4) * (nt - 1)
+    top = log(10_000_000 + 0 * eta)
+    y = min(abs(log(eta)), top)
+    t = mu / (mu + alpha * sin)
+    q = mu * (alpha + y) / (mu * (alpha + y) + y * sin)
+    x = (sqrt(sqrt(q)) / 2 + (sqrt(t) + t) / 4) * (nt - 1)
     x = min(max(x, 0 * x), nt - 1 + 0 * x)
     i = min(int(x), nt - 2)
     rows = [(i, 1 - (x - i)), (i + 1, x - i)]
     columns = _cubic_weights(log(alpha * 1000) / log(1000 + 0 * alpha) * (na - 1), na - 1)
-    top = log(10_000_000 + 0 * eta)
-    y = min(abs(log(eta)), top)
-    index = log(1 + 2**19 * y) / (2 * log(1 + 2**19 * top)) + y / (2 * top)
+    index = log(1 + 2**50 * y) / (2 * log(1 + 2**50 * top)) + y / (2 * top)
     depths = _cubic_weights(index * (ns - 1), ns - 1)
     total = 0 * mu
     values = []

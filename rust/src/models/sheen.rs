@@ -207,7 +207,7 @@ impl<F: Real> Charlie<F> {
 /// A double-width number `hi + lo` (`|lo|` at most half an ulp of `hi`), with the
 /// error-free sums and products of Dekker and Knuth (no fused multiply-add, so every
 /// instruction set gives the same bits).
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub struct Dd<F> {
     hi: F,
     lo: F,

@@ -2,15 +2,14 @@
 //! 0.1.0: do not edit. ggx_dielectric's total albedo E (ks = kt = 1);
 //! largest standard error 1.0e-04.
 
-/// Incidence nodes: `t = mu/(mu + alpha·sin)` uniform in
-/// `x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4` over [0, 1] (the first
-/// integrated at t = 1e-06).
+/// Incidence nodes, uniform in `x = q^(1/4)/2 + (sqrt(t) + t)/4` over [0, 1], with
+/// `t = mu/(mu + alpha·sin)` and `q = mu/(mu + w·sin)`, `w = y/(alpha + y)`.
 pub const NT: usize = 97;
 /// Roughness nodes, log-uniform in [1e-3, 1].
 pub const NA: usize = 49;
-/// Index nodes, uniform in `v = ln(1 + y·2^19)/(2 ln(1 + Y·2^19)) + y/(2Y)` over [0, 1],
+/// Index nodes, uniform in `v = ln(1 + y·2^50)/(2 ln(1 + Y·2^50)) + y/(2Y)` over [0, 1],
 /// `y = |ln r|`, `Y = ln 1e7`, `r` the relative index seen from the light's side.
-pub const NS: usize = 97;
+pub const NS: usize = 129;
 
 /// `E` as little-endian `f32`, indexed `[side][i][j][k]`: side 0 for light from the
 /// rarer medium (`r > 1`), 1 from the denser one (`r < 1`); the `i`-th incidence, `j`-th

@@ -211,20 +211,27 @@ impl EnergyTable {
 }
 
 /// The interval of the dielectric table's incidence coordinate
-/// `x = (ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4)·(NT − 1)`,
-/// `t = mu/(mu + alpha·sin)`, for the cosine `mu` and sine `sin` of the incidence (both
-/// in [0, 1]). Formed in double width: `x` reaches 96, and its rounding in `f64` alone,
-/// times the table's slope, shows in `E`.
+/// `x = (q^(1/4)/2 + (sqrt(t) + t)/4)·(NT − 1)`, `t = mu/(mu + alpha·sin)`,
+/// `q = mu/(mu + w·sin)` with `w = y/(alpha + y)`, for the cosine `mu` and sine `sin` of
+/// the incidence (both in [0, 1]) and `y = |ln r|`. Formed in double width: `x` reaches
+/// 96, and its rounding in `f64` alone, times the table's slope, shows in `E`.
 #[inline(always)]
-fn incidence_node(mu: f64, sin: f64, alpha: f64) -> Node<f64> {
+fn incidence_node(mu: f64, sin: f64, alpha: f64, y: Dd<f64>) -> Node<f64> {
     use ggx_dielectric_e::NT;
-    let d = Dd::new(mu, 0.0).plus(Dd::two_prod(sin, alpha));
-    let t = Dd::new(mu, 0.0).over(d);
+    let mu_dd = Dd::new(mu, 0.0);
+    let t = mu_dd.over(mu_dd.plus(Dd::two_prod(sin, alpha)));
+    // q = mu·(alpha + y)/(mu·(alpha + y) + y·sin); 0 at mu = 0 (y > 0).
+    let scaled = mu_dd.times(y.plus(Dd::new(alpha, 0.0)));
+    let below = scaled.plus(y.times(Dd::new(sin, 0.0)));
+    let q = if below.value() > 0.0 {
+        scaled.over(below)
+    } else {
+        Dd::new(0.0, 0.0)
+    };
     // (NT − 1)/2 = 48 and (NT − 1)/4 = 24: exact scalings.
-    let log_part = ln_1p(t.times(Dd::new(1e4, 0.0)))
-        .times(Dd::new(0.5 * (NT - 1) as f64, 0.0).over(LN_1P_1E4));
+    let layer_part = q.sqrt().sqrt().times(Dd::new(0.5 * (NT - 1) as f64, 0.0));
     let power_part = t.sqrt().plus(t).times(Dd::new(0.25 * (NT - 1) as f64, 0.0));
-    dd_node(log_part.plus(power_part), NT - 1)
+    dd_node(layer_part.plus(power_part), NT - 1)
 }
 
 /// `ln(1 + z)` in double width for `z ≥ 0`.
@@ -257,12 +264,10 @@ fn dd_node(x: Dd<f64>, last: usize) -> Node<f64> {
 
 /// `ln 1000` in double width.
 const LN_1000: Dd<f64> = Dd::new(6.907_755_278_982_137, 2.369_515_526_854_504e-16);
-/// `ln(1 + 1e4)`, the dielectric table's incidence scale, in double width.
-const LN_1P_1E4: Dd<f64> = Dd::new(9.210_440_366_976_517, -8.682_930_911_085_415e-16);
 /// `Y = ln 1e7`, the largest `|ln r|` of the dielectric table, in double width.
 const LN_1E7: Dd<f64> = Dd::new(16.118_095_650_958_32, -6.313_509_366_674_493e-16);
-/// `ln(1 + Y·2^19)`, the dielectric table's index scale, in double width.
-const LN_1P_Y: Dd<f64> = Dd::new(15.949_739_143_278_078, -2.342_043_344_584_035_5e-16);
+/// `ln(1 + Y·2^50)`, the dielectric table's index scale, in double width.
+const LN_1P_Y: Dd<f64> = Dd::new(37.437_301_622_300_54, -3.297_947_851_815_396_8e-15);
 
 /// `ggx_dielectric`'s total albedo `E = R + T` of the white interface (`ks = kt = 1`,
 /// nothing absorbed) for light arriving at cosine `mu` from either side, as a table over
@@ -272,23 +277,23 @@ const LN_1P_Y: Dd<f64> = Dd::new(15.949_739_143_278_078, -2.342_043_344_584_035_
 ///
 /// The axes, on which `E` is read linearly in the first and by cubic (Catmull-Rom)
 /// weights in the other two:
-/// - incidence `x = ln(1 + t·1e4)/(2 ln(1 + 1e4)) + (sqrt(t) + t)/4`,
-///   `t = mu/(mu + alpha·sin)` with `sin` the sine of the incidence: half the nodes as the
-///   conductors' [`EnergyTable`] (the shadowing loss lives in a layer of width ~alpha at
-///   grazing incidence), half logarithmic in `t` down to about 1e-4, for the layer of
-///   grazing incidence, narrower the closer `r` is to 1, in which `E` falls to 0 (light
-///   from the denser side: the refracted and reflected rays turn back across the
-///   surface) or rises to 1 (from the rarer side);
+/// - index `v = ln(1 + y·2^50)/(2 ln(1 + Y·2^50)) + y/(2Y)`, `y = |ln r|`, `Y = ln 1e7`:
+///   logarithmic in `|r − 1|` from the last ulps before 1, uniform in `ln r` towards
+///   `r = 1e7` (the transmission falls as `1/r`);
 /// - roughness `log alpha` over `[1e-3, 1]`;
-/// - index `v = ln(1 + y·2^19)/(2 ln(1 + Y·2^19)) + y/(2Y)`, `y = |ln r|`, `Y = ln 1e7`:
-///   logarithmic in `|r − 1|` from about 2e-6 (the layer's width follows it), uniform
-///   in `ln r` towards `r = 1e7` (the transmission falls as `1/r`).
+/// - incidence `x = q^(1/4)/2 + (sqrt(t) + t)/4`, `t = mu/(mu + alpha·sin)` with `sin`
+///   the sine of the incidence and `q = mu/(mu + w·sin)`, `w = y/(alpha + y)`. `t` as
+///   the conductors' [`EnergyTable`] (the shadowing loss lives within `mu` of about
+///   `alpha` of grazing); `q` for the layer an index near 1 opens, `mu` below about
+///   `y/alpha`, in which `E` falls to 0 (light from the denser side is turned back
+///   across the surface) or rises to 1 (from the rarer side, reflected whole): in `q`
+///   the layer holds still as `y → 0`, so `E` is smooth along the index at a fixed `x`.
 ///
 /// How far the interpolant is from `E` is measured by `scripts/dielectric_furnace.py`
 /// (docs/models.md, `ggx_dielectric_ms`).
 ///
 /// `r = 1` exactly has no interface (the light goes straight through, `E = 1`); the
-/// table's `s = 0` nodes hold the limit `r → 1`, which differs: the rough interface's
+/// table's `y = 0` nodes hold `r = 1 ± 2^-52`, which differs: the rough interface's
 /// shadowing takes its share however close to 1 `r` is.
 pub struct DielectricEnergy {
     /// `E` as little-endian `f32`, indexed `[side][i][j][k]` (side 0: `r > 1`).
@@ -305,6 +310,8 @@ pub static GGX_DIELECTRIC: DielectricEnergy = DielectricEnergy {
 #[derive(Clone, Copy, Debug)]
 pub struct DielectricNode {
     alpha: f64,
+    /// `y = |ln eta|` (clamped to `ln 1e7`), in double width.
+    y: Dd<f64>,
     /// The roughness and index nodes and their cubic weights.
     a: ([usize; 4], [f64; 4]),
     u: ([usize; 4], [f64; 4]),
@@ -371,12 +378,13 @@ impl DielectricEnergy {
         };
         // (NS − 1)/2 = 24: exact.
         let half = Dd::new(0.5 * (NS - 1) as f64, 0.0);
-        let log_part = ln_1p(y.times(Dd::new(524_288.0, 0.0))).times(half.over(LN_1P_Y));
+        let log_part = ln_1p(y.times(Dd::new(2f64.powi(50), 0.0))).times(half.over(LN_1P_Y));
         let linear_part = y.times(half.over(LN_1E7));
         let u = dd_node(log_part.plus(linear_part), NS - 1);
         let (a, u) = (cubic(a, NA - 1), cubic(u, NS - 1));
         DielectricNode {
             alpha,
+            y,
             a,
             u,
             above_enters: eta > 1.0,
@@ -398,7 +406,7 @@ impl DielectricEnergy {
         } else {
             (mu_i.abs().min(1.0), sin_i.min(1.0))
         };
-        let x = incidence_node(mu, sin, p.alpha);
+        let x = incidence_node(mu, sin, p.alpha, p.y);
         let value = |i: usize, j: usize, k: usize| f64::from(self.stored(side, i, j, k));
         // Each blend is its second node plus the weighted differences from it (the weights
         // sum to 1), so that the weights' rounding multiplies the small differences
@@ -486,10 +494,9 @@ mod tests {
             f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         };
         // The axes' coordinates in plain f64, inverted by bisection.
-        let x_of_t = |t: f64| 0.5 * (t * 1e4).ln_1p() / 1e4f64.ln_1p() + 0.25 * (t.sqrt() + t);
         let top = 1e7f64.ln();
-        let v_of_y =
-            |y: f64| 0.5 * (y * 524_288.0).ln_1p() / (top * 524_288.0).ln_1p() + 0.5 * y / top;
+        let scale = 2f64.powi(50);
+        let v_of_y = |y: f64| 0.5 * (y * scale).ln_1p() / (top * scale).ln_1p() + 0.5 * y / top;
         let invert = |f: &dyn Fn(f64) -> f64, target: f64, hi: f64| {
             let (mut lo, mut hi) = (0.0, hi);
             for _ in 0..200 {
@@ -502,18 +509,26 @@ mod tests {
             }
             0.5 * (lo + hi)
         };
+        // Index nodes where the index's rounding to a float moves y by under 1e-8 of it.
         for (i, j, k) in [
-            (1, 0, 1),
-            (20, 7, 5),
-            (40, 12, 17),
-            (96, 48, 30),
-            (33, 3, 95),
+            (1, 0, 40),
+            (20, 7, 45),
+            (40, 12, 50),
+            (96, 48, 70),
+            (33, 3, 127),
             (60, 30, 60),
+            (10, 45, 100),
         ] {
-            let t = invert(&x_of_t, i as f64 / (NT - 1) as f64, 1.0);
             let alpha = 1e-3 * 1e3f64.powf(j as f64 / (NA - 1) as f64);
-            let mu = t * alpha / ((1.0 - t).powi(2) + (t * alpha).powi(2)).sqrt();
             let r = invert(&v_of_y, k as f64 / (NS - 1) as f64, top).exp();
+            let y = r.ln();
+            let x_of_mu = |mu: f64| {
+                let sin = ((1.0 - mu) * (1.0 + mu)).max(0.0).sqrt();
+                let t = mu / (mu + alpha * sin);
+                let q = mu * (alpha + y) / (mu * (alpha + y) + y * sin);
+                0.5 * q.sqrt().sqrt() + 0.25 * (t.sqrt() + t)
+            };
+            let mu = invert(&x_of_mu, i as f64 / (NT - 1) as f64, 1.0);
             for (side, eta, sign) in [
                 (0, r, 1.0),
                 (1, 1.0 / r, 1.0),
