@@ -376,7 +376,7 @@ impl DielectricEnergy {
         } else {
             y
         };
-        // (NS − 1)/2 = 24: exact.
+        // (NS − 1)/2 = 64: exact.
         let half = Dd::new(0.5 * (NS - 1) as f64, 0.0);
         let log_part = ln_1p(y.times(Dd::new(2f64.powi(50), 0.0))).times(half.over(LN_1P_Y));
         let linear_part = y.times(half.over(LN_1E7));
