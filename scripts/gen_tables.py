@@ -416,10 +416,8 @@ DT_Y[-1] = DT_Y_MAX
 def dielectric_mu() -> np.ndarray:
     """The incidence cosine of every node, shaped (NT, NA, NS): x's inverse in mu for
     each roughness and index (the first node at mu = 1e-300, the last at 1)."""
-    x = np.linspace(0.0, 1.0, DT_NT)[:, None, None]
+    x = np.broadcast_to(np.linspace(0.0, 1.0, DT_NT)[:, None, None], (DT_NT, DT_NA, DT_NS))
     alpha, y = DT_ALPHA[None, :, None], DT_Y[None, None, :]
-    shape = (DT_NT, DT_NA, DT_NS)
-    x, alpha, y = (np.broadcast_to(a, shape) for a in (x, alpha, y))
     mu = _invert(lambda m: dt_x(m, alpha, y), x, 1.0)
     mu[0] = 1e-300
     mu[-1] = 1.0
@@ -427,14 +425,14 @@ def dielectric_mu() -> np.ndarray:
 
 
 def dielectric_index(y: np.ndarray) -> np.ndarray:
-    """The relative index r > 1 of each y node (r = e^y, 1 + 2^-52 at y = 2^-52, at
-    most 1e7)."""
-    return np.where(y <= 2.0**-52, 1 + 2.0**-52, np.minimum(np.exp(y), 1e7))
+    """The relative index r > 1 of each y node (r = e^y, at most 1e7; e^(2^-52) rounds
+    to 1 + 2^-52)."""
+    return np.minimum(np.exp(y), 1e7)
 
 
 def dielectric_e(enter: bool, first_cell: int) -> tuple[np.ndarray, float, float]:
-    """E[i, j, k] at the (x_i, ALPHA[j], Y[k]) node for light entering (r > 1) or leaving (r < 1)
-    the denser medium, its largest stderr and the seconds it took."""
+    """E[i, j, k] at the (x_i, ALPHA[j], Y[k]) node for light entering (r > 1) or leaving
+    (r < 1) the denser medium, its largest stderr and the seconds it took."""
     mu = dielectric_mu()
     r = dielectric_index(DT_Y)
     eta = (r if enter else 1.0 / r)[None, None, :]
@@ -445,8 +443,8 @@ def dielectric_e(enter: bool, first_cell: int) -> tuple[np.ndarray, float, float
         mu,
         ks=1.0,
         kt=1.0,
-        alpha=np.broadcast_to(DT_ALPHA[None, :, None], mu.shape),
-        eta=np.broadcast_to(eta, mu.shape),
+        alpha=DT_ALPHA[None, :, None],
+        eta=eta,
         samples=1 << 10,
         tol=DT_TOL,
         cell_ids=ids,
