@@ -4,7 +4,8 @@ integrator).
 - ``energy``: rust/src/models/tables/ggx_e.rs, beckmann_e.rs, nodes.rs, embedded in the binary:
   Kulla & Conty's E(mu, alpha) (directional albedo with F = 1) on 33 x 33 nodes
   (mu = j/32, the first node at 1e-4; alpha log-spaced in [1e-3, 1]), and
-  E_avg(alpha) = 2 ∫ E(mu) mu dmu by 32-point Gauss-Legendre. Each cell is integrated to
+  E_avg(alpha) = 2 ∫ E(mu) mu dmu of the interpolated E itself (tanh-sinh between the
+  nodes: the lobe's normalization). Each cell is integrated to
   a standard error of 1e-6 (randomized QMC, seed 0). ~1 minute on 2 cores.
 - ``exact``: python/brdf_rs/exact_normalization.npz, shipped in the package (the factor
   is applied to the parameters in Python, before the kernel: see _normalization.py).

@@ -96,7 +96,7 @@ def test_cells_match_a_cubature_of_the_reference(model, eta):
 
 @pytest.mark.parametrize("model", DIELECTRICS)
 def test_e_avg_matches_a_separate_quadrature_of_e(model):
-    """E_avg (32-point Gauss-Legendre on cells of its own) against composite Simpson on
+    """E_avg (adaptive Gauss-Kronrod on cells of its own) against composite Simpson on
     129 E cells of the table (other nodes, other streams): within 5 sigmas plus Simpson's
     error, taken as its difference from the 65-node rule on the same cells."""
     mu = np.linspace(0.0, 1.0, 129)

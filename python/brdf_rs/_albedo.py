@@ -497,7 +497,7 @@ class EnergyCompensation:
     e_avg_stderr: np.ndarray
     estimator: str = (
         "randomized QMC (Owen-scrambled Sobol) of the directional albedo, E_avg by"
-        " 32-point Gauss-Legendre in mu"
+        " adaptive Gauss-Kronrod (7/15 points) in sqrt(mu)"
     )
     #: The ``eta`` axis of a transmitting model's table (``e[i, j, k]`` at ``eta[k]``,
     #: ``e_avg[j, k]``), None for the others.
@@ -556,10 +556,11 @@ def energy_compensation_table(
 
     - A reciprocal lobe: ``E`` is its directional albedo, integrated by
       :func:`brdf_rs.albedo` (randomized QMC with ``samples``, ``tol``, ``seed`` and the
-      other ``options``; standard errors), ``E_avg`` by a 32-point Gauss-Legendre rule in
-      ``mu`` over cells of their own. ``e_avg_stderr`` is the Monte Carlo part of its
-      error: the rule's own error is not included, below the noise at the default ``tol``
-      but not at a tight one (``scripts/energy_quadrature_check.py``; docs/models.md).
+      other ``options``; standard errors), ``E_avg`` by an adaptive Gauss-Kronrod rule in
+      ``sqrt(mu)`` over cells of their own (:func:`_adaptive_average`): its panels are
+      halved until the rule's error estimate is within the noise, so ``e_avg_stderr``,
+      the Monte Carlo standard error, covers the whole error at any ``tol``
+      (``scripts/energy_quadrature_check.py``; docs/models.md).
     - A kernel with ``view_albedo_closed_form`` (a lobe that is not reciprocal, whose
       albedo over ``wo`` that :func:`brdf_rs.albedo` integrates is not ``E``): ``E`` is the
       closed form, exact (``stderr`` 0; ``E(0) = 0``, as ``f`` is 0 there). ``E_avg`` is an
@@ -573,8 +574,8 @@ def energy_compensation_table(
       for light arriving from above at ``n·wi = mu`` with ``eta`` as given: ``eta > 1``
       from the less dense side, ``eta < 1`` from the denser side (total internal
       reflection included; ``eta = 1``, no interface, is the straight-through delta: 1,
-      exact). ``e_avg[j, k] = 2 ∫ E mu dmu`` by the same 32-point
-      Gauss-Legendre rule over cells of its own. ``1 − E`` is the energy the single
+      exact). ``e_avg[j, k] = 2 ∫ E mu dmu`` by the same adaptive rule over cells of
+      its own. ``1 − E`` is the energy the single
       scattering misses. Cells are keyed by their flat index (E_avg's after E's), so a
       table is bitwise reproducible for a seed, and each has its standard error.
     """
@@ -613,33 +614,152 @@ def energy_compensation_table(
         return _closed_form_table(model, mu, alpha, samples, tol, seed, options)
     common = {"samples": samples, "tol": tol, "seed": seed, "kd": 0.0, "ks": 1.0, **options}
     grid = albedo(model, mu[:, None], alpha=alpha[None, :], **common)
-    e_avg, e_avg_se = _gauss_average(model, {"alpha": alpha}, mu.size * alpha.size, common)
+    e_avg, e_avg_se = _adaptive_average(model, {"alpha": alpha}, mu.size * alpha.size, common)
     return EnergyCompensation(
         model, mu, alpha, grid.value[..., 0], e_avg, grid.stderr[..., 0], e_avg_se
     )
 
 
-def _gauss_average(
+def _gauss_kronrod_15() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The 7/15-point Gauss-Kronrod pair on ``[-1, 1]``: the 15 Kronrod nodes, their
+    Kronrod weights, and the 7-point Gauss weights placed on the Gauss nodes among them
+    (every other node from the ends; 0 on the others). QUADPACK's ``qk15`` constants
+    (Piessens et al. 1983); ``tests/test_energy_average.py`` checks them (the Gauss half
+    against NumPy's rule, the Kronrod rule exact to degree 22)."""
+    half_x = [
+        0.991455371120812639206854697526329,
+        0.949107912342758524526189684047851,
+        0.864864423359769072789712788640926,
+        0.741531185599394439863864773280788,
+        0.586087235467691130294144845693013,
+        0.405845151377397166906606412076961,
+        0.207784955007898467600689403773245,
+    ]
+    half_wk = [
+        0.022935322010529224963732008058970,
+        0.063092092629978553290700663189204,
+        0.104790010322250183839876322541518,
+        0.140653259715525918745189590510238,
+        0.169004726639267902826583426598550,
+        0.190350578064785409913256402421014,
+        0.204432940075298892414161999234649,
+    ]
+    half_wg = [0.0, 0.129484966168869693270611432679082, 0.0, 0.279705391489276667901467771423780]
+    half_wg += [0.0, 0.381830050505118944950369775488975, 0.0]
+    x = np.array([*(-v for v in half_x), 0.0, *half_x[::-1]])
+    wk = np.array([*half_wk, 0.209482141084727828012999174891714, *half_wk[::-1]])
+    wg = np.array([*half_wg, 0.417959183673469387755102040816327, *half_wg[::-1]])
+    return x, wk, wg
+
+
+#: :func:`_gauss_kronrod_15`, once.
+_GK15 = _gauss_kronrod_15()
+#: E_avg's panels are halved down to width 2^-_GK_DEPTH at most, ...
+_GK_DEPTH = 24
+#: ... so a column's node ids (15 per panel, panels numbered below 2^(_GK_DEPTH + 1))
+#: fit in this many.
+_GK_COLUMN_IDS = 15 << (_GK_DEPTH + 1)
+
+
+def _adaptive_average(
     model: str, axes: dict[str, np.ndarray], first_id: int, common: dict[str, Any]
 ) -> tuple[np.ndarray, np.ndarray]:
     """``E_avg = 2 ∫_0^1 E(mu) mu dmu`` over the grid of ``axes`` (the table's axes after
-    ``mu``, in order) by 32-point Gauss-Legendre on [0, 1], and its standard error (the
-    Monte Carlo part): the nodes are cells of their own, with ids from ``first_id`` on
-    (after the table's ``E`` cells)."""
-    nodes, weights = np.polynomial.legendre.leggauss(32)
-    x, w = 0.5 * (nodes + 1), 0.5 * weights
-    shape = (x.size, *(a.size for a in axes.values()))
-    ids = (np.arange(math.prod(shape), dtype=np.uint64) + np.uint64(first_id)).reshape(shape)
-    # Each axis along its own dimension of the grid (mu's nodes along the first).
-    spread: dict[str, Any] = {
-        name: a.reshape([1] * (k + 1) + [-1] + [1] * (len(axes) - k - 1))
-        for k, (name, a) in enumerate(axes.items())
-    }
-    avg = albedo(model, x.reshape(-1, *[1] * len(axes)), cell_ids=ids, **spread, **common)
-    rest = "jkl"[: len(axes)]
-    weighted = f"i,i{rest}->{rest}"
-    e_avg = 2 * np.einsum(weighted, w * x, avg.value[..., 0])
-    return e_avg, 2 * np.sqrt(np.einsum(weighted, (w * x) ** 2, avg.stderr[..., 0] ** 2))
+    ``mu``, in order) by :func:`_kronrod_average` on ``E`` cells of their own (``albedo``
+    with ``common``), and its error bar. A ``progress`` callback in ``common`` sees the
+    rounds as one run: counts carry on from round to round."""
+    shape = tuple(a.size for a in axes.values())
+    flat = [a.ravel() for a in np.meshgrid(*axes.values(), indexing="ij")]
+    progress = common.get("progress")
+    carried, seen = [0, 0], [0, 0]
+    if progress is not None:
+
+        def carry_on(done: int, samples: int) -> None:
+            seen[:] = [done, samples]
+            progress(carried[0] + done, carried[1] + samples)
+
+        common = {**common, "progress": carry_on}
+
+    def cells(mu: np.ndarray, ids: np.ndarray, col: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        params: dict[str, Any] = {
+            name: np.repeat(a[col], mu.shape[1]).reshape(mu.shape)
+            for name, a in zip(axes, flat, strict=True)
+        }
+        got = albedo(model, mu, cell_ids=ids, **params, **common)
+        carried[0] += mu.size
+        carried[1] += seen[1]
+        seen[:] = [0, 0]
+        return got.value[..., 0], got.stderr[..., 0]
+
+    value, error = _kronrod_average(cells, math.prod(shape), first_id)
+    return value.reshape(shape), error.reshape(shape)
+
+
+def _kronrod_average(
+    cells: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
+    columns: int,
+    first_id: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """``E_avg = 2 ∫_0^1 E(mu) mu dmu`` of ``columns`` functions ``E`` by adaptive
+    Gauss-Kronrod, and its error bar. ``cells(mu, ids, col)`` estimates ``E`` of column
+    ``col[p]`` at ``mu[p, :]`` (the 15 nodes of a panel) on cells keyed by ``ids``, and
+    returns the estimates and their standard errors, shaped like ``mu``.
+
+    The rule runs in ``t = sqrt(mu)`` (``E_avg = ∫_0^1 4 t³ E(t²) dt``), which flattens the
+    fall of ``E`` at grazing incidence. Each column of the grid starts with two panels of
+    ``t``, ``[0, 1/2]`` and ``[1/2, 1]``; each panel gets the 15-point Kronrod rule and the
+    7-point Gauss rule on the Gauss nodes among its 15 (:data:`_GK15`), one ``E`` cell per
+    node. ``K − G`` is the Gauss rule's error to first order, and the Kronrod rule's, far
+    smaller, is below it; the Monte Carlo noise of ``K − G``, ``sigma_d``, follows from the
+    cells' standard errors. A panel is kept, with its Kronrod value, once ``|K − G| <= 2
+    sigma_d`` (the rule's error no longer shows through the noise); otherwise it is
+    halved, down to width ``2^-24``, where it is kept as it is and its ``|K − G|`` is added
+    to the error bar. So ``E`` with a bend (near the critical angle of a dielectric seen
+    from the denser side) or a steep fall (a smooth lobe at grazing incidence) gets narrow
+    panels there, and a smooth ``E`` two panels: 30 cells.
+
+    The error bar is the Monte Carlo standard error of the kept Kronrod values, plus the
+    ``|K − G|`` of any panel kept at the narrowest width. A node's cell id depends only
+    on its column (flat index over ``axes``), its panel's place in the halving of
+    ``[0, 1]`` and its node, counted from ``first_id`` on (after the table's ``E``
+    cells): each column's ``E_avg`` is bitwise reproducible for a seed, whatever the rest
+    of the grid.
+    """
+    x15, wk15, wg15 = _GK15
+    # Panel ``k`` of the halving (``[0, 1]`` is 1, its halves ``2k`` and ``2k + 1``).
+    col = np.repeat(np.arange(columns), 2)
+    heap = np.tile(np.array([2, 3], dtype=np.int64), columns)
+    value = np.zeros(columns)
+    variance = np.zeros(columns)
+    forced = np.zeros(columns)
+    while col.size:
+        depth = np.floor(np.log2(heap)).astype(np.int64)
+        width = np.ldexp(1.0, -depth)
+        lo = (heap - (1 << depth)) * width
+        h = width / 2
+        t = (lo + h)[:, None] + h[:, None] * x15
+        mu = t * t
+        ids = (
+            np.uint64(first_id)
+            + col.astype(np.uint64)[:, None] * np.uint64(_GK_COLUMN_IDS)
+            + (heap.astype(np.uint64) * np.uint64(15))[:, None]
+            + np.arange(15, dtype=np.uint64)
+        )
+        e, se = cells(mu, ids, col)
+        jacobian = 4 * mu * t  # 2 mu dmu = 4 t^3 dt
+        f = jacobian * e
+        s2 = (jacobian * se) ** 2
+        k = h * (f @ wk15)
+        diff = np.abs(k - h * (f @ wg15))
+        sigma_d = h * np.sqrt(s2 @ (wk15 - wg15) ** 2)
+        settled = diff <= 2 * sigma_d + 16 * np.finfo(float).eps * np.abs(k)
+        kept = settled | (heap >= 1 << _GK_DEPTH)
+        np.add.at(value, col[kept], k[kept])
+        np.add.at(variance, col[kept], (h * h)[kept] * (s2[kept] @ wk15**2))
+        np.add.at(forced, col[kept & ~settled], diff[kept & ~settled])
+        col = np.repeat(col[~kept], 2)
+        heap = ((2 * heap[~kept])[:, None] + np.array([0, 1])).ravel()
+    return value, np.sqrt(variance) + forced
 
 
 def _transmitting_table(
@@ -679,10 +799,11 @@ def _transmitting_table(
         cell_ids=ids,
         **common,
     )
-    e_avg, e_avg_se = _gauss_average(model, {"alpha": alpha, "eta": eta}, ids.size, common)
+    e_avg, e_avg_se = _adaptive_average(model, {"alpha": alpha, "eta": eta}, ids.size, common)
     estimator = (
         "randomized QMC (Owen-scrambled Sobol) of the total albedo (reflection +"
-        " transmission) of the white interface, E_avg by 32-point Gauss-Legendre in mu"
+        " transmission) of the white interface, E_avg by adaptive Gauss-Kronrod (7/15"
+        " points) in sqrt(mu)"
     )
     return EnergyCompensation(
         model,

@@ -522,7 +522,9 @@ def _values(text: str) -> np.ndarray:
 
 class _PassProgress:
     """One progress bar over consecutive albedo runs (``sizes`` cells each) that report
-    ``progress(cells_done, samples_done)`` from 0 again at the start of every run."""
+    ``progress(cells_done, samples_done)`` from 0 again at the start of every run. A run
+    may go on past its size (an energy table's ``E_avg`` rounds, which carry their counts
+    on from round to round): the bar then runs past its total."""
 
     def __init__(self, sizes: Sequence[int], quiet: bool) -> None:
         self.sizes = list(sizes)
@@ -532,8 +534,14 @@ class _PassProgress:
         self.last = 0
 
     def __call__(self, done: int, samples: int) -> None:
-        finished_run = self.last == self.sizes[self.run] and done != self.last
-        if (done < self.last or finished_run) and self.run + 1 < len(self.sizes):
+        more = self.run + 1 < len(self.sizes)
+        # A run that reported its end, then a count the next run could report.
+        finished_run = (
+            more
+            and self.last == self.sizes[self.run]
+            and self.last != done <= self.sizes[self.run + 1]
+        )
+        if (done < self.last or finished_run) and more:
             self.offset += self.sizes[self.run]
             self.run += 1
         self.last = done
@@ -675,9 +683,10 @@ def cmd_energy(args: argparse.Namespace) -> int:
     out = _table_output(args.output, f"energy_{args.model}.npz", (".npz",), args.plot)
     plot_path = _plot_path(args.plot)
     n_eta = 1 if eta is None else eta.size
-    # Two runs: the E grid, then 32 Gauss-Legendre incidences for E_avg.
+    # Two runs: the E grid, then E_avg's adaptive rule (30 cells per column in its first
+    # round, more where it halves panels: the bar runs on past its total then).
     progress = _PassProgress(
-        [mu.size * alpha.size * n_eta, 32 * alpha.size * n_eta], args.quiet or args.json
+        [mu.size * alpha.size * n_eta, 30 * alpha.size * n_eta], args.quiet or args.json
     )
     extra = {} if eta is None else {"eta": eta}
     start = time.perf_counter()

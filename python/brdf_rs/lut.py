@@ -485,7 +485,7 @@ _ESTIMATOR = {
     "dfg_multiscatter": "brdf_rs.dfg_table: randomized QMC (Owen-scrambled Sobol), kd = 0,"
     " ks = 0 and 1",
     "energy": "brdf_rs.energy_compensation_table: randomized QMC (Owen-scrambled Sobol),"
-    " E_avg by 32-point Gauss-Legendre in mu",
+    " E_avg by adaptive Gauss-Kronrod (7/15 points) in sqrt(mu)",
 }
 
 
@@ -864,9 +864,10 @@ def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     runs = []
     for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
         # dfg: F0 = 1, F0 = 0, then the cloth channel's sheen model when there is one;
-        # energy: E on the grid, then 32 Gauss-Legendre mu's.
+        # energy: E on the grid, then E_avg's adaptive rule, 30 cells per roughness in
+        # its first round (more where it halves panels).
         if spec.kind == "energy":
-            runs += [m * r, 32 * r]
+            runs += [m * r, 30 * r]
         else:
             runs += [m * r] * (3 if spec.sheen is not None else 2)
     return runs
