@@ -305,6 +305,15 @@ pub static GGX_DIELECTRIC: DielectricEnergy = DielectricEnergy {
     bytes: ggx_dielectric_e::E,
 };
 
+/// A cubic blend of four nodes' values: the second node plus the weighted differences
+/// from it (the weights sum to 1), so that the weights' rounding multiplies the small
+/// differences between neighbouring nodes, not the value. [`DielectricEnergy::energy`]
+/// blends along the index axis, then roughness, then (linearly) incidence.
+#[inline(always)]
+fn blend(v: [f64; 4], w: &[f64; 4]) -> f64 {
+    v[1] + (w[0] * (v[0] - v[1]) + w[2] * (v[2] - v[1]) + w[3] * (v[3] - v[1]))
+}
+
 /// A roughness and index on a [`DielectricEnergy`] table, prepared once per parameter
 /// set.
 #[derive(Clone, Copy, Debug)]
@@ -407,25 +416,23 @@ impl DielectricEnergy {
             (mu_i.abs().min(1.0), sin_i.min(1.0))
         };
         let x = incidence_node(mu, sin, p.alpha, p.y);
-        let value = |i: usize, j: usize, k: usize| f64::from(self.stored(side, i, j, k));
-        // Each blend is its second node plus the weighted differences from it (the weights
-        // sum to 1), so that the weights' rounding multiplies the small differences
-        // between neighbouring nodes, not E: index axis, then roughness, then incidence.
-        let blend = |v: [f64; 4], w: &[f64; 4]| {
-            v[1] + (w[0] * (v[0] - v[1]) + w[2] * (v[2] - v[1]) + w[3] * (v[3] - v[1]))
-        };
         let (mut least, mut most) = (f64::INFINITY, 0.0f64);
-        let mut row = |i: usize| {
-            let along_a = p.a.0.map(|j| {
-                let v = p.u.0.map(|k| value(i, j, k));
-                for &e in &v {
-                    (least, most) = (least.min(e), most.max(e));
+        let mut rows = [0.0; 2];
+        for (row, i) in rows.iter_mut().zip([x.index, x.index + 1]) {
+            let mut along_a = [0.0; 4];
+            for (blended, &j) in along_a.iter_mut().zip(&p.a.0) {
+                let mut v = [0.0; 4];
+                for (e, &k) in v.iter_mut().zip(&p.u.0) {
+                    *e = f64::from(self.stored(side, i, j, k));
+                    // Plain comparisons: the stored values are finite (no NaN rule).
+                    least = if *e < least { *e } else { least };
+                    most = if *e > most { *e } else { most };
                 }
-                blend(v, &p.u.1)
-            });
-            blend(along_a, &p.a.1)
-        };
-        let (lo, hi) = (row(x.index), row(x.index + 1));
+                *blended = blend(v, &p.u.1);
+            }
+            *row = blend(along_a, &p.a.1);
+        }
+        let [lo, hi] = rows;
         let sum = lo + x.weight * (hi - lo);
         // The cubic can overshoot where E bends sharply: held within the values it
         // blends (all positive, at most 1).
