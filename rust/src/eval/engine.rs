@@ -484,6 +484,9 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                 b[j] = if ok { rgb[2] } else { F::NAN };
             });
         } else {
+            // A divided kernel with uniform parameters: the value before the division here
+            // (a loop that vectorizes), the division in a pass of its own below.
+            let divided = K::DIVIDED && !vary;
             for_lanes!(lanes, |j| {
                 let d = block_directions::<F, MODE>(wi, wo, n, t, j);
                 let rgb = if vary {
@@ -492,6 +495,8 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                         j,
                     };
                     K::eval_with::<F, P>(&K::prepare(&params), &d)
+                } else if divided {
+                    K::eval_undivided::<F, P>(&uniform, &d)
                 } else {
                     K::eval_with::<F, P>(&uniform, &d)
                 };
@@ -506,6 +511,14 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                 g[j] = if ok { rgb[1] } else { F::NAN };
                 b[j] = if ok { rgb[2] } else { F::NAN };
             });
+            if divided {
+                // Rows past `len` are never written out, and a bad row is NaN already.
+                for j in (0..len).filter(|&j| scratch.ok[j]) {
+                    let d = block_directions::<F, MODE>(wi, wo, n, t, j);
+                    let e = K::divisor(&uniform, &d);
+                    (r[j], g[j], b[j]) = (r[j] / e, g[j] / e, b[j] / e);
+                }
+            }
         }
         if wide && any_tiny {
             wide_cosine_rows::<F, K>(plan, &mut scratch, row0, len, &uniform, vary);

@@ -77,11 +77,24 @@ impl Kernel for GgxDielectricMs {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let f = GgxDielectric::eval_with::<F, P>(&pp.interface, d);
+        let e = Self::divisor(pp, d);
+        Self::eval_undivided::<F, P>(pp, d).map(|v| v / e)
+    }
+
+    const DIVIDED: bool = true;
+
+    /// The interface's value.
+    #[inline(always)]
+    fn eval_undivided<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
+        GgxDielectric::eval_with::<F, P>(&pp.interface, d)
+    }
+
+    /// `E` for light at `wi`, from the table.
+    #[inline(always)]
+    fn divisor<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> F {
         let sin_i = d.n.cross(d.wi).length_squared().sqrt();
         let (mu_i, sin_i) = (d.n.dot(d.wi).to_f64(), sin_i.to_f64());
-        let e = F::from_f64(GGX_DIELECTRIC.energy(&pp.node, mu_i, sin_i));
-        f.map(|v| v / e)
+        F::from_f64(GGX_DIELECTRIC.energy(&pp.node, mu_i, sin_i))
     }
 
     /// `ggx_dielectric`'s sampler: the factor is the same for every `wo`.

@@ -135,6 +135,30 @@ pub trait Kernel: 'static {
         [F::ZERO; 3]
     }
 
+    /// Whether [`Kernel::eval_with`] is [`Kernel::eval_undivided`] divided by
+    /// [`Kernel::divisor`] (a factor of `wi` alone whose scalar code, a table lookup, would
+    /// keep the loop it sits in from vectorizing): the eval engine then computes the two
+    /// in separate passes over a block of uniform parameters, the same bits. The two
+    /// functions' defaults are placeholders for kernels without it.
+    const DIVIDED: bool = false;
+
+    /// [`Kernel::eval_with`] before the division by [`Kernel::divisor`], for a
+    /// [`Kernel::DIVIDED`] kernel.
+    #[inline(always)]
+    fn eval_undivided<F: Real, P: PowUnit>(
+        _prepared: &Self::Prepared<F>,
+        _d: &Directions<F>,
+    ) -> [F; 3] {
+        [F::ZERO; 3]
+    }
+
+    /// What a [`Kernel::DIVIDED`] kernel divides [`Kernel::eval_undivided`] by:
+    /// `eval_with` is `eval_undivided(..).map(|v| v / divisor(..))` bit for bit.
+    #[inline(always)]
+    fn divisor<F: Real>(_prepared: &Self::Prepared<F>, _d: &Directions<F>) -> F {
+        F::ONE
+    }
+
     /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
     /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one
     /// is (Ward's `1/sqrt(mu_i·mu_o)`). Most models only need its sign, which
