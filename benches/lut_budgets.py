@@ -83,12 +83,16 @@ def main() -> int:
         fitted = lut.fit(table, FIT_DEGREE)
         lines += [
             "",
-            f"Degree-{FIT_DEGREE} polynomial fit (`--fit {FIT_DEGREE}`), worst against the"
-            " texels / against the integrals between them:",
+            f"Degree-{FIT_DEGREE} minimax polynomial fit (`--fit {FIT_DEGREE}`), worst against"
+            " the texels / against the integrals between them / its maximum error over the"
+            " whole range (a grid four times denser, 3 stderr and float32 rounding included):",
             "",
         ]
         for k, c in enumerate(b.channels):
-            lines.append(f"- {c}: {fitted.worst_texels[k]:.2e} / {fitted.worst_between[k]:.2e}")
+            lines.append(
+                f"- {c}: {fitted.worst_texels[k]:.2e} / {fitted.worst_between[k]:.2e} /"
+                f" {fitted.max_error[k]:.2e}"
+            )
         lines.append("")
         print("\n".join(lines[-(17 + 2 * nc) :]), flush=True)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -768,7 +768,9 @@ def test_cli_max_error_says_when_it_cannot(tmp_path):
     assert "--max-error: expected a positive number" in err
 
 
-def test_polynomial_fit_is_the_least_squares_one_and_its_errors_are_measured(filament):
+def test_polynomial_fit_is_minimax_and_its_errors_are_measured(filament):
+    """The fit minimises the worst texel error: no worse than the least-squares fit of the
+    same degree (solved independently), and its reported errors are its own."""
     scipy_linalg = pytest.importorskip("scipy.linalg")
     f = lut.fit(filament, 3)
     s = filament.spec
@@ -776,28 +778,71 @@ def test_polynomial_fit_is_the_least_squares_one_and_its_errors_are_measured(fil
     # an independent least-squares fit: full 2-D Vandermonde, degree > 3 columns dropped
     v = np.polynomial.polynomial.polyvander2d(x.ravel(), y.ravel(), [3, 3])
     keep = [i + j <= 3 for i in range(4) for j in range(4)]
+    mine = f(
+        s.mu_axis.physical(s.mu_axis.positions())[None, :],
+        s.roughness_axis.physical(s.roughness_axis.positions())[:, None],
+    )
     for c in range(2):
         coef, *_ = scipy_linalg.lstsq(v[:, keep], filament.image[..., c].ravel())
-        mine = f(
-            s.mu_axis.physical(s.mu_axis.positions())[None, :],
-            s.roughness_axis.physical(s.roughness_axis.positions())[:, None],
-        )
-        np.testing.assert_allclose(mine[..., c].ravel(), v[:, keep] @ coef, atol=1e-9)
-        assert f.worst_texels[c] == pytest.approx(
-            np.abs(v[:, keep] @ coef - filament.image[..., c].ravel()).max(), abs=1e-9
-        )
+        least_squares = np.abs(v[:, keep] @ coef - filament.image[..., c].ravel()).max()
+        worst = np.abs(mine[..., c] - filament.image[..., c]).max()
+        assert f.worst_texels[c] == pytest.approx(worst, abs=1e-12)
+        assert worst < 0.9 * least_squares, (worst, least_squares)
     assert all(w > 0 for w in f.worst_between)
+    assert f.terms == 10 and f.denominator == 0 and f.den_coefficients is None
     with pytest.raises(ValueError, match="degree: expected an integer from 1 to 12"):
         lut.fit(filament, 0)
+    with pytest.raises(ValueError, match="denominator: expected an integer from 0 to 12"):
+        lut.fit(filament, 2, -1)
 
 
-def test_fit_as_c_code_evaluates_the_fit(filament, tmp_path):
-    f = lut.fit(filament, 4)
+def test_rational_minimax_recovers_a_rational_function_and_refuses_poles():
+    from brdf_rs import _lutfit
+
+    x, y = (g.ravel() for g in np.meshgrid(np.linspace(0, 1, 24), np.linspace(0, 1, 24)))
+    u, v = 2 * x - 1, 2 * y - 1
+    f = (1 + 0.3 * u - 0.2 * v * v) / (1.4 + 0.6 * u + 0.3 * u * v)
+    p, q = _lutfit._minimax(x, y, f, 2, 2)
+    got = _lutfit._poly(p, u, v) / _lutfit._poly(q, u, v)
+    assert np.abs(got - f).max() < 1e-10
+    # a pole inside [0, 1]²: the only fits that follow it have a vanishing denominator
+    pole = 1 / (0.5 - x + 1e-3 * (y + 1))
+    with pytest.raises(ValueError, match="denominator: no degree-1/1 rational fit"):
+        _lutfit._minimax(x, y, pole, 1, 1)
+
+
+def test_fit_maximum_error_holds_at_random_points(filament):
+    """A fit's stated maximum error (dense grid + 3 stderr + float32 rounding) against
+    fresh integrals at random points of the domain, integrated apart (other seed, more
+    samples): within it, up to those integrals' own 3 stderr."""
+    for denominator in (0, 2):
+        f = lut.fit(filament, 4, denominator)
+        assert f.dense_points == 32 * 31  # roughness 0 (alpha 0) is out of ggx's range
+        rng = np.random.default_rng(11)
+        mu = 1e-4 + (1 - 1e-4) * rng.random(200)
+        r = rng.random(200)
+        alpha = np.maximum(r, 1e-3) ** 2
+        one = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=1, samples=1 << 13, seed=17)
+        zero = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=0, samples=1 << 13, seed=17)
+        exact = np.stack([zero.value[:, 0], one.value[:, 0]], -1)  # B, A + B
+        se = np.stack([zero.stderr[:, 0], one.stderr[:, 0]], -1)
+        err = np.abs(f(mu, alpha) - exact) - 3 * se
+        assert np.all(err.max(axis=0) <= np.asarray(f.max_error)), (err.max(0), f.max_error)
+        assert np.all(np.asarray(f.max_error_interior) <= np.asarray(f.max_error))
+
+
+@pytest.mark.parametrize("degrees", [(4, 0), (3, 2)])
+def test_fit_as_c_code_evaluates_the_fit(filament, tmp_path, degrees):
+    f = lut.fit(filament, *degrees, dense=False)
+    assert f.worst_dense == [] and f.max_error_interior == []
     f.save(tmp_path / "fit.h")
+    text = (tmp_path / "fit.h").read_text()
+    assert (" / (" in text) == (degrees[1] > 0)
     pts = [(0.05, 0.01), (0.4, 0.3), (0.9, 0.8)]
     got = c_lookups(tmp_path, "fit.h", "filament_dfg_fit", pts)
     mu, alpha = np.array(pts).T
     np.testing.assert_allclose(got, f(mu, alpha), atol=1e-5)
+    assert max(f.float32_worst) < 1e-5
     with pytest.raises(ValueError, match="not a table"):
         lut.read(tmp_path / "fit.h")
 
@@ -862,20 +907,27 @@ def test_cli_lists_presets_and_writes_a_fit(tmp_path):
             "--interp-limit",
             "4",
             "--fit",
-            "3",
+            "3/2",
             "-o",
             str(tmp_path / "f.wgsl"),
             "--json",
         ).stdout
     )
-    assert out["degree"] == 3 and len(out["worst_texels"]) == 2
-    assert (
-        "fn ue5_ggx_spec_energy_fit(mu: f32, roughness: f32)" in (tmp_path / "f.wgsl").read_text()
-    )
+    assert (out["degree"], out["denominator"], out["terms"]) == (3, 2, 15)
+    assert len(out["worst_texels"]) == 2 and out["dense_points"] == 32 * 31
+    assert all(m >= d for m, d in zip(out["max_error"], out["worst_dense"], strict=True))
+    text = (tmp_path / "f.wgsl").read_text()
+    assert "fn ue5_ggx_spec_energy_fit(mu: f32, roughness: f32)" in text
+    assert "degree-3/2 rational minimax fit" in text
     err = run_cli(
         "lut", "--preset", "ue5", "--fit", "3", "-o", str(tmp_path / "f.dds"), code=2
     ).stderr
     assert "a --fit is source code" in err
+    for bad in ("3/x", "1/2/3"):
+        err = run_cli("lut", "--preset", "ue5", "--fit", bad, code=2).stderr
+        assert "expected N or N/M" in err
+    err = run_cli("lut", "--preset", "ue5", "--fit", "3/13", "-o", str(tmp_path / "f.h"), code=2)
+    assert "--fit: expected N from 1 to 12 and M from 0 to 12, got 3/13" in err.stderr
 
 
 @pytest.mark.parametrize("suffix", [".exr", ".ktx2", ".dds", ".png"])

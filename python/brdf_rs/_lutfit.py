@@ -1,13 +1,17 @@
 """Analytic fits of a LUT, emitted as shader code: each channel a polynomial of total
-degree ``d`` in the table's two axis fractions ``s, t`` in [0, 1] (``s = (q − lo)/(hi −
-lo)`` of the column quantity, ``t`` of the row quantity), least squares on the float64
-texels. Its error is measured, not assumed: against the texels, and against the fresh
-integrals between the texels that the table's own interpolation budget used."""
+degree ``n`` in the table's two axis fractions ``s, t`` in [0, 1] (``s = (q − lo)/(hi −
+lo)`` of the column quantity, ``t`` of the row quantity), or a rational function ``P/Q``
+of total degrees ``n`` over ``m`` (``Q``'s constant term 1). The coefficients minimise the
+largest error over the float64 texels (a minimax fit), and that error is measured, not
+assumed: against the texels, against the fresh integrals between the texels that the
+table's own interpolation budget used, and against fresh integrals on a grid several
+times denser than the texels, which gives the fit's stated maximum error."""
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -28,13 +32,56 @@ def _fractions(axis: Axis, q: Any) -> np.ndarray:
     return np.clip(t, 0.0, 1.0)
 
 
+def _poly(
+    coefficients: np.ndarray, x: np.ndarray, y: np.ndarray, dtype: Any = np.float64
+) -> np.ndarray:
+    """``sum c[i, j] x^i y^j`` over the triangle ``i + j <= degree``, by Horner in ``y``
+    inside and ``x`` outside (the emitted code's order), in ``dtype``."""
+    degree = coefficients.shape[0] - 1
+    c = coefficients.astype(dtype)
+    x, y = x.astype(dtype), y.astype(dtype)
+    out = np.zeros(np.broadcast_shapes(x.shape, y.shape), dtype=dtype)
+    for i in reversed(range(degree + 1)):
+        inner = np.zeros_like(out)
+        for j in reversed(range(degree + 1 - i)):
+            inner = inner * y + c[i, j]
+        out = out * x + inner
+    return out
+
+
+#: Each axis of the dense check grid has this many times the table's texels, ...
+DENSE_FACTOR = 4
+#: ... and at most this many points.
+DENSE_LIMIT = 256
+#: A denominator must stay above this on [0, 1]² (checked on a grid of this many points
+#: per axis), so the fit has no pole and no near-pole in its domain.
+_Q_FLOOR = 1e-3
+_Q_GRID = 513
+#: A table with more texels than this is fitted on a regular subset of about as many.
+_FIT_TEXELS = 1 << 14
+#: Minimax iterations (Lawson's reweighting, with the rational linearisation redone in
+#: each).
+_ITERATIONS = 200
+
+
 @dataclasses.dataclass(frozen=True)
 class Fit:
-    """A polynomial fit of a LUT's channels. ``coefficients[c][i][j]`` multiplies
-    ``s^i t^j`` (``i + j <= degree``, zero elsewhere) for channel ``c``; ``worst_texels``
-    / ``rms_texels`` its error against the table's texels, ``worst_between`` against the
-    integrals at the table's interpolation check points (standard error up to
-    ``between_stderr``), per channel."""
+    """A fit of a LUT's channels, in ``u = 2s − 1`` and ``v = 2t − 1`` of the axis
+    fractions ``s, t``. ``coefficients[c][i][j]`` multiplies ``u^i v^j`` in
+    channel ``c``'s numerator (``i + j <= degree``, zero elsewhere);
+    ``den_coefficients[c][i][j]`` likewise in its denominator (``i + j <=
+    denominator``, the constant 1; a polynomial fit has ``denominator`` 0 and ``Q = 1``).
+
+    Errors per channel: ``worst_texels`` / ``rms_texels`` against the table's texels,
+    ``worst_between`` against the integrals at the table's interpolation check points
+    (standard error up to ``between_stderr``), and ``worst_dense`` against fresh integrals
+    on ``dense_points`` points of a grid :data:`DENSE_FACTOR` times denser than the
+    texels along each axis (at most :data:`DENSE_LIMIT`, both range ends included;
+    standard error up to ``dense_stderr``), all in float64; ``float32_worst`` the largest
+    difference between the fit evaluated in float32, as the emitted code does it, and in
+    float64, over the texels and the dense grid. ``max_error`` is the stated maximum:
+    ``max(worst_dense, worst_between) + 3 × the larger of their standard errors +
+    float32_worst``."""
 
     spec: LutSpec
     degree: int
@@ -43,6 +90,38 @@ class Fit:
     rms_texels: list[float]
     worst_between: list[float]
     between_stderr: list[float]
+    denominator: int = 0
+    den_coefficients: np.ndarray | None = None
+    worst_dense: list[float] = dataclasses.field(default_factory=list)
+    dense_stderr: list[float] = dataclasses.field(default_factory=list)
+    dense_points: int = 0
+    float32_worst: list[float] = dataclasses.field(default_factory=list)
+    worst_dense_interior: list[float] = dataclasses.field(default_factory=list)
+
+    @property
+    def terms(self) -> int:
+        """The number of free coefficients per channel."""
+        return len(_terms(self.degree)) + len(_terms(self.denominator)) - 1
+
+    @property
+    def max_error(self) -> list[float]:
+        worst = np.maximum(self.worst_dense or self.worst_between, self.worst_between)
+        se = np.maximum(self.dense_stderr or self.between_stderr, self.between_stderr)
+        rounding = np.asarray(self.float32_worst or np.zeros_like(worst))
+        return [float(v) for v in worst + 3 * se + rounding]
+
+    @property
+    def max_error_interior(self) -> list[float]:
+        """:attr:`max_error` between the first and last texels of both axes (where the
+        table itself interpolates rather than clamps): ``worst_dense_interior`` + 3
+        standard errors + ``float32_worst``; empty without the dense check."""
+        if not self.worst_dense_interior:
+            return []
+        worst = np.asarray(self.worst_dense_interior)
+        return [
+            float(v)
+            for v in worst + 3 * np.asarray(self.dense_stderr) + np.asarray(self.float32_worst)
+        ]
 
     def __call__(self, mu: Any, roughness: Any) -> np.ndarray:
         """The fit at incidence cosines ``mu`` and roughness parameter values (float64)."""
@@ -52,27 +131,50 @@ class Fit:
         col, row = (m, r) if s.columns.role == "mu" else (r, m)
         return self._at(_fractions(s.columns, col), _fractions(s.rows, row))
 
-    def _at(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    def _at(self, x: np.ndarray, y: np.ndarray, dtype: Any = np.float64) -> np.ndarray:
+        """The fit at axis fractions ``x, y`` in [0, 1], evaluated in ``dtype`` (float32:
+        as the emitted code does it, in ``u = 2x − 1``, ``v = 2y − 1`` by Horner in the
+        same order), returned as float64."""
         x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+        x = (2 * x.astype(dtype) - 1).astype(np.float64)
+        y = (2 * y.astype(dtype) - 1).astype(np.float64)
         out = np.zeros((*x.shape, self.coefficients.shape[0]))
         for c in range(self.coefficients.shape[0]):
-            for i, j in _terms(self.degree):
-                out[..., c] += self.coefficients[c, i, j] * x**i * y**j
+            value = _poly(self.coefficients[c], x, y, dtype)
+            if self.den_coefficients is not None:
+                value = value / _poly(self.den_coefficients[c], x, y, dtype)
+            out[..., c] = value
         return out
 
+    @property
+    def form(self) -> str:
+        if self.denominator == 0:
+            return f"degree-{self.degree} polynomial"
+        return f"degree-{self.degree}/{self.denominator} rational"
+
     def meta(self) -> dict[str, Any]:
+        fit_arg = f"{self.degree}" + (f"/{self.denominator}" if self.denominator else "")
         return {
-            "brdf_rs_lut_fit": 1,
+            "brdf_rs_lut_fit": 2,
             "degree": self.degree,
-            "variables": "s = (q_col - lo)/(hi - lo), t = (q_row - lo)/(hi - lo), each clamped"
-            " to [0, 1], q the axis quantities of the table the fit approximates",
+            "denominator": self.denominator,
+            "variables": "u = 2 s - 1, v = 2 t - 1 with s = (q_col - lo)/(hi - lo), t = (q_row"
+            " - lo)/(hi - lo), each clamped to [0, 1], q the axis quantities of the table the"
+            " fit approximates",
             "table_content_hash": self.spec.content_hash(),
-            "command": self.spec.command("OUT") + f" --fit {self.degree}",
+            "command": self.spec.command("OUT") + f" --fit {fit_arg}",
             "recipe": self.spec.recipe(),
             "worst_texels": self.worst_texels,
             "rms_texels": self.rms_texels,
             "worst_between": self.worst_between,
             "between_stderr": self.between_stderr,
+            "worst_dense": self.worst_dense,
+            "dense_stderr": self.dense_stderr,
+            "dense_points": self.dense_points,
+            "float32_worst": self.float32_worst,
+            "max_error": self.max_error,
+            "worst_dense_interior": self.worst_dense_interior,
+            "max_error_interior": self.max_error_interior,
         }
 
     def save(self, path: str | Path) -> Path:
@@ -88,25 +190,158 @@ class Fit:
         return path
 
 
-def fit(lut: Lut, degree: int = 6) -> Fit:
-    if isinstance(degree, bool) or not isinstance(degree, int) or not 1 <= degree <= 12:
-        raise ValueError(f"degree: expected an integer from 1 to 12, got {degree!r}")
+def _basis(terms: list[tuple[int, int]], x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Columns ``T_i(2x − 1)·T_j(2y − 1)`` (Chebyshev: well conditioned on [0, 1]²)."""
+    cx = np.polynomial.chebyshev.chebvander(2 * x - 1, max(i for i, _ in terms))
+    cy = np.polynomial.chebyshev.chebvander(2 * y - 1, max(j for _, j in terms))
+    return np.stack([cx[:, i] * cy[:, j] for i, j in terms], -1)
+
+
+def _monomial(terms: list[tuple[int, int]], c: np.ndarray, degree: int) -> np.ndarray:
+    """Chebyshev coefficients over ``terms`` to power-basis ones in the same variables
+    ``u = 2x − 1``, ``v = 2y − 1`` (in [−1, 1], where powers stay well conditioned):
+    ``out[i, j]`` multiplies ``u^i v^j``."""
+    power = [
+        np.polynomial.chebyshev.cheb2poly(np.eye(degree + 1)[k][: k + 1]) for k in range(degree + 1)
+    ]
+    out = np.zeros((degree + 1, degree + 1))
+    for (i, j), v in zip(terms, c, strict=True):
+        out[: i + 1, : j + 1] += v * np.outer(power[i], power[j])
+    return out
+
+
+def _minimax(
+    x: np.ndarray, y: np.ndarray, f: np.ndarray, degree: int, denominator: int
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """Power-basis coefficients (in ``2x − 1``, ``2y − 1``) of ``P`` (and ``Q``)
+    minimising ``max |P/Q − f|`` over the points: Lawson's iteratively reweighted least
+    squares (each point's weight times its error, renormalised), the rational problem
+    linearised as ``P − f·Q`` over the last ``Q`` (Loeb, Sanathanan-Koerner). A ridge on
+    ``Q``'s coefficients, shrinking from iteration to iteration, starts the rational fit
+    from the polynomial one and keeps ``Q`` near 1 while the weights settle. Keeps the
+    best iterate whose ``Q`` stays above :data:`_Q_FLOOR` on [0, 1]²."""
+    num = _terms(degree)
+    den = _terms(denominator)[1:]
+    a_p = _basis(num, x, y)
+    a_q = _basis(den, x, y) if den else np.zeros((x.size, 0))
+    g_q = None
+    if den:
+        grid = np.linspace(0.0, 1.0, _Q_GRID)
+        gx, gy = (g.ravel() for g in np.meshgrid(grid, grid))
+        g_q = _basis(den, gx, gy)
+    weights = np.full(x.size, 1.0 / x.size)
+    q = np.ones(x.size)
+    ridge = np.zeros((len(den), len(num) + len(den)))
+    ridge[:, len(num) :] = np.eye(len(den))
+    best: tuple[float, np.ndarray, np.ndarray] | None = None
+    for k in range(_ITERATIONS):
+        scale = np.sqrt(weights) / q
+        system = np.concatenate([a_p, -f[:, None] * a_q], axis=1) * scale[:, None]
+        rhs = f * scale
+        if den:
+            strength = np.sqrt(weights.max()) * 0.8**k
+            system = np.concatenate([system, strength * ridge])
+            rhs = np.concatenate([rhs, np.zeros(len(den))])
+        c, *_ = np.linalg.lstsq(system, rhs, rcond=None)
+        cp, cq = c[: len(num)], c[len(num) :]
+        if g_q is not None and (g_q @ cq).min() + 1 <= _Q_FLOOR:
+            continue  # a pole (or near one) in the domain: not kept, weights as they were
+        q_new = 1 + a_q @ cq
+        err = a_p @ cp / q_new - f
+        worst = float(np.abs(err).max())
+        if best is None or worst < best[0]:
+            best = (worst, cp, cq)
+        updated = weights * np.abs(err)
+        total = updated.sum()
+        if not total > 0:
+            break
+        weights = updated / total
+        q = q_new
+    if best is None:
+        raise ValueError(
+            f"denominator: no degree-{degree}/{denominator} rational fit keeps its denominator"
+            " away from 0 on the table's domain; use a smaller denominator or 0"
+        )
+    _, cp, cq = best
+    p_mono = _monomial(num, cp, degree)
+    if not den:
+        return p_mono, None
+    q_mono = _monomial([(0, 0), *den], np.concatenate([[1.0], cq]), denominator)
+    return p_mono, q_mono
+
+
+def _dense_grid(spec: LutSpec) -> tuple[np.ndarray, np.ndarray]:
+    """Mu and roughness quantities of the dense check: evenly spaced over each axis's range
+    (ends included), :data:`DENSE_FACTOR` times its texels, at most :data:`DENSE_LIMIT`;
+    mu from 1e-4 up and roughness values the model takes (as the interpolation check)."""
+    from . import _spec
+    from .lut import _GRAZING_MU
+
+    def points(axis: Axis) -> np.ndarray:
+        n = min(DENSE_FACTOR * axis.size, DENSE_LIMIT)
+        return axis.lo + (axis.hi - axis.lo) * np.linspace(0.0, 1.0, n)
+
+    grazing = float(spec.mu_axis.quantity_of(_GRAZING_MU))
+    mu_q = np.unique(np.maximum(points(spec.mu_axis), np.maximum(grazing, spec.mu_axis.floor)))
+    r_q = np.unique(np.maximum(points(spec.roughness_axis), spec.roughness_axis.floor))
+    phys = spec.roughness_axis.physical(r_q)
+    r_q = r_q[[_spec.admits(spec.model, spec.param, float(v)) for v in phys]]
+    return mu_q, r_q
+
+
+@dataclasses.dataclass(frozen=True)
+class DenseCheck:
+    """Fresh integrals of a table's channels (kept ones) on its dense check grid
+    (:func:`dense_check`): at axis quantities ``mu_q`` x ``roughness_q`` (2-D, mu first),
+    ``value`` and ``stderr`` (channels last). Computed once, it serves any number of fits
+    of tables with that ``spec``."""
+
+    spec: LutSpec
+    mu_q: np.ndarray
+    roughness_q: np.ndarray
+    value: np.ndarray
+    stderr: np.ndarray
+
+
+def dense_check(spec: LutSpec) -> DenseCheck:
+    """The integrals a fit's maximum error is measured against (seed ``spec.seed + 2``,
+    the spec's samples per point)."""
+    from .lut import KINDS, _integrate
+
+    mu_q, r_q = _dense_grid(spec)
+    value, stderr = _integrate(spec, mu_q, r_q, spec.seed + 2)
+    keep = [KINDS[spec.kind].index(ch) for ch in spec.channel_names]
+    mq, rq = np.meshgrid(mu_q, r_q, indexing="ij")
+    return DenseCheck(spec, mq, rq, value[..., keep], stderr[..., keep])
+
+
+def fit(lut: Lut, degree: int = 6, denominator: int = 0, dense: bool | DenseCheck = True) -> Fit:
+    for name, given, low in (("degree", degree, 1), ("denominator", denominator, 0)):
+        if isinstance(given, bool) or not isinstance(given, int) or not low <= given <= 12:
+            raise ValueError(f"{name}: expected an integer from {low} to 12, got {given!r}")
     s = lut.spec
     x, y = np.meshgrid(s.columns.fractions(), s.rows.fractions())
-    terms = _terms(degree)
-    if len(terms) > x.size:
+    count = len(_terms(degree)) + len(_terms(denominator)) - 1
+    if count > x.size:
         raise ValueError(
-            f"degree: {len(terms)} coefficients need at least as many texels; the table has"
-            f" {x.size}"
+            f"degree: {count} coefficients need at least as many texels; the table has {x.size}"
         )
-    basis = np.stack([x.ravel() ** i * y.ravel() ** j for i, j in terms], -1)
     nc = lut.image.shape[-1]
     coefficients = np.zeros((nc, degree + 1, degree + 1))
+    den = np.zeros((nc, denominator + 1, denominator + 1)) if denominator else None
+    # A large table is fitted on every k-th row and column (at most about _FIT_TEXELS
+    # texels, the last row and column kept); its errors are measured on all of them.
+    k = max(1, math.ceil(math.sqrt(x.size / _FIT_TEXELS)))
+    rows = np.unique(np.r_[np.arange(0, x.shape[0], k), x.shape[0] - 1])
+    cols = np.unique(np.r_[np.arange(0, x.shape[1], k), x.shape[1] - 1])
+    sub = np.ix_(rows, cols)
     for c in range(nc):
-        solved, *_ = np.linalg.lstsq(basis, lut.image[..., c].ravel(), rcond=None)
-        for (i, j), v in zip(terms, solved, strict=True):
-            coefficients[c, i, j] = v
-    result = Fit(s, degree, coefficients, [], [], [], [])
+        image = lut.image[..., c]
+        p, q = _minimax(x[sub].ravel(), y[sub].ravel(), image[sub].ravel(), degree, denominator)
+        coefficients[c] = p
+        if den is not None and q is not None:
+            den[c] = q
+    result = Fit(s, degree, coefficients, [], [], [], [], denominator, den)
     err = np.abs(result._at(x, y) - lut.image).reshape(-1, nc)
     between = np.zeros(nc)
     between_se = np.zeros(nc)
@@ -118,12 +353,41 @@ def fit(lut: Lut, degree: int = 6) -> Fit:
         got = result._at(_fractions(s.columns, col), _fractions(s.rows, row))
         between = np.abs(got - ch.value).reshape(-1, nc).max(axis=0)
         between_se = ch.stderr.reshape(-1, nc).max(axis=0)
+    worst_dense: list[float] = []
+    worst_interior: list[float] = []
+    dense_se: list[float] = []
+    points = 0
+    rounding = np.abs(result._at(x, y, np.float32) - result._at(x, y)).reshape(-1, nc).max(0)
+    if dense is not False:
+        check = dense_check(s) if dense is True else dense
+        if not isinstance(check, DenseCheck) or check.spec != s:
+            raise ValueError("dense: expected True, False or the DenseCheck of this table's spec")
+        mq, rq, value, stderr = check.mu_q, check.roughness_q, check.value, check.stderr
+        dx, dy = (mq, rq) if s.columns.role == "mu" else (rq, mq)
+        dx, dy = _fractions(s.columns, dx), _fractions(s.rows, dy)
+        got = result._at(dx, dy)
+        worst_dense = np.abs(got - value).reshape(-1, nc).max(axis=0).tolist()
+        m_pos, r_pos = s.mu_axis.positions(), s.roughness_axis.positions()
+        inside = (
+            (mq >= m_pos[0]) & (mq <= m_pos[-1]) & (rq >= r_pos[0]) & (rq <= r_pos[-1])
+        ).reshape(-1)
+        interior = np.abs(got - value).reshape(-1, nc)[inside]
+        worst_interior = (interior.max(axis=0) if inside.any() else np.zeros(nc)).tolist()
+        dense_se = stderr.reshape(-1, nc).max(axis=0).tolist()
+        points = int(mq.size)
+        off = np.abs(result._at(dx, dy, np.float32) - got).reshape(-1, nc).max(0)
+        rounding = np.maximum(rounding, off)
     return dataclasses.replace(
         result,
         worst_texels=err.max(axis=0).tolist(),
         rms_texels=np.sqrt((err**2).mean(axis=0)).tolist(),
         worst_between=between.tolist(),
         between_stderr=between_se.tolist(),
+        worst_dense=worst_dense,
+        dense_stderr=dense_se,
+        dense_points=points,
+        float32_worst=rounding.tolist(),
+        worst_dense_interior=worst_interior,
     )
 
 
@@ -138,7 +402,11 @@ def _axis_lines(axis: Axis, var: str, out: str, lang: str) -> list[str]:
 
     lo = float_literal(axis.lo, f)
     span = float_literal(axis.hi - axis.lo, f)
-    return [f"{let} {out} = {fmin}({fmax}(({q} - {lo}) / {span}, 0.0{f}), 1.0{f});"]
+    power = {"s": "u", "t": "v"}[out]
+    return [
+        f"{let} {out} = {fmin}({fmax}(({q} - {lo}) / {span}, 0.0{f}), 1.0{f});",
+        f"{let} {power} = 2.0{f} * {out} - 1.0{f};",
+    ]
 
 
 def source(result: Fit, suffix: str) -> str:
@@ -152,32 +420,49 @@ def source(result: Fit, suffix: str) -> str:
     lines = _axis_lines(s.columns, col_in, "s", lang) + _axis_lines(s.rows, row_in, "t", lang)
     let = "let" if lang == "wgsl" else "float"
     names = []
-    for c in range(nc):
-        # Horner in t inside, in s outside: sum_i s^i (sum_j c_ij t^j).
+
+    def horner(coefficients: np.ndarray) -> str:
+        # Horner in v inside, in u outside: sum_i u^i (sum_j c_ij v^j).
+        degree = coefficients.shape[0] - 1
         outer = []
-        for i in range(result.degree + 1):
-            coeffs = [result.coefficients[c, i, j] for j in range(result.degree + 1 - i)]
+        for i in range(degree + 1):
+            coeffs = [coefficients[i, j] for j in range(degree + 1 - i)]
             inner = f"{coeffs[-1]:.9e}{lit}"
             for v in reversed(coeffs[:-1]):
-                inner = f"({v:.9e}{lit} + t * {inner})"
+                inner = f"({v:.9e}{lit} + v * {inner})"
             outer.append(inner)
         expr = outer[-1]
         for v in reversed(outer[:-1]):
-            expr = f"({v} + s * {expr})"
+            expr = f"({v} + u * {expr})"
+        return expr
+
+    for c in range(nc):
+        expr = horner(result.coefficients[c])
+        if result.den_coefficients is not None:
+            expr = f"{expr} / {horner(result.den_coefficients[c])}"
         lines.append(f"{let} v{c} = {expr};")
         names.append(f"v{c}")
     header = [
-        f"{name}: a degree-{result.degree} polynomial fit of the {s.kind} table of {s.model}"
+        f"{name}: a {result.form} minimax fit of the {s.kind} table of {s.model}"
         " (brdf-rs; do not edit).",
         f"Table columns: {s.columns.describe(s.param)}.",
         f"Table rows: {s.rows.describe(s.param)}.",
         f"Returns the channels {', '.join(s.channel_names)} at mu = cos(theta_v) and {s.param}.",
     ]
     for c, ch in enumerate(s.channel_names):
+        dense = (
+            f", worst {result.worst_dense[c]:.3g} against {result.dense_points} integrals on a"
+            f" dense grid (stderr up to {result.dense_stderr[c]:.2g}; float32 evaluation"
+            f" within {result.float32_worst[c]:.2g} of float64); maximum error"
+            f" {result.max_error[c]:.3g}, {result.max_error_interior[c]:.3g} between the first"
+            " and last texels"
+            if result.worst_dense
+            else ""
+        )
         header.append(
             f"Error {ch}: worst {result.worst_texels[c]:.3g} (RMS {result.rms_texels[c]:.3g})"
             f" against the texels, worst {result.worst_between[c]:.3g} against integrals"
-            f" between them (their stderr up to {result.between_stderr[c]:.2g})."
+            f" between them (their stderr up to {result.between_stderr[c]:.2g}){dense}."
         )
     header.append(f"Table content hash: {s.content_hash()}.")
     text = "\n".join(f"// {h}" for h in header)

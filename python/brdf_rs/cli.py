@@ -520,6 +520,18 @@ def _values(text: str) -> np.ndarray:
         raise argparse.ArgumentTypeError(str(exc).replace("axis values: ", "")) from None
 
 
+def _fit_degrees(text: str) -> tuple[int, int]:
+    """``--fit N`` or ``N/M``: the numerator's and the denominator's total degrees."""
+    parts = text.split("/")
+    try:
+        if len(parts) > 2:
+            raise ValueError
+        values = [int(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected N or N/M (integers), got {text!r}") from None
+    return values[0], values[1] if len(values) == 2 else 0
+
+
 class _PassProgress:
     """One progress bar over consecutive albedo runs (``sizes`` cells each) that report
     ``progress(cells_done, samples_done)`` from 0 again at the start of every run. A run
@@ -847,8 +859,11 @@ def cmd_lut(args: argparse.Namespace) -> int:
     if args.fit is not None:
         if out.suffix.lower() not in (".h", ".glsl", ".hlsl", ".wgsl"):
             raise UsageError(f"-o {out}: a --fit is source code: .h, .glsl, .hlsl or .wgsl")
-        if not 1 <= args.fit <= 12:
-            raise UsageError(f"--fit: expected a degree from 1 to 12, got {args.fit}")
+        degree, denominator = args.fit
+        if not (1 <= degree <= 12 and 0 <= denominator <= 12):
+            raise UsageError(
+                f"--fit: expected N from 1 to 12 and M from 0 to 12, got {degree}/{denominator}"
+            )
         if args.max_error is not None:
             raise UsageError("--fit and --max-error: give one or the other")
     _check_location(str(out), "-o")
@@ -881,26 +896,34 @@ def cmd_lut(args: argparse.Namespace) -> int:
             progress.close(completed)
     seconds = time.perf_counter() - start
     if args.fit is not None:
-        fitted = lut.fit(table, args.fit)
+        fitted = lut.fit(table, *args.fit)
         saved = _Saved(out, fitted.save)
         fit_summary = {
             "output": saved.output,
-            "degree": args.fit,
+            "degree": fitted.degree,
+            "denominator": fitted.denominator,
+            "terms": fitted.terms,
             "table_content_hash": table.content_hash,
             "worst_texels": fitted.worst_texels,
             "rms_texels": fitted.rms_texels,
             "worst_between": fitted.worst_between,
             "between_stderr": fitted.between_stderr,
-            "seconds": seconds,
+            "worst_dense": fitted.worst_dense,
+            "dense_stderr": fitted.dense_stderr,
+            "dense_points": fitted.dense_points,
+            "float32_worst": fitted.float32_worst,
+            "max_error": fitted.max_error,
+            "seconds": time.perf_counter() - start,
         }
         if args.json:
             _print_json(fit_summary)
         else:
-            print(f"degree-{args.fit} fit of the {spec.kind} table of {spec.model}: {saved.where}")
+            print(f"{fitted.form} fit of the {spec.kind} table of {spec.model}: {saved.where}")
             for k, c in enumerate(spec.channel_names):
                 print(
-                    f"  {c}: worst {fitted.worst_texels[k]:.2g} against the texels,"
-                    f" {fitted.worst_between[k]:.2g} against integrals between them"
+                    f"  {c}: maximum error {fitted.max_error[k]:.2g} (worst"
+                    f" {fitted.worst_dense[k]:.2g} against {fitted.dense_points} integrals on"
+                    f" a dense grid, {fitted.worst_texels[k]:.2g} against the texels)"
                 )
         return 0
     saved = _Saved(out, table.save)
@@ -1506,10 +1529,11 @@ def _add_lut_command(sub: Any) -> None:
     )
     p.add_argument(
         "--fit",
-        type=int,
+        type=_fit_degrees,
         default=None,
-        metavar="DEGREE",
-        help="write a polynomial fit of this total degree as source code instead of the table",
+        metavar="N[/M]",
+        help="write a minimax fit as source code instead of the table: a polynomial of total"
+        " degree N, or N/M a rational function of total degrees N over M",
     )
     p.add_argument("-o", "--output", default=None, help="out.exr | .ktx2 | .dds | .png | .h | ...")
     p.add_argument("--verify", default=None, metavar="FILE", help="rebuild FILE and compare")

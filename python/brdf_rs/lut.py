@@ -35,7 +35,7 @@ from . import _arrays, _spec
 from ._brdf_rs import __version__
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ._lutfit import Fit
+    from ._lutfit import DenseCheck, Fit
 
 __all__ = [
     "CONTAINERS",
@@ -49,6 +49,7 @@ __all__ = [
     "Lut",
     "LutSpec",
     "build",
+    "dense_check",
     "fit",
     "meet_error",
     "parse_axis",
@@ -1113,16 +1114,31 @@ def _total(
     return np.asarray(quant + interp + 3 * ref_stderr + 3 * mc)
 
 
-def fit(table: Lut, degree: int = 6) -> Fit:
-    """A polynomial fit of ``table``'s channels, of total ``degree`` in its two axis
-    fractions, with its error measured against the texels and against the integrals
-    between them (a ``Fit``: call it, or ``.save("fit.glsl")`` for shader code; see
-    docs/luts.md)."""
+def fit(
+    table: Lut, degree: int = 6, denominator: int = 0, *, dense: bool | DenseCheck = True
+) -> Fit:
+    """A minimax fit of ``table``'s channels in its two axis fractions: a polynomial of
+    total ``degree``, or with ``denominator`` > 0 a rational function of total degrees
+    ``degree`` over ``denominator``. Its error is measured against the texels, against the
+    integrals between them and (``dense``) against fresh integrals on a grid four times
+    denser than the texels, which with the float32 evaluation's rounding gives its
+    ``max_error`` (a ``Fit``: call it, or ``.save("fit.glsl")`` for shader code; see
+    docs/luts.md). ``dense`` may be a :func:`dense_check` of the table's spec, computed
+    once for several fits; ``False`` skips that check (then ``max_error`` rests on the
+    points between the texels only)."""
     from . import _lutfit
 
     if not isinstance(table, Lut):
         raise TypeError(f"table: expected a Lut (lut.build's), got {type(table).__name__}")
-    return _lutfit.fit(table, degree)
+    return _lutfit.fit(table, degree, denominator, dense)
+
+
+def dense_check(spec: LutSpec) -> DenseCheck:
+    """Fresh integrals on the grid :func:`fit` measures a fit's maximum error on (four
+    times the texels along each axis, at most 256, ends included), for reuse."""
+    from . import _lutfit
+
+    return _lutfit.dense_check(spec)
 
 
 def read(path: str | Path) -> tuple[np.ndarray, dict[str, Any]]:
