@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 from _builds import add_build_option, parse_builds, run_worker
+from _plot import pyplot
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -170,13 +171,8 @@ def main() -> None:
     out.with_suffix(".json").write_text(
         json.dumps({"builds": list(builds), "results": best, "speedup": ratios}, indent=1)
     )
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plt = pyplot()
+    if plt is None:
         return
     fig, axs = plt.subplots(1, len(series()), figsize=(12, 5), squeeze=False)
     for ax, name in zip(axs[0], series(), strict=True):

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import brdf_rs
 import numpy as np
+from _plot import pyplot
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -108,13 +109,8 @@ def main() -> None:
 
 
 def write_plot(path: Path, rows: list[dict]) -> None:
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plt = pyplot()
+    if plt is None:
         return
     labels = sorted({r["layout"] for r in rows}, key=lambda s: not s.startswith("contig"))
     keys = sorted({(r["model"], r["dtype"]) for r in rows})

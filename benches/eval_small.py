@@ -46,6 +46,7 @@ sys.path.insert(0, str(HERE))
 
 import brdf_rs  # noqa: E402
 import numba_models  # noqa: E402
+from _plot import pyplot  # noqa: E402
 from eval_throughput import cpu_model  # noqa: E402
 
 RESULTS = HERE / "results"
@@ -227,13 +228,8 @@ def markdown(meta: dict, rows: list) -> str:
 
 
 def write_plot(path: Path, meta: dict, rows: list) -> None:
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plt = pyplot()
+    if plt is None:
         return
     ns = np.array([r["n"] for r in rows], dtype=float)
     columns = list(rows[0]["us_per_call"])

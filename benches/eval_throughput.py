@@ -43,6 +43,7 @@ sys.path.insert(0, str(HERE))
 import brdf_rs  # noqa: E402
 import numba_models  # noqa: E402
 import numpy_models  # noqa: E402
+from _plot import pyplot  # noqa: E402
 from brdf_rs._bench import cpu_model  # noqa: E402
 
 RESULTS = HERE / "results"
@@ -315,13 +316,8 @@ def write_markdown(path: Path, meta: dict, rows: list, threads: list) -> None:
 
 
 def write_plot(path: Path, meta: dict, rows: list, threads: list) -> None:
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plt = pyplot()
+    if plt is None:
         return
     models = list(dict.fromkeys(r["model"] for r in rows))
     series = [("numpy", "NumPy")] + [(f"{t}t", f"brdf-rs, {t} thread(s)") for t in threads]

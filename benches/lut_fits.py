@@ -23,6 +23,7 @@ import json
 import time
 from pathlib import Path
 
+from _plot import pyplot
 from brdf_rs import __version__, lut
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -127,13 +128,8 @@ def write_markdown(path: Path, rows: list[dict], meta: dict) -> None:
 
 
 def plot(path: Path, rows: list[dict]) -> None:
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plt = pyplot()
+    if plt is None:
         return
     presets = list(dict.fromkeys(r["preset"] for r in rows))
     fig, axes = plt.subplots(1, len(presets), figsize=(6 * len(presets), 4.5), squeeze=False)

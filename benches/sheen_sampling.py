@@ -30,6 +30,7 @@ from pathlib import Path
 
 import brdf_rs
 import numpy as np
+from _plot import pyplot
 
 MODELS = ("charlie_sheen", "charlie_sheen_neubelt", "ashikhmin_cloth")
 MUS = (1.0, 0.5, 0.1)
@@ -110,13 +111,8 @@ def main() -> None:
     )
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.with_suffix(".md").write_text(head + text + "\n")
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib not installed: no plot")
+    plt = pyplot()
+    if plt is None:
         return
     fig, axes = plt.subplots(1, len(MODELS), figsize=(12, 3.6), sharey=True)
     for ax, model in zip(axes, MODELS, strict=True):
