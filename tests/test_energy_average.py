@@ -10,6 +10,8 @@ where the 32-point rule the tables used to have was off by many standard errors.
 
 from __future__ import annotations
 
+import itertools
+
 import brdf_rs
 import numpy as np
 import pytest
@@ -131,3 +133,21 @@ def test_dielectric_e_avg_from_the_denser_side_matches_a_fine_quadrature():
     fine_se = 2 * np.sqrt(np.sum((w * mu * a.stderr[:, 0]) ** 2))
     se = np.hypot(fine_se, ec.e_avg_stderr[0, 0])
     assert abs(ec.e_avg[0, 0] - fine) <= 4 * se, (ec.e_avg[0, 0] - fine, se)
+
+
+def test_progress_counts_carry_on_across_the_rounds():
+    """The E_avg rounds report as one run: counts never fall back within it."""
+    calls = []
+    brdf_rs.energy_compensation_table(
+        "ggx_dielectric",
+        [0.5],
+        [0.2],
+        eta=[0.67],
+        tol=1e-5,
+        progress=lambda done, samples: calls.append((done, samples)),
+    )
+    # The E grid's run (one cell), then E_avg's rounds (30 cells and more).
+    start = next(i for i, (done, _) in enumerate(calls) if done > 1)
+    tail = calls[start:]
+    assert all(b[0] >= a[0] and b[1] >= a[1] for a, b in itertools.pairwise(tail))
+    assert tail[-1][0] > 30  # the bend from the denser side halves panels

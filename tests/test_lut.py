@@ -959,3 +959,9 @@ def test_lut_helpers_refuse_bad_input_by_name():
         lut.quantize(np.array([np.nan, 0.5]), "R16_UNORM")
     with pytest.raises(ValueError, match=r"^format: unknown 'RGBA8'"):
         lut.quantize(np.array([0.5]), "RGBA8")
+
+
+def test_fit_refuses_a_dense_check_of_another_spec(filament):
+    other = lut.dense_check(small("filament", 4))
+    with pytest.raises(ValueError, match="dense: expected True, False or the DenseCheck"):
+        lut.fit(filament, 2, dense=other)
