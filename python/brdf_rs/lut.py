@@ -860,7 +860,9 @@ def _check_grid(spec: LutSpec, interp_limit: int) -> tuple[np.ndarray, np.ndarra
 
 def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     """The cells of each integration run :func:`build` makes, in order (what a progress
-    callback counts: ``progress(cells_done, samples_done)`` restarts at 0 with each)."""
+    callback counts: ``progress(cells_done, samples_done)`` restarts at 0 with each). An
+    energy table's ``E_avg`` run counts its first round, 30 cells per roughness: where it
+    halves panels it counts on past that."""
     mu_pts, r_pts = _check_grid(spec, interp_limit)
     runs = []
     for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
