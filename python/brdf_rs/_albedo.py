@@ -654,6 +654,9 @@ def _gauss_kronrod_15() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 #: :func:`_gauss_kronrod_15`, once.
 _GK15 = _gauss_kronrod_15()
+#: A panel of E_avg is kept once |K − G| is within this many of its noise's standard
+#: deviations.
+_GK_NOISE = 2.0
 #: E_avg's panels are halved down to width 2^-_GK_DEPTH at most, ...
 _GK_DEPTH = 24
 #: ... so a column's node ids (15 per panel, panels numbered below 2^(_GK_DEPTH + 1))
@@ -742,8 +745,8 @@ def _kronrod_average(
         ids = (
             np.uint64(first_id)
             + col.astype(np.uint64)[:, None] * np.uint64(_GK_COLUMN_IDS)
-            + (heap.astype(np.uint64) * np.uint64(15))[:, None]
-            + np.arange(15, dtype=np.uint64)
+            + (heap.astype(np.uint64) * np.uint64(x15.size))[:, None]
+            + np.arange(x15.size, dtype=np.uint64)
         )
         e, se = cells(mu, ids, col)
         jacobian = 4 * mu * t  # 2 mu dmu = 4 t^3 dt
@@ -752,7 +755,7 @@ def _kronrod_average(
         k = h * (f @ wk15)
         diff = np.abs(k - h * (f @ wg15))
         sigma_d = h * np.sqrt(s2 @ (wk15 - wg15) ** 2)
-        settled = diff <= 2 * sigma_d + 16 * np.finfo(float).eps * np.abs(k)
+        settled = diff <= _GK_NOISE * sigma_d + 16 * np.finfo(float).eps * np.abs(k)
         kept = settled | (heap >= 1 << _GK_DEPTH)
         np.add.at(value, col[kept], k[kept])
         np.add.at(variance, col[kept], (h * h)[kept] * (s2[kept] @ wk15**2))
