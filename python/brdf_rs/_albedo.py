@@ -705,7 +705,7 @@ def _kronrod_average(
 ) -> tuple[np.ndarray, np.ndarray]:
     """``E_avg = 2 ∫_0^1 E(mu) mu dmu`` of ``columns`` functions ``E`` by adaptive
     Gauss-Kronrod, and its error bar. ``cells(mu, ids, col)`` estimates ``E`` of column
-    ``col[p]`` at ``mu[p, :]`` (the 15 nodes of a panel) on cells keyed by ``ids``, and
+    ``col[p]`` at ``mu[p, :]`` (a panel's nodes) on cells keyed by ``ids``, and
     returns the estimates and their standard errors, shaped like ``mu``.
 
     The rule runs in ``t = sqrt(mu)`` (``E_avg = ∫_0^1 4 t³ E(t²) dt``), which flattens the
@@ -714,8 +714,9 @@ def _kronrod_average(
     7-point Gauss rule on the Gauss nodes among its 15 (:data:`_GK15`), one ``E`` cell per
     node. ``K − G`` is the Gauss rule's error to first order, and the Kronrod rule's, far
     smaller, is below it; the Monte Carlo noise of ``K − G``, ``sigma_d``, follows from the
-    cells' standard errors. A panel is kept, with its Kronrod value, once ``|K − G| <= 2
-    sigma_d`` (the rule's error no longer shows through the noise); otherwise it is
+    cells' standard errors. A panel is kept, with its Kronrod value, once ``|K − G| <=
+    _GK_NOISE · sigma_d`` (twice: the rule's error no longer shows through the noise);
+    otherwise it is
     halved, down to width ``2^-24``, where it is kept as it is and its ``|K − G|`` is added
     to the error bar. So ``E`` with a bend (near the critical angle of a dielectric seen
     from the denser side) or a steep fall (a smooth lobe at grazing incidence) gets narrow
@@ -723,7 +724,7 @@ def _kronrod_average(
 
     The error bar is the Monte Carlo standard error of the kept Kronrod values, plus the
     ``|K − G|`` of any panel kept at the narrowest width. A node's cell id depends only
-    on its column (flat index over ``axes``), its panel's place in the halving of
+    on its column's index, its panel's place in the halving of
     ``[0, 1]`` and its node, counted from ``first_id`` on (after the table's ``E``
     cells): each column's ``E_avg`` is bitwise reproducible for a seed, whatever the rest
     of the grid.
