@@ -85,7 +85,8 @@ def main() -> int:
             "",
             f"Degree-{FIT_DEGREE} minimax polynomial fit (`--fit {FIT_DEGREE}`), worst against"
             " the texels / against the integrals between them / its maximum error over the"
-            " whole range (a grid four times denser, 3 stderr and float32 rounding included):",
+            " whole range (texels, between them and a denser grid, 3 stderr and float32"
+            " rounding included):",
             "",
         ]
         for k, c in enumerate(b.channels):

@@ -101,10 +101,11 @@ def write_markdown(path: Path, rows: list[dict], meta: dict) -> None:
         " fitted per channel by minimax polynomials (fit N: total degree N) and rational"
         " functions (N/M: total degrees N over M) in the table's axis fractions; 'terms' is"
         " the coefficient count per channel. 'texels': worst error against the texels;"
-        " 'max error': the worst against fresh integrals on a grid four times denser (at"
-        " most 256 per axis) and between the texels, + 3 stderr of those integrals + the"
-        " float32 evaluation's largest difference from float64 (printed by the script),"
-        " the maximum error the emitted code states over the whole range;"
+        " 'max error': the largest of the worst errors against the texels, against fresh"
+        " integrals between them and on a grid four times denser (at most 256 per axis),"
+        " each + 3 stderr of its reference, + the float32 evaluation's largest difference"
+        " from float64 (printed by the script): the maximum error the emitted code states"
+        " over the whole range;"
         " 'interior' the same between the first and last texels of both axes (outside them"
         " the table itself clamps to its edge texels, and the fit extrapolates).",
     ]

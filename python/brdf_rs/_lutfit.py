@@ -56,7 +56,7 @@ DENSE_LIMIT = 256
 #: A denominator must stay above this on [0, 1]² (checked on a grid of this many points
 #: per axis), so the fit has no pole and no near-pole in its domain.
 _Q_FLOOR = 1e-3
-_Q_GRID = 513
+_Q_GRID = 257
 #: A table with more texels than this is fitted on a regular subset of about as many.
 _FIT_TEXELS = 1 << 14
 #: Minimax iterations (Lawson's reweighting, with the rational linearisation redone in
@@ -79,9 +79,11 @@ class Fit:
     texels along each axis (at most :data:`DENSE_LIMIT`, both range ends included;
     standard error up to ``dense_stderr``), all in float64; ``float32_worst`` the largest
     difference between the fit evaluated in float32, as the emitted code does it, and in
-    float64, over the texels and the dense grid. ``max_error`` is the stated maximum:
-    ``max(worst_dense, worst_between) + 3 × the larger of their standard errors +
-    float32_worst``."""
+    float64, over the texels and the dense grid. ``max_error`` is the stated maximum: the
+    largest of ``worst_texels``, ``worst_dense`` and ``worst_between``, each plus 3 of its
+    reference's largest standard error (``texel_stderr``, the table's own, for the
+    texels), plus ``float32_worst``. (The texels count where they are denser than the
+    dense grid: a table over 64 texels per axis.)"""
 
     spec: LutSpec
     degree: int
@@ -97,6 +99,7 @@ class Fit:
     dense_points: int = 0
     float32_worst: list[float] = dataclasses.field(default_factory=list)
     worst_dense_interior: list[float] = dataclasses.field(default_factory=list)
+    texel_stderr: list[float] = dataclasses.field(default_factory=list)
 
     @property
     def terms(self) -> int:
@@ -105,23 +108,29 @@ class Fit:
 
     @property
     def max_error(self) -> list[float]:
-        worst = np.maximum(self.worst_dense or self.worst_between, self.worst_between)
-        se = np.maximum(self.dense_stderr or self.between_stderr, self.between_stderr)
-        rounding = np.asarray(self.float32_worst or np.zeros_like(worst))
-        return [float(v) for v in worst + 3 * se + rounding]
+        return self._stated(self.worst_dense, self.worst_between)
 
     @property
     def max_error_interior(self) -> list[float]:
         """:attr:`max_error` between the first and last texels of both axes (where the
-        table itself interpolates rather than clamps): ``worst_dense_interior`` + 3
-        standard errors + ``float32_worst``; empty without the dense check."""
+        table itself interpolates rather than clamps), from ``worst_dense_interior``;
+        empty without the dense check."""
         if not self.worst_dense_interior:
             return []
-        worst = np.asarray(self.worst_dense_interior)
-        return [
-            float(v)
-            for v in worst + 3 * np.asarray(self.dense_stderr) + np.asarray(self.float32_worst)
-        ]
+        return self._stated(self.worst_dense_interior, [])
+
+    def _stated(self, dense: list[float], between: list[float]) -> list[float]:
+        """The largest of each measured error plus 3 of its reference's standard errors
+        (the texels' own for ``worst_texels``), plus ``float32_worst``."""
+        nc = len(self.worst_texels)
+        parts = [(self.worst_texels, self.texel_stderr or [0.0] * nc)]
+        if dense:
+            parts.append((dense, self.dense_stderr))
+        if between:
+            parts.append((between, self.between_stderr))
+        worst = np.max([np.asarray(w) + 3 * np.asarray(se) for w, se in parts], axis=0)
+        rounding = np.asarray(self.float32_worst or [0.0] * nc)
+        return [float(v) for v in worst + rounding]
 
     def __call__(self, mu: Any, roughness: Any) -> np.ndarray:
         """The fit at incidence cosines ``mu`` and roughness parameter values (float64)."""
@@ -172,6 +181,7 @@ class Fit:
             "dense_stderr": self.dense_stderr,
             "dense_points": self.dense_points,
             "float32_worst": self.float32_worst,
+            "texel_stderr": self.texel_stderr,
             "max_error": self.max_error,
             "worst_dense_interior": self.worst_dense_interior,
             "max_error_interior": self.max_error_interior,
@@ -388,6 +398,7 @@ def fit(lut: Lut, degree: int = 6, denominator: int = 0, dense: bool | DenseChec
         dense_points=points,
         float32_worst=rounding.tolist(),
         worst_dense_interior=worst_interior,
+        texel_stderr=lut.stderr.reshape(-1, nc).max(axis=0).tolist(),
     )
 
 
