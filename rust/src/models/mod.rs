@@ -139,7 +139,8 @@ pub trait Kernel: 'static {
     /// [`Kernel::divisor`] (a factor of `wi` alone whose scalar code, a table lookup, would
     /// keep the loop it sits in from vectorizing): the eval engine then computes the two
     /// in separate passes over a block of uniform parameters, the same bits. The two
-    /// functions' defaults are placeholders for kernels without it.
+    /// functions' defaults are placeholders for kernels without it. For a kernel without
+    /// [`Kernel::SPLIT_POWER`] (whose passes are the power's).
     const DIVIDED: bool = false;
 
     /// [`Kernel::eval_with`] before the division by [`Kernel::divisor`], for a
