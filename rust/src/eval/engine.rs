@@ -485,7 +485,9 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
             });
         } else {
             // A divided kernel with uniform parameters: the value before the division here
-            // (a loop that vectorizes), the division in a pass of its own below.
+            // (a loop that vectorizes), the division in a pass of its own below. (The split
+            // branch above has no such pass: a kernel may not declare both.)
+            const { assert!(!(K::DIVIDED && K::SPLIT_POWER)) };
             let divided = K::DIVIDED && !vary;
             for_lanes!(lanes, |j| {
                 let d = block_directions::<F, MODE>(wi, wo, n, t, j);
