@@ -284,19 +284,15 @@ def _dense_grid(spec: LutSpec) -> tuple[np.ndarray, np.ndarray]:
     """Mu and roughness quantities of the dense check: evenly spaced over each axis's range
     (ends included), :data:`DENSE_FACTOR` times its texels, at most :data:`DENSE_LIMIT`;
     mu from 1e-4 up and roughness values the model takes (as the interpolation check)."""
-    from . import _spec
-    from .lut import _GRAZING_MU
+    from .lut import _checkable
 
     def points(axis: Axis) -> np.ndarray:
         n = min(DENSE_FACTOR * axis.size, DENSE_LIMIT)
-        return axis.lo + (axis.hi - axis.lo) * np.linspace(0.0, 1.0, n)
+        return np.unique(
+            np.maximum(axis.lo + (axis.hi - axis.lo) * np.linspace(0, 1, n), axis.floor)
+        )
 
-    grazing = float(spec.mu_axis.quantity_of(_GRAZING_MU))
-    mu_q = np.unique(np.maximum(points(spec.mu_axis), np.maximum(grazing, spec.mu_axis.floor)))
-    r_q = np.unique(np.maximum(points(spec.roughness_axis), spec.roughness_axis.floor))
-    phys = spec.roughness_axis.physical(r_q)
-    r_q = r_q[[_spec.admits(spec.model, spec.param, float(v)) for v in phys]]
-    return mu_q, r_q
+    return _checkable(spec, points(spec.mu_axis), points(spec.roughness_axis))
 
 
 @dataclasses.dataclass(frozen=True)

@@ -849,10 +849,22 @@ def _check_grid(spec: LutSpec, interp_limit: int) -> tuple[np.ndarray, np.ndarra
     exactly is 0 by convention (no light above the horizon): its end is checked at 1e-4,
     the limit engines clamp n.v to. A roughness the model refuses (alpha = 0) is not
     checked."""
+    return _checkable(
+        spec,
+        _check_points(spec.mu_axis, interp_limit),
+        _check_points(spec.roughness_axis, interp_limit),
+    )
+
+
+def _checkable(
+    spec: LutSpec, mu_pts: np.ndarray, r_pts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Axis quantities to check a table (or a fit of it) at, as :func:`_check_grid` takes
+    them: ``mu`` from 1e-4 up (sorted, once each), roughness values the model refuses
+    left out."""
     # Clamped in physical units: on a sqrt_mu axis mu = 1e-4 is the quantity 0.01.
     grazing = float(spec.mu_axis.quantity_of(_GRAZING_MU))
-    mu_pts = np.unique(np.maximum(_check_points(spec.mu_axis, interp_limit), grazing))
-    r_pts = _check_points(spec.roughness_axis, interp_limit)
+    mu_pts = np.unique(np.maximum(mu_pts, grazing))
     phys = spec.roughness_axis.physical(r_pts)
     r_pts = r_pts[[_spec.admits(spec.model, spec.param, float(x)) for x in phys]]
     return mu_pts, r_pts
