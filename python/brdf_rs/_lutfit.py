@@ -135,10 +135,15 @@ class Fit:
     def __call__(self, mu: Any, roughness: Any) -> np.ndarray:
         """The fit at incidence cosines ``mu`` and roughness parameter values (float64)."""
         s = self.spec
-        m = s.mu_axis.quantity_of(mu)
-        r = s.roughness_axis.quantity_of(roughness)
-        col, row = (m, r) if s.columns.role == "mu" else (r, m)
-        return self._at(_fractions(s.columns, col), _fractions(s.rows, row))
+        return self._at_quantities(
+            s.mu_axis.quantity_of(mu), s.roughness_axis.quantity_of(roughness)
+        )
+
+    def _at_quantities(self, mu_q: Any, rough_q: Any, dtype: Any = np.float64) -> np.ndarray:
+        """:meth:`_at` at the mu and roughness axes' quantities (either may be the columns)."""
+        s = self.spec
+        col, row = (mu_q, rough_q) if s.columns.role == "mu" else (rough_q, mu_q)
+        return self._at(_fractions(s.columns, col), _fractions(s.rows, row), dtype)
 
     def _at(self, x: np.ndarray, y: np.ndarray, dtype: Any = np.float64) -> np.ndarray:
         """The fit at axis fractions ``x, y`` in [0, 1], evaluated in ``dtype`` (float32:
@@ -348,40 +353,34 @@ def fit(lut: Lut, degree: int = 6, denominator: int = 0, dense: bool | DenseChec
         if den is not None and q is not None:
             den[c] = q
     result = Fit(s, degree, coefficients, [], [], [], [], denominator, den)
-    err = np.abs(result._at(x, y) - lut.image).reshape(-1, nc)
+    at_texels = result._at(x, y)
+    err = np.abs(at_texels - lut.image).reshape(-1, nc)
     between = np.zeros(nc)
     between_se = np.zeros(nc)
     if lut.checks is not None:
         ch = lut.checks
-        col, row = (
-            (ch.mu_q, ch.roughness_q) if s.columns.role == "mu" else (ch.roughness_q, ch.mu_q)
-        )
-        got = result._at(_fractions(s.columns, col), _fractions(s.rows, row))
+        got = result._at_quantities(ch.mu_q, ch.roughness_q)
         between = np.abs(got - ch.value).reshape(-1, nc).max(axis=0)
         between_se = ch.stderr.reshape(-1, nc).max(axis=0)
     worst_dense: list[float] = []
     worst_interior: list[float] = []
     dense_se: list[float] = []
     points = 0
-    rounding = np.abs(result._at(x, y, np.float32) - result._at(x, y)).reshape(-1, nc).max(0)
+    rounding = np.abs(result._at(x, y, np.float32) - at_texels).reshape(-1, nc).max(0)
     if dense is not False:
+        from .lut import _worst_inside
+
         check = dense_check(s) if dense is True else dense
         if not isinstance(check, DenseCheck) or check.spec != s:
             raise ValueError("dense: expected True, False or the DenseCheck of this table's spec")
-        mq, rq, value, stderr = check.mu_q, check.roughness_q, check.value, check.stderr
-        dx, dy = (mq, rq) if s.columns.role == "mu" else (rq, mq)
-        dx, dy = _fractions(s.columns, dx), _fractions(s.rows, dy)
-        got = result._at(dx, dy)
-        worst_dense = np.abs(got - value).reshape(-1, nc).max(axis=0).tolist()
-        m_pos, r_pos = s.mu_axis.positions(), s.roughness_axis.positions()
-        inside = (
-            (mq >= m_pos[0]) & (mq <= m_pos[-1]) & (rq >= r_pos[0]) & (rq <= r_pos[-1])
-        ).reshape(-1)
-        interior = np.abs(got - value).reshape(-1, nc)[inside]
-        worst_interior = (interior.max(axis=0) if inside.any() else np.zeros(nc)).tolist()
-        dense_se = stderr.reshape(-1, nc).max(axis=0).tolist()
+        mq, rq = check.mu_q, check.roughness_q
+        got = result._at_quantities(mq, rq)
+        dense_err = np.abs(got - check.value).reshape(-1, nc)
+        worst_dense = dense_err.max(axis=0).tolist()
+        worst_interior = _worst_inside(s, mq, rq, dense_err).tolist()
+        dense_se = check.stderr.reshape(-1, nc).max(axis=0).tolist()
         points = int(mq.size)
-        off = np.abs(result._at(dx, dy, np.float32) - got).reshape(-1, nc).max(0)
+        off = np.abs(result._at_quantities(mq, rq, np.float32) - got).reshape(-1, nc).max(0)
         rounding = np.maximum(rounding, off)
     return dataclasses.replace(
         result,

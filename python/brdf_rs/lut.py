@@ -870,6 +870,15 @@ def _checkable(
     return mu_pts, r_pts
 
 
+def _worst_inside(spec: LutSpec, mq: np.ndarray, rq: np.ndarray, err: np.ndarray) -> np.ndarray:
+    """The largest of ``err`` (points x channels, the points at axis quantities ``mq`` x
+    ``rq``) between the first and last texels of both axes, where the table interpolates
+    rather than clamps; 0 where no point is."""
+    m, r = spec.mu_axis.positions(), spec.roughness_axis.positions()
+    inside = ((mq >= m[0]) & (mq <= m[-1]) & (rq >= r[0]) & (rq <= r[-1])).reshape(-1)
+    return err[inside].max(axis=0) if inside.any() else np.zeros(err.shape[-1])
+
+
 def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     """The cells of each integration run :func:`build` makes, in order (what a progress
     callback counts: ``progress(cells_done, samples_done)`` restarts at 0 with each). An
@@ -909,13 +918,7 @@ def _budget(
         looked = bilinear(image, spec.columns, spec.rows, rq, mq)
     ierr = np.abs(looked - ref).reshape(-1, ref.shape[-1])
     mu_axis, r_axis = spec.mu_axis, spec.roughness_axis
-    inside = (
-        (mq >= mu_axis.positions()[0])
-        & (mq <= mu_axis.positions()[-1])
-        & (rq >= r_axis.positions()[0])
-        & (rq <= r_axis.positions()[-1])
-    ).reshape(-1)
-    interior = ierr[inside].max(axis=0) if inside.any() else np.zeros(ierr.shape[-1])
+    interior = _worst_inside(spec, mq, rq, ierr)
     worst = ierr.argmax(axis=0)
     where = [
         [float(mu_axis.physical(mq.reshape(-1)[k])), float(r_axis.physical(rq.reshape(-1)[k]))]
