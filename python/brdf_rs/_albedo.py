@@ -659,9 +659,9 @@ _GK15 = _gauss_kronrod_15()
 _GK_NOISE = 2.0
 #: E_avg's panels are halved down to width 2^-_GK_DEPTH at most, ...
 _GK_DEPTH = 24
-#: ... so a column's node ids (15 per panel, panels numbered below 2^(_GK_DEPTH + 1))
-#: fit in this many.
-_GK_COLUMN_IDS = 15 << (_GK_DEPTH + 1)
+#: ... so a column's node ids (one per node of each panel, panels numbered below
+#: 2^(_GK_DEPTH + 1)) fit in this many.
+_GK_COLUMN_IDS = _GK15[0].size << (_GK_DEPTH + 1)
 
 
 def _adaptive_average(
