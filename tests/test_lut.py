@@ -38,6 +38,15 @@ def filament():
     return lut.build(small("filament"), interp_limit=8)
 
 
+def ggx_b_and_a_plus_b(mu, alpha, samples: int, seed: int):
+    """GGX's split-sum channels (B, A + B) at each ``(mu, alpha)``, integrated apart from
+    any table (``brdf_rs.albedo`` at F0 = 0 and 1), and their standard errors."""
+    one = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=1, samples=samples, seed=seed)
+    zero = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=0, samples=samples, seed=seed)
+    value = np.stack([zero.value[:, 0], one.value[:, 0]], -1)
+    return value, np.stack([zero.stderr[:, 0], one.stderr[:, 0]], -1)
+
+
 def compile_and_run(tmp_path, source: str) -> str:
     """Compiles the C99 ``source`` in ``tmp_path`` (warnings as errors), runs it and
     returns its stdout; skips the test where there is no C compiler."""
@@ -340,10 +349,8 @@ def test_c_header_compiles_and_its_lookup_is_the_python_lookup(filament, tmp_pat
     mu, alpha = np.array(pts).T
     np.testing.assert_allclose(got, filament.lookup(mu, alpha), atol=2e-6)
     # and against the integrals themselves, within the budget the file states
-    one = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=1, samples=1 << 14, seed=5)
-    zero = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=0, samples=1 << 14, seed=5)
-    exact = np.stack([zero.value[:, 0], one.value[:, 0]], -1)  # B, A + B
-    slack = 3 * np.stack([zero.stderr[:, 0], one.stderr[:, 0]], -1)
+    exact, se = ggx_b_and_a_plus_b(mu, alpha, 1 << 14, 5)
+    slack = 3 * se
     b = filament.budget
     assert np.all(np.abs(got - exact) <= np.asarray(b.total) + slack)
     # between the first and last texels, the interior's budget (well under the total,
@@ -822,10 +829,7 @@ def test_fit_maximum_error_holds_at_random_points(filament):
         mu = 1e-4 + (1 - 1e-4) * rng.random(200)
         r = rng.random(200)
         alpha = np.maximum(r, 1e-3) ** 2
-        one = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=1, samples=1 << 13, seed=17)
-        zero = brdf_rs.albedo("ggx", mu, alpha=alpha, kd=0, ks=0, samples=1 << 13, seed=17)
-        exact = np.stack([zero.value[:, 0], one.value[:, 0]], -1)  # B, A + B
-        se = np.stack([zero.stderr[:, 0], one.stderr[:, 0]], -1)
+        exact, se = ggx_b_and_a_plus_b(mu, alpha, 1 << 13, 17)
         err = np.abs(f(mu, alpha) - exact) - 3 * se
         assert np.all(err.max(axis=0) <= np.asarray(f.max_error)), (err.max(0), f.max_error)
         assert np.all(np.asarray(f.max_error_interior) <= np.asarray(f.max_error))
