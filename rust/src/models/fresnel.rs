@@ -203,6 +203,12 @@ impl<F: Real> GenSchlick<F> {
     pub fn new(f0: F, f90: F) -> Self {
         GenSchlick { f0, rise: f90 - f0 }
     }
+
+    /// Returns `f0 + (f90 − f0)·w`, the term at the weight `w` ([`gen_schlick_weight`]).
+    #[inline(always)]
+    pub fn blend(&self, w: F) -> F {
+        self.f0 + self.rise * w
+    }
 }
 
 /// Returns the generalized Schlick term of MaterialX (`mx_fresnel_schlick(cosTheta, F0,
@@ -211,8 +217,14 @@ impl<F: Real> GenSchlick<F> {
 /// `f0 = f90 = 1` gives exactly 1.
 #[inline(always)]
 pub fn gen_schlick<F: Real, P: PowUnit>(ch: &GenSchlick<F>, cos_b: Cosine<F>, exponent: F) -> F {
-    let w = P::pow_unit(cos_b.one_minus, cos_b.cos, exponent);
-    ch.f0 + ch.rise * w
+    ch.blend(gen_schlick_weight::<F, P>(cos_b, exponent))
+}
+
+/// The generalized Schlick weight `(1 − μ)^exponent` at `μ = cos_b`, through `P`: shared
+/// by the channels of one exponent ([`GenSchlick::blend`]).
+#[inline(always)]
+pub fn gen_schlick_weight<F: Real, P: PowUnit>(cos_b: Cosine<F>, exponent: F) -> F {
+    P::pow_unit(cos_b.one_minus, cos_b.cos, exponent)
 }
 
 #[cfg(test)]
