@@ -34,6 +34,10 @@ pub const TASK_BLOCKS: usize = 16;
 /// computed over this many lanes, not over the whole block: a call with a few rows does
 /// not pay for `BLOCK`.
 pub const SHORT_BLOCK: usize = 16;
+/// A task of uniform parameters with at least this many rows asks a divided kernel for
+/// its divisor's cache ([`Kernel::divisor_cache`]): `ggx_dielectric_ms` blends its 194
+/// table rows once instead of two per row.
+pub const DIVISOR_CACHE_ROWS: usize = BLOCK;
 /// Outputs at least this large are written with non-temporal stores: far beyond the
 /// per-core caches (2 MiB of L2 here), caching them would only evict the inputs still to
 /// be read, and each line stored would first be read from memory. Measured, `out=`,
@@ -341,6 +345,13 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     // a compile-time constant (a run-time one here lost the loop's vectorization).
     let wide = K::WIDE_COSINES && F::EXTENDED_COSINES;
     let stream = plan.rows * 3 * std::mem::size_of::<F>() >= STREAM_BYTES;
+    // A divided kernel's per-parameter-set work, once for a task of uniform parameters
+    // long enough to repay it (the divided pass below).
+    let divisor_cache = if K::DIVIDED && !vary && rows >= DIVISOR_CACHE_ROWS {
+        K::divisor_cache(&uniform)
+    } else {
+        Vec::new()
+    };
     let mut staged = Staged([F::ZERO; 3 * BLOCK]);
     let mut any_bad = false;
     // Whether the next block's powers are tried the short way (see the split passes).
@@ -517,7 +528,7 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                 // Rows past `len` are never written out, and a bad row is NaN already.
                 for j in (0..len).filter(|&j| scratch.ok[j]) {
                     let d = block_directions::<F, MODE>(wi, wo, n, t, j);
-                    let e = K::divisor(&uniform, &d);
+                    let e = K::divisor_in(&uniform, &divisor_cache, &d);
                     (r[j], g[j], b[j]) = (r[j] / e, g[j] / e, b[j] / e);
                 }
             }

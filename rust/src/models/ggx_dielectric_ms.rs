@@ -97,6 +97,19 @@ impl Kernel for GgxDielectricMs {
         F::from_f64(GGX_DIELECTRIC.energy(&pp.node, mu_i, sin_i))
     }
 
+    /// The table's rows blended at the node of `alpha` and `eta`, once.
+    fn divisor_cache<F: Real>(pp: &Prepared<F>) -> Vec<f64> {
+        GGX_DIELECTRIC.column(&pp.node)
+    }
+
+    /// [`Kernel::divisor`] read from the blended rows.
+    #[inline(always)]
+    fn divisor_in<F: Real>(pp: &Prepared<F>, cache: &[f64], d: &Directions<F>) -> F {
+        let sin_i = d.n.cross(d.wi).length_squared().sqrt();
+        let (mu_i, sin_i) = (d.n.dot(d.wi).to_f64(), sin_i.to_f64());
+        F::from_f64(GGX_DIELECTRIC.energy_in(cache, &pp.node, mu_i, sin_i))
+    }
+
     /// `ggx_dielectric`'s sampler: the factor is the same for every `wo`.
     fn transmission_sampler(slots: &[f64]) -> Option<DielectricSampler> {
         GgxDielectric::transmission_sampler(slots)

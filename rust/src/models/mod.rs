@@ -160,6 +160,20 @@ pub trait Kernel: 'static {
         F::ONE
     }
 
+    /// What [`Kernel::divisor`] can compute once for many rows of one parameter set (a
+    /// table's rows blended at the parameters' node), for [`Kernel::divisor_in`]; the
+    /// engine asks for it per task of uniform parameters. Empty by default.
+    fn divisor_cache<F: Real>(_prepared: &Self::Prepared<F>) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// [`Kernel::divisor`] given [`Kernel::divisor_cache`]'s data (or an empty slice),
+    /// bit for bit.
+    #[inline(always)]
+    fn divisor_in<F: Real>(prepared: &Self::Prepared<F>, _cache: &[f64], d: &Directions<F>) -> F {
+        Self::divisor(prepared, d)
+    }
+
     /// Whether the value depends on the size of a cosine `n·wi` or `n·wo` below the
     /// normal range (2^-1022) in `f64`, so that [`Kernel::eval_wide`] is needed where one
     /// is (Ward's `1/sqrt(mu_i·mu_o)`). Most models only need its sign, which
