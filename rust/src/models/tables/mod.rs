@@ -610,13 +610,9 @@ mod tests {
 
     #[test]
     fn dielectric_energy_from_the_blended_column_is_the_table_s_bit_for_bit() {
-        let mut seed = 7u64;
-        let mut uniform = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        use rand_core::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+        let mut uniform = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         // Nodes across the table, eta = 1 and both sides of it included.
         let mut nodes = vec![
             (1e-3, 1.5),
