@@ -352,6 +352,7 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     } else {
         Vec::new()
     };
+    let mut divisor_stage = [[0.0f64; 2]; BLOCK];
     let mut staged = Staged([F::ZERO; 3 * BLOCK]);
     let mut any_bad = false;
     // Whether the next block's powers are tried the short way (see the split passes).
@@ -526,10 +527,24 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
             });
             if divided {
                 // Rows past `len` are never written out, and a bad row is NaN already.
-                for j in (0..len).filter(|&j| scratch.ok[j]) {
-                    let d = block_directions::<F, MODE>(wi, wo, n, t, j);
-                    let e = K::divisor_in(&uniform, &divisor_cache, &d);
-                    (r[j], g[j], b[j]) = (r[j] / e, g[j] / e, b[j] / e);
+                if divisor_cache.is_empty() {
+                    for j in (0..len).filter(|&j| scratch.ok[j]) {
+                        let d = block_directions::<F, MODE>(wi, wo, n, t, j);
+                        let e = K::divisor(&uniform, &d);
+                        (r[j], g[j], b[j]) = (r[j] / e, g[j] / e, b[j] / e);
+                    }
+                } else {
+                    // The divisor's costly part over every lane (a loop that vectorizes),
+                    // then the rest per row.
+                    for_lanes!(lanes, |j| {
+                        let d = block_directions::<F, MODE>(wi, wo, n, t, j);
+                        divisor_stage[j] = K::divisor_stage(&uniform, &d);
+                    });
+                    for j in (0..len).filter(|&j| scratch.ok[j]) {
+                        let d = block_directions::<F, MODE>(wi, wo, n, t, j);
+                        let e = K::divisor_in(&uniform, &divisor_cache, &d, divisor_stage[j]);
+                        (r[j], g[j], b[j]) = (r[j] / e, g[j] / e, b[j] / e);
+                    }
                 }
             }
         }

@@ -27,6 +27,13 @@ use crate::sampling::dielectric::DielectricSampler;
 // The rough dielectrics' layout (`ks`, `kt`, `eta`, `alpha`).
 pub use super::dielectric::SLOTS;
 
+/// The cosine `n·wi` and sine `|n × wi|` of the light's incidence, in `f64`.
+#[inline(always)]
+fn incidence<F: Real>(d: &Directions<F>) -> (f64, f64) {
+    let sin_i = d.n.cross(d.wi).length_squared().sqrt();
+    (d.n.dot(d.wi).to_f64(), sin_i.to_f64())
+}
+
 /// `ggx_dielectric` divided by its white interface's albedo.
 pub struct GgxDielectricMs;
 
@@ -92,8 +99,7 @@ impl Kernel for GgxDielectricMs {
     /// `E` for light at `wi`, from the table.
     #[inline(always)]
     fn divisor<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> F {
-        let sin_i = d.n.cross(d.wi).length_squared().sqrt();
-        let (mu_i, sin_i) = (d.n.dot(d.wi).to_f64(), sin_i.to_f64());
+        let (mu_i, sin_i) = incidence(d);
         F::from_f64(GGX_DIELECTRIC.energy(&pp.node, mu_i, sin_i))
     }
 
@@ -102,12 +108,24 @@ impl Kernel for GgxDielectricMs {
         GGX_DIELECTRIC.column(&pp.node)
     }
 
-    /// [`Kernel::divisor`] read from the blended rows.
+    /// The incidence coordinate on the table, in double width.
     #[inline(always)]
-    fn divisor_in<F: Real>(pp: &Prepared<F>, cache: &[f64], d: &Directions<F>) -> F {
-        let sin_i = d.n.cross(d.wi).length_squared().sqrt();
-        let (mu_i, sin_i) = (d.n.dot(d.wi).to_f64(), sin_i.to_f64());
-        F::from_f64(GGX_DIELECTRIC.energy_in(cache, &pp.node, mu_i, sin_i))
+    fn divisor_stage<F: Real>(pp: &Prepared<F>, d: &Directions<F>) -> [f64; 2] {
+        let (mu_i, sin_i) = incidence(d);
+        let (hi, lo) = GGX_DIELECTRIC.incidence(&pp.node, mu_i, sin_i);
+        [hi, lo]
+    }
+
+    /// `E` at the incidence coordinate, read from the blended rows.
+    #[inline(always)]
+    fn divisor_in<F: Real>(
+        pp: &Prepared<F>,
+        cache: &[f64],
+        d: &Directions<F>,
+        stage: [f64; 2],
+    ) -> F {
+        let mu_i = d.n.dot(d.wi).to_f64();
+        F::from_f64(GGX_DIELECTRIC.energy_at(cache, &pp.node, mu_i, (stage[0], stage[1])))
     }
 
     /// `ggx_dielectric`'s sampler: the factor is the same for every `wo`.

@@ -162,15 +162,28 @@ pub trait Kernel: 'static {
 
     /// What [`Kernel::divisor`] can compute once for many rows of one parameter set (a
     /// table's rows blended at the parameters' node), for [`Kernel::divisor_in`]; the
-    /// engine asks for it per task of uniform parameters. Empty by default.
+    /// engine asks for it per task of uniform parameters. Empty by default: the engine
+    /// then calls [`Kernel::divisor`].
     fn divisor_cache<F: Real>(_prepared: &Self::Prepared<F>) -> Vec<f64> {
         Vec::new()
     }
 
-    /// [`Kernel::divisor`] given [`Kernel::divisor_cache`]'s data (or an empty slice),
-    /// bit for bit.
+    /// The part of [`Kernel::divisor`] to compute for every lane of a block in a loop
+    /// that vectorizes (branch-free), before [`Kernel::divisor_in`] finishes it.
     #[inline(always)]
-    fn divisor_in<F: Real>(prepared: &Self::Prepared<F>, _cache: &[f64], d: &Directions<F>) -> F {
+    fn divisor_stage<F: Real>(_prepared: &Self::Prepared<F>, _d: &Directions<F>) -> [f64; 2] {
+        [0.0; 2]
+    }
+
+    /// [`Kernel::divisor`] given a non-empty [`Kernel::divisor_cache`] and the row's
+    /// [`Kernel::divisor_stage`], bit for bit.
+    #[inline(always)]
+    fn divisor_in<F: Real>(
+        prepared: &Self::Prepared<F>,
+        _cache: &[f64],
+        d: &Directions<F>,
+        _stage: [f64; 2],
+    ) -> F {
         Self::divisor(prepared, d)
     }
 

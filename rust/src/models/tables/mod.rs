@@ -210,13 +210,14 @@ impl EnergyTable {
     }
 }
 
-/// The interval of the dielectric table's incidence coordinate
+/// The dielectric table's incidence coordinate
 /// `x = (q^(1/4)/2 + (sqrt(t) + t)/4)·(NT − 1)`, `t = mu/(mu + alpha·sin)`,
 /// `q = mu/(mu + w·sin)` with `w = y/(alpha + y)`, for the cosine `mu` and sine `sin` of
 /// the incidence (both in [0, 1]) and `y = |ln r|`. Formed in double width: `x` reaches
 /// 96, and its rounding in `f64` alone, times the table's slope, shows in `E`.
+/// Branch-free: a loop of it over a block's rows vectorizes.
 #[inline(always)]
-fn incidence_node(mu: f64, sin: f64, alpha: f64, y: Dd<f64>) -> Node<f64> {
+fn incidence_coordinate(mu: f64, sin: f64, alpha: f64, y: Dd<f64>) -> Dd<f64> {
     use ggx_dielectric_e::NT;
     let mu_dd = Dd::new(mu, 0.0);
     let t = mu_dd.over(mu_dd.plus(Dd::two_prod(sin, alpha)));
@@ -231,7 +232,18 @@ fn incidence_node(mu: f64, sin: f64, alpha: f64, y: Dd<f64>) -> Node<f64> {
     // (NT − 1)/2 = 48 and (NT − 1)/4 = 24: exact scalings.
     let layer_part = q.sqrt().sqrt().times(Dd::new(0.5 * (NT - 1) as f64, 0.0));
     let power_part = t.sqrt().plus(t).times(Dd::new(0.25 * (NT - 1) as f64, 0.0));
-    dd_node(layer_part.plus(power_part), NT - 1)
+    layer_part.plus(power_part)
+}
+
+/// The cosine and sine a lookup reads for light at `mu_i` with sine `sin_i`: `|mu_i|`,
+/// both at most 1; NaN reads as grazing incidence.
+#[inline(always)]
+fn incidence_angles(mu_i: f64, sin_i: f64) -> (f64, f64) {
+    if mu_i.is_nan() || sin_i.is_nan() {
+        (0.0, 1.0)
+    } else {
+        (mu_i.abs().min(1.0), sin_i.min(1.0))
+    }
 }
 
 /// `ln(1 + z)` in double width for `z ≥ 0`.
@@ -406,18 +418,28 @@ impl DielectricEnergy {
     /// given, not as `sqrt(1 − mu²)`: near normal incidence that form turns an ulp of
     /// `mu` into 1e-8 of the sine. NaN reads as grazing incidence.
     pub fn energy(&self, p: &DielectricNode, mu_i: f64, sin_i: f64) -> f64 {
-        self.energy_from(p, mu_i, sin_i, |side, i| self.row(p, side, i))
+        let (mu, sin) = incidence_angles(mu_i, sin_i);
+        let x = incidence_coordinate(mu, sin, p.alpha, p.y);
+        self.energy_from(p, mu_i, x, |side, i| self.row(p, side, i))
     }
 
-    /// [`DielectricEnergy::energy`] read from `column`, the node's rows blended once
-    /// ([`DielectricEnergy::column`]): the same bits, without the 32 loads and 10 blends
-    /// per call. An empty `column` reads the table.
+    /// The incidence coordinate at which [`DielectricEnergy::energy`] reads `E` for light
+    /// at `mu_i` with sine `sin_i`, in double width `(hi, lo)`: the costly part of a
+    /// lookup, branch-free, so that a loop of it over many rows vectorizes; then
+    /// [`DielectricEnergy::energy_at`].
     #[inline(always)]
-    pub fn energy_in(&self, column: &[f64], p: &DielectricNode, mu_i: f64, sin_i: f64) -> f64 {
-        if column.is_empty() {
-            return self.energy(p, mu_i, sin_i);
-        }
-        self.energy_from(p, mu_i, sin_i, |side, i| {
+    pub fn incidence(&self, p: &DielectricNode, mu_i: f64, sin_i: f64) -> (f64, f64) {
+        let (mu, sin) = incidence_angles(mu_i, sin_i);
+        incidence_coordinate(mu, sin, p.alpha, p.y).parts()
+    }
+
+    /// [`DielectricEnergy::energy`] at the incidence coordinate `x`
+    /// ([`DielectricEnergy::incidence`] of the same `mu_i`) read from `column`, the node's
+    /// rows blended once ([`DielectricEnergy::column`]): the same bits, without the 32
+    /// loads and 10 blends per call.
+    #[inline(always)]
+    pub fn energy_at(&self, column: &[f64], p: &DielectricNode, mu_i: f64, x: (f64, f64)) -> f64 {
+        self.energy_from(p, mu_i, Dd::new(x.0, x.1), |side, i| {
             let at = 3 * (side * ggx_dielectric_e::NT + i);
             (column[at], column[at + 1], column[at + 2])
         })
@@ -457,25 +479,21 @@ impl DielectricEnergy {
         (blend(along_a, &p.a.1), least, most)
     }
 
-    /// `E` from the node's rows as `row(side, i)` gives them ([`DielectricEnergy::row`]).
+    /// `E` at the incidence coordinate `x` from the node's rows as `row(side, i)` gives
+    /// them ([`DielectricEnergy::row`]), for light at `mu_i` (its sign says the side).
     #[inline(always)]
     fn energy_from(
         &self,
         p: &DielectricNode,
         mu_i: f64,
-        sin_i: f64,
+        x: Dd<f64>,
         row: impl Fn(usize, usize) -> (f64, f64, f64),
     ) -> f64 {
         if !p.interface {
             return 1.0;
         }
         let side = usize::from((mu_i > 0.0) != p.above_enters);
-        let (mu, sin) = if mu_i.is_nan() || sin_i.is_nan() {
-            (0.0, 1.0)
-        } else {
-            (mu_i.abs().min(1.0), sin_i.min(1.0))
-        };
-        let x = incidence_node(mu, sin, p.alpha, p.y);
+        let x = dd_node(x, ggx_dielectric_e::NT - 1);
         let (lo, least_lo, most_lo) = row(side, x.index);
         let (hi, least_hi, most_hi) = row(side, x.index + 1);
         let least = if least_hi < least_lo {
@@ -630,7 +648,8 @@ mod tests {
             let column = GGX_DIELECTRIC.column(&p);
             let check = |mu: f64, sin: f64| {
                 let want = GGX_DIELECTRIC.energy(&p, mu, sin);
-                let got = GGX_DIELECTRIC.energy_in(&column, &p, mu, sin);
+                let x = GGX_DIELECTRIC.incidence(&p, mu, sin);
+                let got = GGX_DIELECTRIC.energy_at(&column, &p, mu, x);
                 assert_eq!(
                     got.to_bits(),
                     want.to_bits(),
