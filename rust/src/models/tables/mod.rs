@@ -446,7 +446,7 @@ impl DielectricEnergy {
     }
 
     /// Every row of the node blended ([`DielectricEnergy::row`]), for
-    /// [`DielectricEnergy::energy_in`]: `(E, least, most)` of side `s` and incidence node
+    /// [`DielectricEnergy::energy_at`]: `(E, least, most)` of side `s` and incidence node
     /// `i` at `3·(s·NT + i)`.
     pub fn column(&self, p: &DielectricNode) -> Vec<f64> {
         use ggx_dielectric_e::NT;
