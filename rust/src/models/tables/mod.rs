@@ -418,9 +418,8 @@ impl DielectricEnergy {
     /// given, not as `sqrt(1 − mu²)`: near normal incidence that form turns an ulp of
     /// `mu` into 1e-8 of the sine. NaN reads as grazing incidence.
     pub fn energy(&self, p: &DielectricNode, mu_i: f64, sin_i: f64) -> f64 {
-        let (mu, sin) = incidence_angles(mu_i, sin_i);
-        let x = incidence_coordinate(mu, sin, p.alpha, p.y);
-        self.energy_from(p, mu_i, x, |side, i| self.row(p, side, i))
+        let (hi, lo) = self.incidence(p, mu_i, sin_i);
+        self.energy_from(p, mu_i, Dd::new(hi, lo), |side, i| self.row(p, side, i))
     }
 
     /// The incidence coordinate at which [`DielectricEnergy::energy`] reads `E` for light
