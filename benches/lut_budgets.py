@@ -8,7 +8,7 @@ count (brdf_rs.lut), and of each preset's table in the other pixel formats.
 For each preset it prints, per channel: the largest Monte Carlo standard error of a
 texel, the exact worst and RMS quantization error of the preset's format and of the
 other formats of the same channel count (quantize, decode, compare with the float64
-integrals), the worst bilinear interpolation error against the integral evaluated at
+integrals), the worst bilinear (3-D: trilinear) interpolation error against the integral at
 points between the texels (at most 64 per axis: midpoints between neighbouring texels
 and the range ends; the reference integrals' own standard error alongside), and the
 total (quantization + interpolation + 3 standard errors of the reference and 3 of the
@@ -52,23 +52,24 @@ def main() -> int:
         table = lut.build(spec)
         seconds = time.perf_counter() - start
         b = table.budget
+        size = " x ".join(str(n) for n in spec.shape[::-1])
+        at = f"mu, {spec.param}" + (", eta" if spec.layers is not None else "")
         lines += [
             f"## {name}",
             "",
-            f"{spec.kind} of {spec.model}, {spec.columns.size} x {spec.rows.size}"
-            f" {spec.format}, {spec.samples} samples per texel, built and checked in"
-            f" {seconds:.1f} s; interpolation checked at {b.interp_points} points.",
+            f"{spec.kind} of {spec.model}, {size} {spec.format}, {spec.samples} samples per"
+            f" texel, built and checked in {seconds:.1f} s; interpolation checked at"
+            f" {b.interp_points} points.",
             "",
-            "| channel | MC stderr (max) | quant worst | quant RMS | interp worst (at mu,"
-            f" {spec.param}) | interp worst between first and last texels | reference"
-            " stderr (max) | total |",
+            f"| channel | MC stderr (max) | quant worst | quant RMS | interp worst (at {at})"
+            " | interp worst between first and last texels | reference stderr (max) | total |",
             "|---|---|---|---|---|---|---|---|",
         ]
         for k, c in enumerate(b.channels):
+            where = ", ".join(f"{v:.3g}" for v in b.interp_worst_at[k])
             lines.append(
                 f"| {c} | {b.mc_max_stderr[k]:.2e} | {b.quant_worst[k]:.2e}"
-                f" | {b.quant_rms[k]:.2e} | {b.interp_worst[k]:.2e} (at"
-                f" {b.interp_worst_at[k][0]:.3g}, {b.interp_worst_at[k][1]:.3g})"
+                f" | {b.quant_rms[k]:.2e} | {b.interp_worst[k]:.2e} (at {where})"
                 f" | {b.interp_worst_interior[k]:.2e} | {b.interp_ref_stderr[k]:.2e}"
                 f" | {b.total[k]:.2e} |"
             )
@@ -80,6 +81,10 @@ def main() -> int:
             _, decoded = lut.quantize(table.image, fmt.name)
             err = np.abs(decoded - table.image).reshape(-1, nc).max(axis=0)
             lines.append(f"- {fmt.name}: " + ", ".join(f"{v:.2e}" for v in err))
+        if spec.layers is not None:  # fits take 2-D tables
+            lines.append("")
+            print("\n".join(lines[-(12 + nc) :]), flush=True)
+            continue
         fitted = lut.fit(table, FIT_DEGREE)
         lines += [
             "",

@@ -511,8 +511,8 @@ def test_ktx2_and_dds_read_back_with_readers_we_did_not_write(
     result = subprocess.run([str(texture_reader), str(path)], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     head, *rows = result.stdout.splitlines()
-    name, width, height, n = head.split()
-    assert name == (fmt if suffix == ".ktx2" else DXGI_NAMES[fmt])
+    name, width, height, n, depth = head.split()
+    assert name == (fmt if suffix == ".ktx2" else DXGI_NAMES[fmt]) and depth == "1"
     expected = np.asarray(table.decoded, np.float64).reshape(table.decoded.shape[0], -1)
     assert (int(height), int(width) * int(n)) == expected.shape
     assert int(n) == channels

@@ -3,7 +3,9 @@
 a comment, ``NAME_lookup(mu, roughness)`` sampling the array bilinearly with the table's
 texel mapping (clamp to the edge texels, as a GPU's sampler) and ``NAME_uv(mu,
 roughness)`` giving the texture coordinate at which a hardware bilinear filter reads the
-same value from a texture holding the table as stored (row 0 at v = 0)."""
+same value from a texture holding the table as stored (row 0 at v = 0). A 3-D table
+(layers over eta) is written as a C/C++ header only, with ``NAME_lookup(mu, roughness,
+eta)`` trilinear and ``NAME_uvw`` the 3-D texture coordinate."""
 
 from __future__ import annotations
 
@@ -32,24 +34,42 @@ def float_literal(v: float, suffix: str) -> str:
 def _comment(lut: Lut, meta: dict[str, Any], prefix: str) -> str:
     s = lut.spec
     b = lut.budget
+    if s.layers is None:
+        layout = (
+            f"Layout: {s.rows.size} rows x {s.columns.size} columns x"
+            f" {len(s.channel_names)} channel(s), row-major, channels interleaved:"
+            " DATA[(row * WIDTH + column) * CHANNELS + channel]."
+        )
+    else:
+        layout = (
+            f"Layout: {s.layers.size} layers x {s.rows.size} rows x {s.columns.size} columns"
+            f" x {len(s.channel_names)} channel(s), layers outermost, channels interleaved:"
+            " DATA[((layer * HEIGHT + row) * WIDTH + column) * CHANNELS + channel]."
+        )
     lines = [
         f"{s.name}: {s.kind} lookup table of {s.model}, made by brdf-rs (do not edit).",
-        f"Layout: {s.rows.size} rows x {s.columns.size} columns x"
-        f" {len(s.channel_names)} channel(s), row-major, channels interleaved:"
-        " DATA[(row * WIDTH + column) * CHANNELS + channel].",
+        layout,
         f"Columns: {s.columns.describe(s.param)}.",
         f"Rows: {s.rows.describe(s.param)}.",
     ]
+    if s.layers is not None:
+        lines.append(f"Layers: {s.layers.describe(s.param)}.")
     for c in s.channel_names:
         lines.append(f"Channel {c}: {meta['channels'][c]}.")
+    how = (
+        f"lookup(mu, {s.param}) is bilinear"
+        if s.layers is None
+        else f"lookup(mu, {s.param}, eta) is trilinear"
+    )
     lines.append(
-        f"Values: {s.format} texels, decoded. lookup(mu, {s.param}) is bilinear between"
-        " texel samples and clamps to the edge texels."
+        f"Values: {s.format} texels, decoded. {how} between texel samples and clamps to the"
+        " edge texels."
     )
     for k, c in enumerate(b.channels):
         lines.append(
             f"Error budget {c}: Monte Carlo stderr <= {b.mc_max_stderr[k]:.3g}, quantization"
-            f" worst {b.quant_worst[k]:.3g} (RMS {b.quant_rms[k]:.3g}), bilinear"
+            f" worst {b.quant_worst[k]:.3g} (RMS {b.quant_rms[k]:.3g}),"
+            f" {'bilinear' if s.layers is None else 'trilinear'}"
             f" interpolation worst {b.interp_worst[k]:.3g} ({b.interp_points} points between"
             f" texels, against integrals of stderr <= {b.interp_ref_stderr[k]:.3g}), total"
             f" {b.total[k]:.3g} ({b.confidence})."
@@ -79,6 +99,9 @@ def _axis_code(axis: Axis, var: str, lang: str) -> list[str]:
     fmin = "fminf" if lang == "c" else "min"
     square = axis.quantity in ("sqrt_mu", "perceptual")
     q = f"{sqrt}({fmax}({var}, 0.0{f}))" if square else var
+    if axis.quantity in ("eta_z", "eta_z_inside"):
+        fabs = "fabsf" if lang == "c" else "abs"
+        q = f"{sqrt}({fabs}({var} - 1.0{f}) / ({var} + 1.0{f}))"
     n = axis.size
     lo = float_literal(axis.lo, f)
     span = float_literal(axis.hi - axis.lo, f)
@@ -113,8 +136,65 @@ def _bilinear(name: str, w: int, nc: int, k: int, let: str, u: str, f: str) -> s
     )
 
 
+def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
+    """A 3-D table as a C/C++ header: the array, a trilinear lookup and the 3-D texture
+    coordinate."""
+    s = lut.spec
+    assert s.layers is not None
+    name = s.name
+    d, h, w, nc = lut.decoded.shape
+    col_in = "mu" if s.columns.role == "mu" else "roughness"
+    row_in = "mu" if s.rows.role == "mu" else "roughness"
+    uvw = _axis_code(s.columns, col_in, "c") + _axis_code(s.rows, row_in, "c")
+    uvw += _axis_code(s.layers, "eta", "c")
+    code = [line for line in uvw if "_t = " not in line]
+    upper = name.upper()
+    block = f"// BEGIN DATA\n{_data(lut.decoded, 'f', 6)}\n// END DATA\n"
+    body = "\n    ".join(
+        [
+            *code,
+            f"int x0 = (int)({col_in}_x); if (x0 > {w - 2}) x0 = {w - 2};",
+            f"int y0 = (int)({row_in}_x); if (y0 > {h - 2}) y0 = {h - 2};",
+            f"int z0 = (int)(eta_x); if (z0 > {d - 2}) z0 = {d - 2};",
+            f"float fx = {col_in}_x - (float)x0;",
+            f"float fy = {row_in}_x - (float)y0;",
+            "float fz = eta_x - (float)z0;",
+        ]
+    )
+    texel = f"{name}_data[(((z0 + dz) * {h} + y0 + dy) * {w} + x0 + dx) * {nc} + c]"
+    return (
+        _comment(lut, meta, "//")
+        + f"#ifndef {upper}_H\n#define {upper}_H\n#include <math.h>\n\n"
+        + f"#define {upper}_WIDTH {w}\n#define {upper}_HEIGHT {h}\n#define {upper}_DEPTH {d}\n"
+        + f"#define {upper}_CHANNELS {nc}\n\n"
+        + f"static const float {name}_data[{d * h * w * nc}] = {{\n{block}}};\n\n"
+        + f"/* Trilinear lookup at mu = cos(theta_v), {s.param} and the relative index eta;"
+        + f" writes {nc} value(s). */\n"
+        + f"static inline void {name}_lookup(float mu, float roughness, float eta,"
+        + f" float out[{nc}]) {{\n"
+        + f"    {body}\n"
+        + f"    for (int c = 0; c < {nc}; ++c) {{\n"
+        + "        float v = 0.0f;\n"
+        + "        for (int dz = 0; dz < 2; ++dz)\n"
+        + "            for (int dy = 0; dy < 2; ++dy)\n"
+        + "                for (int dx = 0; dx < 2; ++dx)\n"
+        + "                    v += (dx ? fx : 1.0f - fx) * (dy ? fy : 1.0f - fy)"
+        + f" * (dz ? fz : 1.0f - fz)\n                         * {texel};\n"
+        + "        out[c] = v;\n"
+        + "    }\n}\n\n"
+        + "/* The 3-D texture coordinate (u, v, w) a hardware trilinear filter reads it at. */\n"
+        + f"static inline void {name}_uvw(float mu, float roughness, float eta,"
+        + " float uvw[3]) {\n    "
+        + "\n    ".join(uvw)
+        + f"\n    uvw[0] = {col_in}_t;\n    uvw[1] = {row_in}_t;\n    uvw[2] = eta_t;\n}}\n\n"
+        + "#endif\n"
+    )
+
+
 def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     lang = {".h": "c", ".glsl": "glsl", ".hlsl": "hlsl", ".wgsl": "wgsl"}[suffix]
+    if lut.spec.layers is not None:
+        return _source_3d(lut, meta)
     s = lut.spec
     name = s.name
     h, w, nc = lut.decoded.shape

@@ -10,6 +10,12 @@ Data Format basic descriptor block; Microsoft's DDS_HEADER and DDS_HEADER_DXT10)
 - DDS has no metadata field: the JSON follows the pixel data, after the bytes
   ``brdf-rs:lut`` and a NUL (readers take the pixels by the header and ignore what
   follows).
+
+A 3-D table (a dielectric's, layers over eta) is a 3-D texture in KTX2 (``pixelDepth``)
+and DDS (a volume texture, ``TEXTURE3D``); EXR and PNG, which hold images, stack its
+slices top to bottom (slice 0 on top; the metadata's ``depth`` says how many); a C/C++
+header holds it with a trilinear lookup. GLSL, HLSL and WGSL constant arrays hold 2-D
+tables only.
 """
 
 from __future__ import annotations
@@ -38,15 +44,20 @@ DDS_MAGIC = b"DDS "
 SHADER_ARRAY_MAX = 65536
 
 
-def check(fmt_name: str, path: Path, values: int | None = None) -> str:
-    """The container of ``path`` (its suffix), checked against the pixel format and, for
-    GLSL and WGSL, against the array's number of ``values``, before any work: raises
-    ``ValueError`` naming the argument."""
+def check(fmt_name: str, path: Path, values: int | None = None, depth: int = 0) -> str:
+    """The container of ``path`` (its suffix), checked against the pixel format, the
+    table's ``depth`` (0: 2-D) and, for GLSL and WGSL, against the array's number of
+    ``values``, before any work: raises ``ValueError`` naming the argument."""
     from .lut import CONTAINERS, FORMATS
 
     suffix = path.suffix.lower()
     if suffix not in CONTAINERS:
         raise ValueError(f"path: unknown LUT file type {suffix!r}; use {', '.join(CONTAINERS)}")
+    if depth and suffix in (".glsl", ".hlsl", ".wgsl"):
+        raise ValueError(
+            f"path: a 3-D table ({depth} layers) is written as a 3-D texture (.ktx2, .dds),"
+            f" stacked slices (.exr, .png) or a C/C++ header (.h); {suffix} holds 2-D tables"
+        )
     if suffix in (".glsl", ".wgsl") and values is not None and values > SHADER_ARRAY_MAX:
         raise ValueError(
             f"path: a {suffix} table is a constant array, and {values} values is more than"
@@ -69,7 +80,8 @@ def check(fmt_name: str, path: Path, values: int | None = None) -> str:
 def save(lut: Lut, path: Path) -> Path:
     from . import _lutcode
 
-    suffix = check(lut.spec.format, path, lut.decoded.size)
+    depth = lut.spec.layers.size if lut.spec.layers is not None else 0
+    suffix = check(lut.spec.format, path, lut.decoded.size, depth)
     meta = lut.meta(path.name)
     if suffix == ".exr":
         _save_exr(lut, path, meta)
@@ -114,8 +126,25 @@ def _save_exr(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
         META_KEY: _meta_text(meta),
         EXR_CHANNELS_KEY: exr_channel_text(lut.spec.channel_names),
     }
-    channels = {EXR_CHANNELS[k]: lut.stored[..., k] for k in range(len(lut.spec.channel_names))}
+    stored = _stacked(lut.stored)
+    channels = {EXR_CHANNELS[k]: stored[..., k] for k in range(len(lut.spec.channel_names))}
     _exr.write(path, channels, attributes)
+
+
+def _stacked(values: np.ndarray) -> np.ndarray:
+    """A 3-D table's slices stacked top to bottom into one image (2-D: as it is)."""
+    if values.ndim == 4:
+        return values.reshape(-1, *values.shape[2:])
+    return values
+
+
+def _unstacked(values: np.ndarray, meta: dict[str, Any]) -> np.ndarray:
+    """An image of stacked slices back to (layers, rows, columns, channels) when the
+    metadata has a ``depth``."""
+    depth = meta.get("depth")
+    if depth:
+        return values.reshape(int(depth), -1, *values.shape[1:])
+    return values
 
 
 def _read_exr(path: Path) -> tuple[np.ndarray, dict[str, Any]]:
@@ -127,7 +156,7 @@ def _read_exr(path: Path) -> tuple[np.ndarray, dict[str, Any]]:
         chans = f.channels()
         names = EXR_CHANNELS[: len(meta["recipe"]["channels"])]
         values = np.stack([np.asarray(chans[n].pixels, dtype=np.float64) for n in names], -1)
-    return values, meta
+    return _unstacked(values, meta), meta
 
 
 # ------------------------------------------------------------------------------- KTX2
@@ -185,12 +214,13 @@ def ktx2_bytes(lut: Lut, meta: dict[str, Any]) -> bytes:
     from .lut import FORMATS
 
     fmt = FORMATS[lut.spec.format]
-    height, width = lut.stored.shape[:2]
+    height, width = lut.stored.shape[-3:-1]
+    depth = lut.stored.shape[0] if lut.stored.ndim == 4 else 0
     data = np.ascontiguousarray(lut.stored, dtype=fmt.dtype).tobytes()
     dfd = _dfd(fmt)
     # Keys sorted by their bytes: "KTXorientation" < "KTXwriter" < "brdf-rs:lut".
     kvd = (
-        _kv("KTXorientation", b"rd\0")
+        _kv("KTXorientation", b"rdi\0" if depth else b"rd\0")
         + _kv("KTXwriter", f"brdf-rs {__version__}\0".encode())
         + _kv(META_KEY, _meta_text(meta).encode() + b"\0")
     )
@@ -209,7 +239,7 @@ def ktx2_bytes(lut: Lut, meta: dict[str, Any]) -> bytes:
         fmt.bits // 8,  # typeSize
         width,
         height,
-        0,  # pixelDepth: a 2-D texture
+        depth,  # pixelDepth: 0 for a 2-D texture
         0,  # layerCount: not an array
         1,  # faceCount
         1,  # levelCount
@@ -226,7 +256,7 @@ def ktx2_bytes(lut: Lut, meta: dict[str, Any]) -> bytes:
 def _read_ktx2(raw: bytes) -> tuple[np.ndarray, dict[str, Any]]:
     from .lut import FORMATS
 
-    vk, _, width, height = struct.unpack_from("<4I", raw, 12)
+    vk, _, width, height, depth = struct.unpack_from("<5I", raw, 12)
     kvd_offset, kvd_length = struct.unpack_from("<2I", raw, 12 + 36 + 8)
     data_offset, _, _ = struct.unpack_from("<3Q", raw, 80)
     fmt = next(f for f in FORMATS.values() if f.vk == vk)
@@ -238,8 +268,9 @@ def _read_ktx2(raw: bytes) -> tuple[np.ndarray, dict[str, Any]]:
         if key.decode() == META_KEY:
             meta = json.loads(value.rstrip(b"\0"))
         pos += 4 + n + (-n) % 4
-    stored = np.frombuffer(raw, fmt.dtype, height * width * fmt.channels, data_offset)
-    return _decode(stored.reshape(height, width, fmt.channels), fmt), meta
+    shape = (height, width, fmt.channels) if depth == 0 else (depth, height, width, fmt.channels)
+    stored = np.frombuffer(raw, fmt.dtype, int(np.prod(shape)), data_offset)
+    return _decode(stored.reshape(shape), fmt), meta
 
 
 def _decode(stored: np.ndarray, fmt: Any) -> np.ndarray:
@@ -255,13 +286,21 @@ def dds_bytes(lut: Lut, meta: dict[str, Any]) -> bytes:
     from .lut import FORMATS
 
     fmt = FORMATS[lut.spec.format]
-    height, width = lut.stored.shape[:2]
+    height, width = lut.stored.shape[-3:-1]
+    depth = lut.stored.shape[0] if lut.stored.ndim == 4 else 0
     pitch = width * (fmt.bits // 8) * fmt.channels
     flags = 0x1 | 0x2 | 0x4 | 0x8 | 0x1000  # CAPS | HEIGHT | WIDTH | PITCH | PIXELFORMAT
-    header = struct.pack("<7I11I", 124, flags, height, width, pitch, 0, 1, *([0] * 11))
+    if depth:
+        flags |= 0x800000  # DDSD_DEPTH
+    header = struct.pack("<7I11I", 124, flags, height, width, pitch, depth, 1, *([0] * 11))
     pixel_format = struct.pack("<2I4s5I", 32, 0x4, b"DX10", 0, 0, 0, 0, 0)  # DDPF_FOURCC
-    caps = struct.pack("<5I", 0x1000, 0, 0, 0, 0)  # DDSCAPS_TEXTURE
-    dx10 = struct.pack("<5I", fmt.dxgi, 3, 0, 1, 0)  # TEXTURE2D, arraySize 1
+    if depth:
+        # DDSCAPS_COMPLEX | DDSCAPS_TEXTURE, DDSCAPS2_VOLUME; TEXTURE3D, arraySize 1
+        caps = struct.pack("<5I", 0x8 | 0x1000, 0x200000, 0, 0, 0)
+        dx10 = struct.pack("<5I", fmt.dxgi, 4, 0, 1, 0)
+    else:
+        caps = struct.pack("<5I", 0x1000, 0, 0, 0, 0)  # DDSCAPS_TEXTURE
+        dx10 = struct.pack("<5I", fmt.dxgi, 3, 0, 1, 0)  # TEXTURE2D, arraySize 1
     data = np.ascontiguousarray(lut.stored, dtype=fmt.dtype).tobytes()
     trailer = META_KEY.encode() + b"\0" + _meta_text(meta).encode()
     return DDS_MAGIC + header + pixel_format + caps + dx10 + data + trailer
@@ -270,15 +309,18 @@ def dds_bytes(lut: Lut, meta: dict[str, Any]) -> bytes:
 def _read_dds(raw: bytes) -> tuple[np.ndarray, dict[str, Any]]:
     from .lut import FORMATS
 
+    (flags,) = struct.unpack_from("<I", raw, 8)
     height, width = struct.unpack_from("<2I", raw, 12)
+    (depth,) = struct.unpack_from("<I", raw, 24)
+    depth = depth if flags & 0x800000 else 0
     (dxgi,) = struct.unpack_from("<I", raw, 128)
     fmt = next(f for f in FORMATS.values() if f.dxgi == dxgi)
-    count = height * width * fmt.channels
-    stored = np.frombuffer(raw, fmt.dtype, count, 148)
+    shape = (height, width, fmt.channels) if depth == 0 else (depth, height, width, fmt.channels)
+    stored = np.frombuffer(raw, fmt.dtype, int(np.prod(shape)), 148)
     rest = raw[148 + stored.nbytes :]
     key, _, text = rest.partition(b"\0")
     meta = json.loads(text) if key == META_KEY.encode() else {}
-    return _decode(stored.reshape(height, width, fmt.channels), fmt), meta
+    return _decode(stored.reshape(shape), fmt), meta
 
 
 # -------------------------------------------------------------------------------- PNG
@@ -288,7 +330,7 @@ def _save_png(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
     """16-bit grey (one channel) or RGB (two: blue 0); per channel ``value = offset +
     scale * pixel / 65535`` with offset and scale recorded. The texels encoded are the
     format's decoded ones, so the budget's quantization holds plus the PNG's own step."""
-    values = lut.decoded
+    values = _stacked(lut.decoded)
     lo = values.reshape(-1, values.shape[-1]).min(axis=0)
     hi = values.reshape(-1, values.shape[-1]).max(axis=0)
     scale = np.where(hi > lo, hi - lo, 1.0)
@@ -297,7 +339,7 @@ def _save_png(lut: Lut, path: Path, meta: dict[str, Any]) -> None:
         pixels = np.concatenate([pixels, np.zeros_like(pixels[..., :1])], axis=-1)
     step = (scale / 65535).tolist()
     decoded = lo + scale * pixels[..., : values.shape[-1]] / 65535
-    png_worst = np.abs(decoded - lut.image).reshape(-1, values.shape[-1]).max(axis=0)
+    png_worst = np.abs(decoded - _stacked(lut.image)).reshape(-1, values.shape[-1]).max(axis=0)
     meta = dict(meta)
     meta["png"] = {
         "offset": lo.tolist(),
@@ -323,7 +365,7 @@ def _read_png(path: Path) -> tuple[np.ndarray, dict[str, Any]]:
     p = meta["png"]
     n = len(p["channels"])
     lo, scale = np.asarray(p["offset"]), np.asarray(p["scale"])
-    return lo + scale * pixels[..., :n].astype(np.float64) / 65535, meta
+    return _unstacked(lo + scale * pixels[..., :n].astype(np.float64) / 65535, meta), meta
 
 
 # ------------------------------------------------------------------------------- read
@@ -367,4 +409,6 @@ def _read_source(text: str) -> tuple[np.ndarray, dict[str, Any]]:
     numbers = re.findall(r"[-+]?\d+\.\d*(?:[eE][-+]?\d+)?", body)
     values = np.array([float(x) for x in numbers], dtype=np.float64)
     h, w = meta["height"], meta["width"]
+    if meta.get("depth"):
+        return values.reshape(int(meta["depth"]), h, w, -1), meta
     return values.reshape(h, w, -1), meta

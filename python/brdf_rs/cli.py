@@ -776,7 +776,7 @@ def _lut_spec(args: argparse.Namespace) -> Any:
     for key in ("kind", "model", "format", "samples", "seed", "name", "sheen"):
         if getattr(args, key) is not None:
             changes[key] = getattr(args, key)
-    for key in ("columns", "rows"):
+    for key in ("columns", "rows", "layers"):
         if getattr(args, key) is not None:
             changes[key] = lut.parse_axis(getattr(args, key), f"--{key}")
     if args.channels is not None:
@@ -852,8 +852,9 @@ def cmd_lut(args: argparse.Namespace) -> int:
         default = f"{args.preset}{lut.PRESETS[args.preset].container}"
     out = Path(args.output or default)
     try:
-        count = spec.columns.size * spec.rows.size * len(spec.channel_names)
-        _lutfiles.check(spec.format, out, None if args.fit is not None else count)
+        count = math.prod(spec.shape) * len(spec.channel_names)
+        depth = spec.layers.size if spec.layers is not None else 0
+        _lutfiles.check(spec.format, out, None if args.fit is not None else count, depth)
     except ValueError as exc:
         raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
     if args.fit is not None:
@@ -935,6 +936,7 @@ def cmd_lut(args: argparse.Namespace) -> int:
         "command": spec.command(out.name),
         "width": spec.columns.size,
         "height": spec.rows.size,
+        **({"depth": spec.layers.size} if spec.layers is not None else {}),
         "format": spec.format,
         "channels": list(spec.channel_names),
         "budget": table.budget.to_json(),
@@ -943,10 +945,8 @@ def cmd_lut(args: argparse.Namespace) -> int:
         _print_json(summary)
         return 0
     b = table.budget
-    print(
-        f"{spec.kind} LUT of {spec.model}, {spec.columns.size} x {spec.rows.size} {spec.format}:"
-        f" {saved.where}, {seconds:.2f} s"
-    )
+    size = " x ".join(str(n) for n in spec.shape[::-1])
+    print(f"{spec.kind} LUT of {spec.model}, {size} {spec.format}: {saved.where}, {seconds:.2f} s")
     print("  channel  MC stderr  quant worst  quant RMS  interp worst  total (3 sigma per point)")
     for k, c in enumerate(b.channels):
         print(
@@ -1497,12 +1497,18 @@ def _add_lut_command(sub: Any) -> None:
     p.add_argument("--kind", default=None, help=f"what the table holds: {', '.join(lut.KINDS)}")
     p.add_argument("--model", default=None, help="the model (default: the preset's)")
     axis_help = (
-        "QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]], QUANTITY one of "
+        "QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR[:CEILING]]], QUANTITY one of "
         + ", ".join(lut.QUANTITIES)
         + "; PLACEMENT centres or ends"
     )
     p.add_argument("--columns", default=None, help="the texture's x axis: " + axis_help)
     p.add_argument("--rows", default=None, help="the texture's y axis (row 0 first): " + axis_help)
+    p.add_argument(
+        "--layers",
+        default=None,
+        help="a 3-D table's depth axis (slice 0 first), the index of refraction of a"
+        " transmitting model's energy table (eta, eta_z or eta_z_inside): " + axis_help,
+    )
     p.add_argument("--format", default=None, help=f"pixel format: {', '.join(lut.FORMATS)}")
     p.add_argument("--channels", default=None, help="channels kept, comma-separated (e.g. E)")
     p.add_argument(

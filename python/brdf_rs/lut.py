@@ -57,6 +57,7 @@ __all__ = [
     "preset",
     "read",
     "recipe_hash",
+    "trilinear",
     "verify",
 ]
 
@@ -68,8 +69,14 @@ QUANTITIES = {
     "sqrt_mu": "the texel coordinate is sqrt(mu), mu = cos(theta_v)",
     "alpha": "the model's roughness parameter itself",
     "perceptual": "perceptual roughness r, the model's roughness parameter = r^2",
+    "eta": "the relative index of refraction eta itself (a dielectric table's third axis)",
+    "eta_z": "z = sqrt(|eta - 1|/(eta + 1)) = F0^(1/4), eta = (1 + z^2)/(1 - z^2) >= 1: light"
+    " from the less dense side",
+    "eta_z_inside": "z = sqrt(|eta - 1|/(eta + 1)) = F0^(1/4), eta = (1 - z^2)/(1 + z^2) <= 1:"
+    " light from the denser side (a table at 1/eta)",
 }
 _MU_QUANTITIES = ("mu", "sqrt_mu")
+_ETA_QUANTITIES = ("eta", "eta_z", "eta_z_inside")
 
 #: Where a texel's sample sits: ``centres``: texel k of n at ``(k + 0.5)/n`` of the range
 #: (what a GPU's bilinear filter assumes); ``ends``: at ``k/(n − 1)`` (first and last
@@ -92,6 +99,23 @@ _CHANNEL_TEXT = {
     " at the table's roughness parameter value, or the sheen model's smallest where the"
     " table's is below it",
 }
+
+
+#: What a 3-D (transmitting model's) energy table's channels hold.
+_CHANNEL_TEXT_3D = {
+    "E": "E(mu, roughness, eta): the total albedo (reflection + transmission) of the white"
+    " rough dielectric (ks = kt = 1, nothing absorbed) for light arriving at n.v = mu from"
+    " the side the index eta says (eta > 1: from the less dense side); 1 - E is what single"
+    " scattering misses",
+    "E_avg": "E_avg(roughness, eta) = 2 * integral of E(mu) mu dmu (constant along the mu axis)",
+}
+
+
+def _channel_text(spec: LutSpec, channel: str) -> str:
+    """What ``channel`` of a table described by ``spec`` holds."""
+    if spec.layers is not None:
+        return _CHANNEL_TEXT_3D[channel]
+    return _CHANNEL_TEXT[channel]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -136,7 +160,7 @@ CONTAINERS = {
     ".ktx2": "KTX 2.0 texture (one level, no supercompression)",
     ".dds": "DirectDraw Surface with the DX10 header",
     ".png": "16-bit PNG, value = offset + scale * pixel / 65535 per channel",
-    ".h": "C/C++ header: the array and a bilinear lookup function",
+    ".h": "C/C++ header: the array and a bilinear lookup function (trilinear for a 3-D table)",
     ".glsl": "GLSL: the array and a bilinear lookup function",
     ".hlsl": "HLSL: the array and a bilinear lookup function",
     ".wgsl": "WGSL: the array and a bilinear lookup function",
@@ -151,9 +175,11 @@ class Axis:
     """One axis of a LUT: ``size`` texels over ``[lo, hi]`` of ``quantity`` (see
     :data:`QUANTITIES`), placed at texel ``centres`` or at the range's ``ends``
     (:data:`PLACEMENTS`). The integral at a texel is evaluated at ``max(q, floor)`` (a
-    floor keeps e.g. roughness 0 out of a model's range, as Cycles clamps to 1e-4). A mu
-    axis with texels at the ``ends`` from ``lo = 0`` needs a floor: its first texel would
-    be at mu = 0, where the albedo is 0 by convention."""
+    floor keeps e.g. roughness 0 out of a model's range, as Cycles clamps to 1e-4), and
+    at ``min(q, ceiling)`` when a ``ceiling`` is given (Cycles evaluates its index axis
+    at ``z <= 0.99``: ``z = 1`` is an infinite index). A mu axis with texels at the
+    ``ends`` from ``lo = 0`` needs a floor: its first texel would be at mu = 0, where the
+    albedo is 0 by convention."""
 
     quantity: str
     size: int
@@ -161,11 +187,13 @@ class Axis:
     lo: float = 0.0
     hi: float = 1.0
     floor: float = 0.0
+    ceiling: float | None = None
 
     def __post_init__(self) -> None:
         # Whole numbers are taken as floats: the recipe, its hash and the code's literals
         # are then the same for 0 and 0.0.
-        for field in ("lo", "hi", "floor"):
+        fields = ("lo", "hi", "floor") + (() if self.ceiling is None else ("ceiling",))
+        for field in fields:
             value = getattr(self, field)
             if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
                 raise ValueError(f"axis {field}: expected a number, got {value!r}")
@@ -187,10 +215,15 @@ class Axis:
             raise ValueError(f"axis size: {self.size} texels is more than 4096")
         if not (math.isfinite(self.lo) and math.isfinite(self.hi) and 0 <= self.lo < self.hi):
             raise ValueError(f"axis range: expected 0 <= lo < hi, got [{self.lo}, {self.hi}]")
-        if self.quantity in _MU_QUANTITIES and self.hi > 1:
+        if self.quantity in (*_MU_QUANTITIES, "eta_z", "eta_z_inside") and self.hi > 1:
             raise ValueError(f"axis range: {self.quantity} is at most 1, got hi = {self.hi}")
         if not (math.isfinite(self.floor) and 0 <= self.floor < self.hi):
             raise ValueError(f"axis floor: expected 0 <= floor < hi, got {self.floor}")
+        if self.ceiling is not None and not self.floor < self.ceiling <= self.hi:
+            raise ValueError(
+                f"axis ceiling: expected floor < ceiling <= hi, got {self.ceiling} (floor"
+                f" {self.floor}, hi {self.hi})"
+            )
         if self.role == "mu" and self.placement == "ends" and max(self.lo, self.floor) == 0:
             # The albedo at exactly mu = 0 is 0 by convention, not its limit: a whole first
             # row of zeros that the lookup would interpolate towards.
@@ -204,8 +237,10 @@ class Axis:
 
     @property
     def role(self) -> str:
-        """``"mu"`` or ``"roughness"``."""
-        return "mu" if self.quantity in _MU_QUANTITIES else "roughness"
+        """``"mu"``, ``"roughness"`` or ``"eta"``."""
+        if self.quantity in _MU_QUANTITIES:
+            return "mu"
+        return "eta" if self.quantity in _ETA_QUANTITIES else "roughness"
 
     def fractions(self) -> np.ndarray:
         """Where the texels sit, as fractions of ``[lo, hi]``."""
@@ -219,15 +254,29 @@ class Axis:
         return self.lo + (self.hi - self.lo) * self.fractions()
 
     def physical(self, q: np.ndarray) -> np.ndarray:
-        """``mu`` or the model's roughness parameter at quantity values ``q`` (floored)."""
+        """``mu``, the model's roughness parameter or ``eta`` at quantity values ``q``
+        (floored, and capped at the ceiling when there is one; ``eta_z = 1`` is an
+        infinite index)."""
         q = np.maximum(np.asarray(q, dtype=np.float64), self.floor)
-        return q * q if self.quantity in ("sqrt_mu", "perceptual") else q
+        if self.ceiling is not None:
+            q = np.minimum(q, self.ceiling)
+        if self.quantity in ("sqrt_mu", "perceptual"):
+            return np.asarray(q * q)
+        if self.quantity in ("eta_z", "eta_z_inside"):
+            z2 = q * q
+            with np.errstate(divide="ignore"):
+                eta = np.asarray((1 + z2) / (1 - z2))
+            return np.asarray(1 / eta) if self.quantity == "eta_z_inside" else eta
+        return q
 
     def quantity_of(self, x: Any) -> np.ndarray:
-        """The axis quantity of a physical value (``mu`` or the roughness parameter)."""
+        """The axis quantity of a physical value (``mu``, the roughness parameter or
+        ``eta``)."""
         a = np.asarray(x, dtype=np.float64)
         if self.quantity in ("sqrt_mu", "perceptual"):
             return np.asarray(np.sqrt(np.maximum(a, 0)))
+        if self.quantity in ("eta_z", "eta_z_inside"):
+            return np.asarray(np.sqrt(np.abs(a - 1) / (a + 1)))
         return a
 
     def texel(self, q: Any) -> np.ndarray:
@@ -238,12 +287,15 @@ class Axis:
         return np.clip(x, 0.0, self.size - 1.0)
 
     def spec(self) -> str:
-        """The command line's text for this axis: ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]]``."""
+        """The command line's text for this axis:
+        ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR[:CEILING]]]``."""
         text = f"{self.quantity}:{self.placement}:{self.size}"
-        if (self.lo, self.hi, self.floor) != (0.0, 1.0, 0.0):
+        if (self.lo, self.hi, self.floor, self.ceiling) != (0.0, 1.0, 0.0, None):
             text += f":{self.lo!r}:{self.hi!r}"
-            if self.floor:
+            if self.floor or self.ceiling is not None:
                 text += f":{self.floor!r}"
+            if self.ceiling is not None:
+                text += f":{self.ceiling!r}"
         return text
 
     def describe(self, param: str) -> str:
@@ -253,6 +305,11 @@ class Axis:
             "sqrt_mu": "sqrt(mu), mu = cos(theta_v)",
             "alpha": f"{param} (the model's roughness parameter)",
             "perceptual": f"perceptual roughness r with {param} = r^2",
+            "eta": "eta, the relative index of refraction (below / above)",
+            "eta_z": "z = sqrt(|eta - 1|/(eta + 1)) with eta = (1 + z^2)/(1 - z^2) >= 1 (light"
+            " from the less dense side)",
+            "eta_z_inside": "z = sqrt(|eta - 1|/(eta + 1)) with eta = (1 - z^2)/(1 + z^2) <= 1"
+            " (light from the denser side)",
         }[self.quantity]
         where = (
             f"texel k at q = lo + (hi - lo) * (k + 0.5) / {self.size} (texel centres)"
@@ -261,10 +318,17 @@ class Axis:
             " first and last texels)"
         )
         floor = f", evaluated at max(q, {self.floor!r})" if self.floor else ""
+        if self.ceiling is not None:
+            floor += f" and at most {self.ceiling!r}"
         return f"q = {what} over [{self.lo!r}, {self.hi!r}], {self.size} texels, {where}{floor}"
 
     def to_json(self) -> dict[str, Any]:
-        return dataclasses.asdict(self)
+        # Without a ceiling the record is the one axes have always had (recipes, and so
+        # content hashes, of existing tables are unchanged).
+        record = dataclasses.asdict(self)
+        if self.ceiling is None:
+            del record["ceiling"]
+        return record
 
 
 #: :attr:`Budget.confidence` for a table computed without sampling.
@@ -277,24 +341,25 @@ _CLOSED_FORM_CONFIDENCE = (
 
 
 def parse_axis(text: str, what: str = "axis") -> Axis:
-    """An :class:`Axis` from ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]]``, e.g.
-    ``mu:centres:128`` or ``perceptual:ends:32:0:1:1e-4``."""
+    """An :class:`Axis` from ``QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR[:CEILING]]]``, e.g.
+    ``mu:centres:128``, ``perceptual:ends:32:0:1:1e-4`` or ``eta_z:ends:16:0:1:1e-4:0.99``."""
     parts = str(text).split(":")
-    if not 3 <= len(parts) <= 6 or len(parts) == 4:
+    if not 3 <= len(parts) <= 7 or len(parts) == 4:
         raise ValueError(
-            f"{what}: expected QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR]], e.g. mu:centres:128;"
-            f" got {text!r}"
+            f"{what}: expected QUANTITY:PLACEMENT:SIZE[:LO:HI[:FLOOR[:CEILING]]], e.g."
+            f" mu:centres:128; got {text!r}"
         )
     try:
         size = int(parts[2])
         numbers = [float(p) for p in parts[3:]]
     except ValueError:
         raise ValueError(
-            f"{what}: SIZE must be an integer and LO, HI, FLOOR numbers; got {text!r}"
+            f"{what}: SIZE must be an integer and LO, HI, FLOOR, CEILING numbers; got {text!r}"
         ) from None
     lo, hi, floor = (numbers + [0.0, 1.0, 0.0][len(numbers) :])[:3] if numbers else (0.0, 1.0, 0.0)
+    ceiling = numbers[3] if len(numbers) == 4 else None
     try:
-        return Axis(parts[0], size, parts[1], lo, hi, floor)
+        return Axis(parts[0], size, parts[1], lo, hi, floor, ceiling)
     except ValueError as exc:
         raise ValueError(f"{what}: {exc}") from None
 
@@ -307,7 +372,11 @@ class LutSpec:
     """Everything that determines a LUT: what it holds, the model, the two axes (the
     texture's ``columns``, its width, and ``rows``, its height: row 0 is the first row
     stored), the pixel format, the channels kept (default: all of the kind's; a
-    one-channel format keeps the first unless told) and the estimator's settings."""
+    one-channel format keeps the first unless told) and the estimator's settings.
+
+    A transmitting model's energy table (the rough dielectrics) is a 3-D texture: its
+    ``layers`` axis (the depth, slice 0 first) is the index of refraction (``eta``,
+    ``eta_z`` or ``eta_z_inside``). The other tables have no ``layers``."""
 
     kind: str
     model: str
@@ -319,6 +388,7 @@ class LutSpec:
     seed: int = 0
     name: str = "brdf_lut"
     sheen: str | None = None
+    layers: Axis | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -326,8 +396,9 @@ class LutSpec:
         if self.format not in FORMATS:
             raise ValueError(f"format: unknown {self.format!r}; use {', '.join(FORMATS)}")
         specs = _spec.specs()
+        transmitting = _spec.transmitting()
         if self.kind == "energy":
-            known: Sequence[str] = _spec.with_energy_table()
+            known: Sequence[str] = _spec.with_energy_table() + transmitting
         else:
             known = list(_spec.with_dfg())
         if self.model not in known:
@@ -340,6 +411,24 @@ class LutSpec:
             raise ValueError(
                 "axes: one axis must be mu (mu or sqrt_mu) and the other roughness (alpha or"
                 f" perceptual); got {self.columns.quantity} and {self.rows.quantity}"
+            )
+        if self.layers is not None and not isinstance(self.layers, Axis):
+            raise ValueError(f"layers: expected an Axis or None, got {self.layers!r}")
+        if self.model in transmitting and self.layers is None:
+            raise ValueError(
+                f"layers: {self.model}'s energy table is E(mu, alpha, eta), a 3-D texture;"
+                " give the eta axis (layers=Axis('eta_z', 16, 'ends', floor=1e-4,"
+                " ceiling=0.99), --layers eta_z:ends:16:0:1:0.0001:0.99)"
+            )
+        if self.model not in transmitting and self.layers is not None:
+            raise ValueError(
+                f"layers: only the transmitting models' energy tables have a third axis"
+                f" ({', '.join(transmitting)}); {self.model}'s table is 2-D"
+            )
+        if self.layers is not None and self.layers.role != "eta":
+            raise ValueError(
+                "layers: the third axis is the index of refraction (eta, eta_z or"
+                f" eta_z_inside); got {self.layers.quantity}"
             )
         fmt = FORMATS[self.format]
         chosen = self.channel_names
@@ -373,19 +462,25 @@ class LutSpec:
             raise ValueError(f"seed: expected a non-negative integer, got {self.seed!r}")
         if not (isinstance(self.name, str) and self.name.isidentifier() and self.name.isascii()):
             raise ValueError(f"name: expected a C identifier, got {self.name!r}")
-        for label, axis in (("columns", self.columns), ("rows", self.rows)):
-            if axis.role != "roughness":
+        for label, axis in self._axes():
+            if axis.role == "mu":
                 continue
+            param = self.param if axis.role == "roughness" else "eta"
             ends = axis.physical(axis.positions()[[0, -1]])
             for which, value, fix in (
                 ("first", float(ends[0]), "raise lo or give a floor"),
-                ("last", float(ends[1]), "lower hi"),
+                ("last", float(ends[1]), "lower hi or give a ceiling"),
             ):
-                if not _spec.admits(self.model, self.param, value):
+                if not _spec.admits(self.model, param, value):
                     raise ValueError(
-                        f"{label}: {self.param} = {value!r} at the {which} texel is out of"
+                        f"{label}: {param} = {value!r} at the {which} texel is out of"
                         f" range for {self.model}; {fix}"
                     )
+
+    def _axes(self) -> list[tuple[str, Axis]]:
+        """The axes by their field names, ``layers`` last when there is one."""
+        axes = [("columns", self.columns), ("rows", self.rows)]
+        return axes + ([("layers", self.layers)] if self.layers is not None else [])
 
     @property
     def channel_names(self) -> tuple[str, ...]:
@@ -408,6 +503,13 @@ class LutSpec:
     def roughness_axis(self) -> Axis:
         return self.columns if self.columns.role == "roughness" else self.rows
 
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The texture's shape without channels: ``(rows, columns)``, or ``(layers, rows,
+        columns)`` for a 3-D table."""
+        plane = (self.rows.size, self.columns.size)
+        return plane if self.layers is None else (self.layers.size, *plane)
+
     def recipe(self) -> dict[str, Any]:
         """What made the table: hashed for its provenance."""
         return {
@@ -424,7 +526,7 @@ class LutSpec:
             "sheen": self.sheen,
             "estimator": _estimator(self.kind, self.model),
             "brdf_rs": __version__,
-        }
+        } | ({} if self.layers is None else {"layers": self.layers.to_json()})
 
     def content_hash(self) -> str:
         return recipe_hash(self.recipe())
@@ -453,6 +555,7 @@ class LutSpec:
             "--name",
             self.name,
             *(["--sheen", self.sheen] if self.sheen is not None else []),
+            *(["--layers", self.layers.spec()] if self.layers is not None else []),
             "-o",
             output,
         ]
@@ -471,6 +574,7 @@ class LutSpec:
             seed=int(recipe["seed"]),
             name=recipe["name"],
             sheen=recipe.get("sheen"),
+            layers=Axis(**recipe["layers"]) if recipe.get("layers") is not None else None,
         )
 
 
@@ -504,6 +608,12 @@ def _estimator(kind: str, model: str) -> str:
         return (
             "brdf_rs.energy_compensation_table: E the closed form of the albedo seen from the"
             " view, E_avg by adaptive Gauss-Legendre in mu with an error bound"
+        )
+    if kind == "energy" and model in _spec.transmitting():
+        return (
+            "brdf_rs.energy_compensation_table: randomized QMC (Owen-scrambled Sobol) of the"
+            " total albedo (reflection + transmission) of the white interface, E_avg by"
+            " adaptive Gauss-Kronrod (7/15 points) in sqrt(mu)"
         )
     return _ESTIMATOR[kind]
 
@@ -608,6 +718,34 @@ def _presets() -> dict[str, Preset]:
             " ggx_Eavg, data[y * nx + x]) and kernel/util/lookup_table.h (x = saturate(x) *"
             " (size - 1): samples at the ends)",
         ),
+        "cycles_glass": Preset(
+            _cycles_glass("eta_z", "cycles_ggx_glass_E"),
+            ".h",
+            "Blender Cycles' ggx_glass_E and ggx_glass_Eavg: 16 x 16 x 16 floats, x = r ="
+            " i/15 (alpha = r^2), y = mu = j/15, slices z = k/15 with eta = (1 + z^2)/(1 -"
+            " z^2) (z = F0^(1/4)); r clamped to >= 3.1623e-4 (Cycles: 1e-4), mu to >= 1e-4,"
+            " z to [1e-4, 0.99]; E = the total albedo (reflection + transmission) of the"
+            " white rough glass for light from the less dense side; E_avg(r, z) in the"
+            " second channel",
+            "Blender intern/cycles/app/cycles_precompute.cpp (precompute_terms ggx_glass_E and"
+            " ggx_glass_Eavg: rough = x/(nx - 1), mu = y/(ny - 1), z = z/(nz - 1) clamped to"
+            " [1e-4, 0.99], ior = ior_from_F0(z^4), data[y * nx + x] per slice z) and"
+            " kernel/closure/bsdf_microfacet.h (microfacet_ggx_preserve_energy:"
+            " lookup_table_read_3D(kg, rough, mu, z, ...), rough = sqrt(alpha), z ="
+            " sqrt(|ior - 1|/(ior + 1)), the _inv_ tables at 1/ior when ior < 1)",
+        ),
+        "cycles_glass_inv": Preset(
+            _cycles_glass("eta_z_inside", "cycles_ggx_glass_inv_E"),
+            ".h",
+            "Blender Cycles' ggx_glass_inv_E and ggx_glass_inv_Eavg: the cycles_glass"
+            " layout for light from the denser side, eta = (1 - z^2)/(1 + z^2) (Cycles reads"
+            " it at z of 1/ior when ior < 1). The values are the single-scattering model's:"
+            " Cycles' own are higher near grazing incidence, as its sampler keeps a"
+            " refraction back to the light's side (docs/luts.md)",
+            "Blender intern/cycles/app/cycles_precompute.cpp (precompute_terms"
+            " ggx_glass_inv_E and ggx_glass_inv_Eavg: precompute_ggx_glass_E at 1/ior) and"
+            " kernel/closure/bsdf_microfacet.h (microfacet_ggx_preserve_energy)",
+        ),
         "gltf": Preset(
             LutSpec(
                 "dfg",
@@ -647,6 +785,20 @@ def _presets() -> dict[str, Preset]:
     }
 
 
+def _cycles_glass(eta_quantity: str, name: str) -> LutSpec:
+    """Cycles' 16^3 glass table over (r, mu, z), light from outside or inside."""
+    return LutSpec(
+        "energy",
+        "ggx_dielectric",
+        Axis("perceptual", 16, "ends", floor=_CYCLES_ROUGHNESS_FLOOR),
+        Axis("mu", 16, "ends", floor=1e-4),
+        "R32G32_SFLOAT",
+        samples=4096,
+        name=name,
+        layers=Axis(eta_quantity, 16, "ends", floor=1e-4, ceiling=0.99),
+    )
+
+
 def preset(name: str, **changes: Any) -> LutSpec:
     """The :class:`LutSpec` of a preset, with fields replaced by ``changes`` (e.g.
     ``samples=64``)."""
@@ -659,15 +811,30 @@ def preset(name: str, **changes: Any) -> LutSpec:
 
 
 def _integrate(
-    spec: LutSpec, mu_q: np.ndarray, rough_q: np.ndarray, seed: int, progress: Any = None
+    spec: LutSpec,
+    mu_q: np.ndarray,
+    rough_q: np.ndarray,
+    seed: int,
+    progress: Any = None,
+    eta_q: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The kind's channels and standard errors at quantity values ``mu_q`` x ``rough_q``,
-    shape ``(len(mu_q), len(rough_q), channels)`` (every channel of the kind)."""
+    """The kind's channels and standard errors at quantity values ``mu_q`` x ``rough_q``
+    (x ``eta_q`` for a 3-D table), shape ``(len(mu_q), len(rough_q)[, len(eta_q)],
+    channels)`` (every channel of the kind)."""
     from . import _albedo
 
     mu = spec.mu_axis.physical(mu_q)
     rough = spec.roughness_axis.physical(rough_q)
     extra: dict[str, Any] = {} if progress is None else {"progress": progress}
+    if spec.layers is not None:
+        assert eta_q is not None
+        eta = spec.layers.physical(eta_q)
+        e = _albedo.energy_compensation_table(
+            spec.model, mu, rough, eta=eta, samples=spec.samples, tol=None, seed=seed, **extra
+        )
+        value = np.stack([e.e, np.broadcast_to(e.e_avg, e.e.shape)], axis=-1)
+        stderr = np.stack([e.stderr, np.broadcast_to(e.e_avg_stderr, e.e.shape)], axis=-1)
+        return value, stderr
     if spec.kind == "energy":
         e = _albedo.energy_compensation_table(
             spec.model, mu, rough, samples=spec.samples, tol=None, seed=seed, **extra
@@ -717,9 +884,13 @@ def _sheen(spec: LutSpec) -> tuple[dict[str, Any], float]:
 
 
 def _to_image(spec: LutSpec, a: np.ndarray) -> np.ndarray:
-    """``(mu, roughness, channels)`` to the image's ``(rows, columns, channels)``, kept
-    channels only."""
-    if spec.rows.role != "mu":
+    """``(mu, roughness[, eta], channels)`` to the image's ``([layers,] rows, columns,
+    channels)``, kept channels only."""
+    if spec.layers is not None:
+        a = np.moveaxis(a, 2, 0)  # (eta, mu, roughness, channels)
+        if spec.rows.role != "mu":
+            a = np.swapaxes(a, 1, 2)
+    elif spec.rows.role != "mu":
         a = np.swapaxes(a, 0, 1)
     keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
     return np.ascontiguousarray(a[..., keep])
@@ -775,6 +946,43 @@ def bilinear(image: np.ndarray, columns: Axis, rows: Axis, col_q: Any, row_q: An
     return np.asarray(top * (1 - fy) + bottom * fy)
 
 
+def trilinear(
+    volume: np.ndarray,
+    columns: Axis,
+    rows: Axis,
+    layers: Axis,
+    col_q: Any,
+    row_q: Any,
+    layer_q: Any,
+) -> np.ndarray:
+    """Trilinear lookup of ``volume`` (layers, rows, columns, channels) at axis
+    quantities: :func:`bilinear` in the two slices around ``layer_q``, blended along the
+    layers with the same texel mapping and clamping (a GPU's 3-D texture filter)."""
+    vol = np.asarray(_arrays.as_numeric("volume", volume), dtype=np.float64)
+    if vol.ndim != 4 or vol.shape[0] != layers.size:
+        raise ValueError(
+            f"volume: expected shape ({layers.size}, {rows.size}, {columns.size}, channels)"
+            f" for these axes, got {vol.shape}"
+        )
+    layer = np.asarray(_arrays.as_numeric("layer_q", layer_q), dtype=np.float64)
+    _finite("layer_q", layer)
+    col, row, layer = np.broadcast_arrays(
+        np.asarray(_arrays.as_numeric("col_q", col_q), dtype=np.float64),
+        np.asarray(_arrays.as_numeric("row_q", row_q), dtype=np.float64),
+        layer,
+    )
+    z = layers.texel(layer)
+    z0 = np.minimum(np.floor(z).astype(np.intp), layers.size - 2)
+    fz = (z - z0)[..., None]
+    out = np.empty((*z.shape, vol.shape[-1]))
+    for k in np.unique(z0):
+        at = z0 == k
+        near = bilinear(vol[k], columns, rows, col[at], row[at])
+        far = bilinear(vol[k + 1], columns, rows, col[at], row[at])
+        out[at] = near * (1 - fz[at]) + far * fz[at]
+    return out
+
+
 # ------------------------------------------------------------------------------ budget
 
 
@@ -789,14 +997,15 @@ class Budget:
     texel instead, and ``confidence`` says so. ``quant_worst`` / ``quant_rms``: the
     exact largest and RMS difference between the stored (quantized, decoded) texels and
     the float64 integrals.
-    ``interp_worst``: the largest difference between the bilinear lookup of the float64
-    table and a fresh Monte Carlo integral (an independent seed) at ``interp_points``
+    ``interp_worst``: the largest difference between the bilinear (3-D: trilinear)
+    lookup of the float64 table and a fresh Monte Carlo integral (an independent seed)
+    at ``interp_points``
     points between the texels (midpoints between neighbouring texels, and the range
     ends); it holds the texels' and the reference's Monte Carlo noise as well as the
     interpolation error. The reference's standard error is up to ``interp_ref_stderr``.
-    ``interp_worst_at`` says where (``[mu, roughness parameter]``),
-    ``interp_worst_interior`` is the worst over the points between the first and last
-    texels of both axes (leaving out the margins a texel-centre table clamps, where the
+    ``interp_worst_at`` says where (``[mu, roughness parameter]``, and ``eta`` for a
+    3-D table), ``interp_worst_interior`` is the worst over the points between the first
+    and last texels of every axis (leaving out the margins a texel-centre table clamps, where the
     lookup holds the edge texel's value).
 
     ``total`` = quant_worst + interp_worst + 3 * interp_ref_stderr + 3 * mc_max_stderr:
@@ -870,23 +1079,47 @@ def _checkable(
     return mu_pts, r_pts
 
 
-def _worst_inside(spec: LutSpec, mq: np.ndarray, rq: np.ndarray, err: np.ndarray) -> np.ndarray:
+def _worst_inside(
+    spec: LutSpec,
+    mq: np.ndarray,
+    rq: np.ndarray,
+    err: np.ndarray,
+    eq: np.ndarray | None = None,
+) -> np.ndarray:
     """The largest of ``err`` (points x channels, the points at axis quantities ``mq`` x
-    ``rq``) between the first and last texels of both axes, where the table interpolates
-    rather than clamps; 0 where no point is."""
+    ``rq`` [x ``eq``]) between the first and last texels of every axis, where the table
+    interpolates rather than clamps; 0 where no point is."""
     m, r = spec.mu_axis.positions(), spec.roughness_axis.positions()
-    inside = ((mq >= m[0]) & (mq <= m[-1]) & (rq >= r[0]) & (rq <= r[-1])).reshape(-1)
+    inside = (mq >= m[0]) & (mq <= m[-1]) & (rq >= r[0]) & (rq <= r[-1])
+    if spec.layers is not None and eq is not None:
+        e = spec.layers.positions()
+        inside &= (eq >= e[0]) & (eq <= e[-1])
+    inside = inside.reshape(-1)
     return err[inside].max(axis=0) if inside.any() else np.zeros(err.shape[-1])
+
+
+def _eta_check_points(spec: LutSpec, interp_limit: int) -> np.ndarray | None:
+    """A 3-D table's eta quantities the interpolation error is checked at (indices the
+    model refuses left out); None for a 2-D table."""
+    if spec.layers is None:
+        return None
+    pts = _check_points(spec.layers, interp_limit)
+    phys = spec.layers.physical(pts)
+    return pts[[_spec.admits(spec.model, "eta", float(x)) for x in phys]]
 
 
 def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     """The cells of each integration run :func:`build` makes, in order (what a progress
     callback counts: ``progress(cells_done, samples_done)`` restarts at 0 with each). An
-    energy table's ``E_avg`` run counts its first round, 30 cells per roughness: where it
-    halves panels it counts on past that."""
+    energy table's ``E_avg`` run counts its first round, 30 cells per roughness (and
+    index, for a 3-D table): where it halves panels it counts on past that."""
     mu_pts, r_pts = _check_grid(spec, interp_limit)
+    eta_pts = _eta_check_points(spec, interp_limit)
     runs = []
-    for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
+    for m, r in (
+        (spec.mu_axis.size, spec.roughness_axis.size * (spec.shape[0] if spec.layers else 1)),
+        (mu_pts.size, r_pts.size * (eta_pts.size if eta_pts is not None else 1)),
+    ):
         # dfg: F0 = 1, F0 = 0, then the cloth channel's sheen model when there is one;
         # energy: E on the grid, then E_avg's adaptive rule, 30 cells per roughness in
         # its first round (more where it halves panels).
@@ -908,20 +1141,20 @@ def _budget(
     diff = decoded - image
     flat = diff.reshape(-1, diff.shape[-1])
     mu_pts, r_pts = _check_grid(spec, interp_limit)
-    ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress)
+    eta_pts = _eta_check_points(spec, interp_limit)
+    ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress, eta_pts)
     keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
     ref, ref_se = ref[..., keep], ref_se[..., keep]
-    mq, rq = np.meshgrid(mu_pts, r_pts, indexing="ij")
-    if spec.columns.role == "mu":
-        looked = bilinear(image, spec.columns, spec.rows, mq, rq)
-    else:
-        looked = bilinear(image, spec.columns, spec.rows, rq, mq)
+    grids = np.meshgrid(mu_pts, r_pts, *([] if eta_pts is None else [eta_pts]), indexing="ij")
+    mq, rq = grids[0], grids[1]
+    eq = grids[2] if eta_pts is not None else None
+    looked = _lookup_q(spec, image, mq, rq, eq)
     ierr = np.abs(looked - ref).reshape(-1, ref.shape[-1])
-    mu_axis, r_axis = spec.mu_axis, spec.roughness_axis
-    interior = _worst_inside(spec, mq, rq, ierr)
+    axes = [spec.mu_axis, spec.roughness_axis] + ([spec.layers] if spec.layers else [])
+    interior = _worst_inside(spec, mq, rq, ierr, eq)
     worst = ierr.argmax(axis=0)
     where = [
-        [float(mu_axis.physical(mq.reshape(-1)[k])), float(r_axis.physical(rq.reshape(-1)[k]))]
+        [float(a.physical(g.reshape(-1)[k])) for a, g in zip(axes, grids, strict=True)]
         for k in worst
     ]
     mc = stderr.reshape(-1, stderr.shape[-1]).max(axis=0)
@@ -942,19 +1175,28 @@ def _budget(
     )
     if _closed_form(spec.kind, spec.model):
         budget = dataclasses.replace(budget, confidence=_CLOSED_FORM_CONFIDENCE)
-    return budget, Checks(mq, rq, ref, ref_se)
+    return budget, Checks(mq, rq, ref, ref_se, eq)
+
+
+def _lookup_q(spec: LutSpec, image: np.ndarray, mq: Any, rq: Any, eq: Any = None) -> np.ndarray:
+    """The filtered lookup of ``image`` at axis quantities (mu, roughness[, eta])."""
+    cols, rows = (mq, rq) if spec.columns.role == "mu" else (rq, mq)
+    if spec.layers is None:
+        return bilinear(image, spec.columns, spec.rows, cols, rows)
+    return trilinear(image, spec.columns, spec.rows, spec.layers, cols, rows, eq)
 
 
 @dataclasses.dataclass(frozen=True)
 class Checks:
     """The integrals the interpolation error was measured against: at axis quantities
-    ``mu_q`` x ``roughness_q`` (2-D, mu first), ``value`` and ``stderr`` (kept channels
-    last), integrated with an independent seed."""
+    ``mu_q`` x ``roughness_q`` (2-D, mu first; x ``eta_q`` for a 3-D table), ``value``
+    and ``stderr`` (kept channels last), integrated with an independent seed."""
 
     mu_q: np.ndarray
     roughness_q: np.ndarray
     value: np.ndarray
     stderr: np.ndarray
+    eta_q: np.ndarray | None = None
 
 
 # --------------------------------------------------------------------------------- Lut
@@ -962,7 +1204,8 @@ class Checks:
 
 @dataclasses.dataclass(frozen=True)
 class Lut:
-    """A built LUT: ``image`` the float64 integrals (rows, columns, channels),
+    """A built LUT: ``image`` the float64 integrals (rows, columns, channels; a 3-D
+    table's: layers, rows, columns, channels),
     ``stderr`` their standard errors, ``stored`` the texels in the spec's format and
     ``decoded`` what they decode to; ``budget`` its error budget."""
 
@@ -978,16 +1221,23 @@ class Lut:
     def content_hash(self) -> str:
         return self.spec.content_hash()
 
-    def lookup(self, mu: Any, roughness: Any) -> np.ndarray:
+    def lookup(self, mu: Any, roughness: Any, eta: Any = None) -> np.ndarray:
         """Bilinear lookup of the stored table at incidence cosines ``mu`` and values of
-        the model's roughness parameter (``alpha``), as a GPU's filter reads it."""
-        for label, value in (("mu", mu), ("roughness", roughness)):
-            _check_finite(label, value)
+        the model's roughness parameter (``alpha``), as a GPU's filter reads it; a 3-D
+        table's is trilinear and takes the relative index ``eta`` too."""
+        if (eta is None) != (self.spec.layers is None):
+            raise ValueError(
+                "eta: a 3-D table (layers over eta) needs eta; a 2-D table takes none"
+                if eta is None
+                else "eta: this table is 2-D (no layers axis); leave eta out"
+            )
+        for label, value in (("mu", mu), ("roughness", roughness), ("eta", eta)):
+            if value is not None:
+                _check_finite(label, value)
         m = self.spec.mu_axis.quantity_of(mu)
         r = self.spec.roughness_axis.quantity_of(roughness)
-        if self.spec.columns.role == "mu":
-            return bilinear(self.decoded, self.spec.columns, self.spec.rows, m, r)
-        return bilinear(self.decoded, self.spec.columns, self.spec.rows, r, m)
+        e = None if self.spec.layers is None else self.spec.layers.quantity_of(eta)
+        return _lookup_q(self.spec, self.decoded, m, r, e)
 
     def meta(self, output: str = "OUT") -> dict[str, Any]:
         """The metadata every file carries."""
@@ -1003,9 +1253,20 @@ class Lut:
             " v = 0 in GL, Vulkan and D3D when uploaded as stored), channels interleaved",
             "columns": s.columns.describe(s.param),
             "rows": s.rows.describe(s.param),
-            "channels": {c: _CHANNEL_TEXT[c] for c in s.channel_names},
+            "channels": {c: _channel_text(s, c) for c in s.channel_names},
             "budget": self.budget.to_json(),
-        }
+        } | (
+            {}
+            if s.layers is None
+            else {
+                "depth": s.layers.size,
+                "layers": s.layers.describe(s.param),
+                "layout": "slices (layers) outermost, slice 0 first (texture coordinate"
+                " w = 0), each slice row-major, row 0 first, channels interleaved:"
+                " DATA[((layer * HEIGHT + row) * WIDTH + column) * CHANNELS + channel]; in"
+                " an .exr or .png the slices are stacked top to bottom, slice 0 on top",
+            }
+        )
 
     def save(self, path: str | Path) -> Path:
         """Writes the LUT by the suffix of ``path`` (:data:`CONTAINERS`), atomically."""
@@ -1040,8 +1301,14 @@ def build(
         raise TypeError(f"spec: expected a LutSpec, got {type(spec).__name__}")
     if isinstance(interp_limit, bool) or not isinstance(interp_limit, int) or interp_limit < 2:
         raise ValueError(f"interp_limit: expected an integer >= 2, got {interp_limit!r}")
+    eta_q = None if spec.layers is None else spec.layers.positions()
     value, se = _integrate(
-        spec, spec.mu_axis.positions(), spec.roughness_axis.positions(), spec.seed, progress
+        spec,
+        spec.mu_axis.positions(),
+        spec.roughness_axis.positions(),
+        spec.seed,
+        progress,
+        eta_q,
     )
     image, stderr = _to_image(spec, value), _to_image(spec, se)
     stored, decoded = quantize(image, spec.format)
@@ -1074,6 +1341,7 @@ def meet_error(
     alone exceeds the error)."""
     if not (isinstance(max_error, (int, float)) and math.isfinite(max_error) and max_error > 0):
         raise ValueError(f"max_error: expected a positive number, got {max_error!r}")
+    _two_d("meet_error", spec)
     sizes = [int(n) for n in sizes]
     if not sizes or any(n < 2 for n in sizes):
         raise ValueError(f"sizes: expected sizes of at least 2 texels, got {sizes}")
@@ -1147,7 +1415,17 @@ def fit(
 
     if not isinstance(table, Lut):
         raise TypeError(f"table: expected a Lut (lut.build's), got {type(table).__name__}")
+    _two_d("fit", table.spec)
     return _lutfit.fit(table, degree, denominator, dense)
+
+
+def _two_d(what: str, spec: LutSpec) -> None:
+    """Refuses a 3-D table where only 2-D ones are handled."""
+    if spec.layers is not None:
+        raise ValueError(
+            f"{what}: handles 2-D tables; this one has a layers axis ({spec.layers.quantity})."
+            " Build it at a chosen size with build()"
+        )
 
 
 def dense_check(spec: LutSpec) -> DenseCheck:
@@ -1155,6 +1433,7 @@ def dense_check(spec: LutSpec) -> DenseCheck:
     times the texels along each axis, at most 256, ends included), for reuse."""
     from . import _lutfit
 
+    _two_d("dense_check", spec)
     return _lutfit.dense_check(spec)
 
 

@@ -1,7 +1,8 @@
 //! Prints a KTX2 or DDS texture as the `ktx2` / `ddsfile` crates read it: a first line
-//! `format width height channels` (the format by the container's own name for it: the
-//! `VkFormat` of a KTX2, the `DXGI_FORMAT` of a DDS), then one line per texel row with
-//! the decoded values (row-major, channels interleaved, shortest round-trip decimals).
+//! `format width height channels depth` (the format by the container's own name for it:
+//! the `VkFormat` of a KTX2, the `DXGI_FORMAT` of a DDS; depth 1 for a 2-D texture), then
+//! one line per texel row with the decoded values (row-major, channels interleaved,
+//! shortest round-trip decimals; a 3-D texture's slices one after another).
 //!
 //! Usage: `texture_reader <file.ktx2|file.dds>`. Exits with 1 and a message on stderr
 //! when the crates refuse the file or its format is not one this reader decodes.
@@ -54,9 +55,12 @@ fn decode(data: &[u8], layout: Layout) -> Vec<f64> {
         .collect()
 }
 
-fn read(path: &str) -> Result<(String, usize, usize, Vec<f64>, Layout), String> {
+/// A texture as read: its format's name, width, height, depth and texels.
+type Texture = (String, usize, usize, usize, Vec<f64>, Layout);
+
+fn read(path: &str) -> Result<Texture, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
-    let (name, width, height, data) = if path.ends_with(".ktx2") {
+    let (name, width, height, depth, data) = if path.ends_with(".ktx2") {
         let reader = ktx2::Reader::new(bytes.as_slice()).map_err(|e| format!("ktx2: {e:?}"))?;
         let header = reader.header();
         if header.supercompression_scheme.is_some() {
@@ -68,6 +72,7 @@ fn read(path: &str) -> Result<(String, usize, usize, Vec<f64>, Layout), String> 
             format!("{format:?}"),
             header.pixel_width as usize,
             header.pixel_height.max(1) as usize,
+            header.pixel_depth.max(1) as usize,
             level.data.to_vec(),
         )
     } else if path.ends_with(".dds") {
@@ -78,6 +83,7 @@ fn read(path: &str) -> Result<(String, usize, usize, Vec<f64>, Layout), String> 
             format!("{format:?}"),
             dds.get_width() as usize,
             dds.get_height() as usize,
+            dds.get_depth() as usize,
             data.to_vec(),
         )
     } else {
@@ -85,7 +91,7 @@ fn read(path: &str) -> Result<(String, usize, usize, Vec<f64>, Layout), String> 
     };
     let layout =
         layout(&name).ok_or_else(|| format!("{name}: a format this reader does not decode"))?;
-    let expected = width * height * layout.channels * layout.bits / 8;
+    let expected = width * height * depth * layout.channels * layout.bits / 8;
     if data.len() < expected {
         return Err(format!(
             "{name}: {} bytes of texels, {expected} expected",
@@ -93,7 +99,7 @@ fn read(path: &str) -> Result<(String, usize, usize, Vec<f64>, Layout), String> 
         ));
     }
     let values = decode(&data[..expected], layout);
-    Ok((name, width, height, values, layout))
+    Ok((name, width, height, depth, values, layout))
 }
 
 fn main() -> ExitCode {
@@ -102,8 +108,8 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     };
     match read(&path) {
-        Ok((name, width, height, values, layout)) => {
-            println!("{name} {width} {height} {}", layout.channels);
+        Ok((name, width, height, depth, values, layout)) => {
+            println!("{name} {width} {height} {} {depth}", layout.channels);
             for row in values.chunks(width * layout.channels) {
                 let text: Vec<String> = row.iter().map(|v| format!("{v:?}")).collect();
                 println!("{}", text.join(" "));
