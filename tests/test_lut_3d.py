@@ -86,6 +86,18 @@ def test_texels_are_the_energy_table_slices_by_eta_rows_mu_columns_roughness(gla
     np.testing.assert_array_equal(glass.stderr[..., 0], np.transpose(e.stderr, (2, 0, 1)))
 
 
+def test_progress_counts_each_run_of_a_3d_build():
+    spec = small(n=(3, 3, 2))
+    calls = []
+    lut.build(spec, interp_limit=2, progress=lambda done, _: calls.append(done))
+    # E on the grid, E_avg's first round (30 cells per roughness and index), the same
+    # between the texels (ends placement: 2 midpoints per axis); where E_avg halves
+    # panels its run counts on past its first round
+    runs = lut.passes(spec, 2)
+    assert runs == [18, 30 * 3 * 2, 2 * 2 * 1, 30 * 2 * 1]
+    assert calls[:4] == runs and all(c > runs[-1] for c in calls[4:])
+
+
 def test_the_inverse_table_is_the_light_from_the_denser_side():
     t = lut.build(small("cycles_glass_inv", n=(3, 3, 3)), interp_limit=2)
     s = t.spec
@@ -105,6 +117,35 @@ def test_the_inverse_table_is_the_light_from_the_denser_side():
     assert abs(t.image[2, 1, 2, 0] - one.value[0]) <= 4 * math.hypot(
         t.stderr[2, 1, 2, 0], one.stderr[0]
     )
+
+
+def test_ue5_glass_preset_is_unreals_layout_both_sides_of_the_interface_in_one_texel():
+    s = lut.preset("ue5_glass")
+    assert s.shape == (32, 32, 32) and s.format == "R16G16_UNORM"
+    assert s.channel_names == ("E", "E_inv")
+    k = np.arange(32)
+    # Index = (id + 0.5)/N: NoV along x, Roughness along y (alpha = max(r, 0.01)^2), EtaIn =
+    # 1 + 2 Index.z along z; x the light entering the denser side (eta), y leaving (1/eta)
+    assert (s.columns.quantity, s.rows.quantity, s.layers.quantity) == ("mu", "perceptual", "eta")
+    np.testing.assert_allclose(s.columns.physical(s.columns.positions()), (k + 0.5) / 32)
+    np.testing.assert_allclose(s.rows.physical(s.rows.positions()), ((k + 0.5) / 32) ** 2)
+    np.testing.assert_allclose(s.layers.physical(s.layers.positions()), 1 + 2 * (k + 0.5) / 32)
+    small_spec = small("ue5_glass", n=(4, 3, 2), samples=64)
+    t = lut.build(small_spec, interp_limit=2)
+    mu = small_spec.columns.physical(small_spec.columns.positions())
+    alpha = small_spec.rows.physical(small_spec.rows.positions())
+    eta = small_spec.layers.physical(small_spec.layers.positions())
+    for channel, index in ((0, eta), (1, 1 / eta)):
+        e = brdf_rs.energy_compensation_table(
+            "ggx_dielectric", mu, alpha, eta=index, samples=64, tol=None, seed=0
+        )
+        want = np.transpose(e.e, (2, 1, 0))  # [mu, alpha, eta] -> [eta, alpha (rows), mu]
+        assert t.image[..., channel].tobytes() == np.ascontiguousarray(want).tobytes()
+    # E alone on each side: no E_avg run (the two sides' grids, then both checked between
+    # the texels: 2 midpoints and the 2 range ends per texel-centre axis)
+    calls = []
+    lut.build(small_spec, interp_limit=2, progress=lambda done, _: calls.append(done))
+    assert calls == lut.passes(small_spec, 2) == [24, 24, 4 * 4 * 4, 4 * 4 * 4]
 
 
 # ------------------------------------------------------------------------------- lookup

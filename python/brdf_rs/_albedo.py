@@ -791,19 +791,9 @@ def _transmitting_table(
     mu = _grid.axis_values(model, "mu", "mu", mu)
     alpha = _grid.axis_values(model, "alpha", "alpha", alpha)
     eta = _grid.axis_values(model, "eta", "eta", eta)
-    common = {"samples": samples, "tol": tol, "seed": seed, "ks": 1.0, "kt": 1.0, **options}
-    common["component"] = "total"
-    shape = (mu.size, alpha.size, eta.size)
-    ids = np.arange(math.prod(shape), dtype=np.uint64).reshape(shape)
-    grid = albedo(
-        model,
-        mu[:, None, None],
-        alpha=alpha[None, :, None],
-        eta=eta[None, None, :],
-        cell_ids=ids,
-        **common,
-    )
-    e_avg, e_avg_se = _adaptive_average(model, {"alpha": alpha, "eta": eta}, ids.size, common)
+    grid, common = _transmitting_e(model, mu, alpha, eta, samples, tol, seed, options)
+    cells = mu.size * alpha.size * eta.size
+    e_avg, e_avg_se = _adaptive_average(model, {"alpha": alpha, "eta": eta}, cells, common)
     estimator = (
         "randomized QMC (Owen-scrambled Sobol) of the total albedo (reflection +"
         " transmission) of the white interface, E_avg by adaptive Gauss-Kronrod (7/15"
@@ -820,6 +810,55 @@ def _transmitting_table(
         estimator,
         eta,
     )
+
+
+def _transmitting_e(
+    model: str,
+    mu: np.ndarray,
+    alpha: np.ndarray,
+    eta: np.ndarray,
+    samples: int,
+    tol: float | None,
+    seed: int,
+    options: dict[str, Any],
+) -> tuple[Albedo, dict[str, Any]]:
+    """``E(mu, alpha, eta)`` of a transmitting model's energy table alone (checked axes),
+    as :func:`energy_compensation_table` computes it (cells keyed by their flat index),
+    and the integrator's arguments its ``E_avg`` run takes."""
+    common = {"samples": samples, "tol": tol, "seed": seed, "ks": 1.0, "kt": 1.0, **options}
+    common["component"] = "total"
+    shape = (mu.size, alpha.size, eta.size)
+    ids = np.arange(math.prod(shape), dtype=np.uint64).reshape(shape)
+    grid = albedo(
+        model,
+        mu[:, None, None],
+        alpha=alpha[None, :, None],
+        eta=eta[None, None, :],
+        cell_ids=ids,
+        **common,
+    )
+    return grid, common
+
+
+def transmitting_e(
+    model: str,
+    mu: Any,
+    alpha: Any,
+    eta: Any,
+    *,
+    samples: int,
+    seed: int,
+    progress: Any = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """``E`` of :func:`energy_compensation_table`'s transmitting table and its standard
+    errors (``tol=None``), the same bits, without the ``E_avg`` run: for a LUT that keeps
+    no ``E_avg`` channel."""
+    mu = _grid.axis_values(model, "mu", "mu", mu)
+    alpha = _grid.axis_values(model, "alpha", "alpha", alpha)
+    eta = _grid.axis_values(model, "eta", "eta", eta)
+    extra = {} if progress is None else {"progress": progress}
+    grid, _ = _transmitting_e(model, mu, alpha, eta, samples, None, seed, extra)
+    return grid.value[..., 0], grid.stderr[..., 0]
 
 
 #: The integrator's options :func:`energy_compensation_table` checks but does not use

@@ -317,11 +317,11 @@ class DenseCheck:
 def dense_check(spec: LutSpec) -> DenseCheck:
     """The integrals a fit's maximum error is measured against (seed ``spec.seed + 2``,
     the spec's samples per point)."""
-    from .lut import KINDS, _integrate
+    from .lut import _integrate
 
     mu_q, r_q = _dense_grid(spec)
     value, stderr = _integrate(spec, mu_q, r_q, spec.seed + 2)
-    keep = [KINDS[spec.kind].index(ch) for ch in spec.channel_names]
+    keep = [spec.kind_channels.index(ch) for ch in spec.channel_names]
     mq, rq = np.meshgrid(mu_q, r_q, indexing="ij")
     return DenseCheck(spec, mq, rq, value[..., keep], stderr[..., keep])
 

@@ -89,6 +89,9 @@ KINDS: dict[str, tuple[str, ...]] = {
     "dfg_multiscatter": ("B", "A+B", "cloth"),
     "energy": ("E", "E_avg"),
 }
+#: The channels of a 3-D (transmitting model's) energy table: E and E_avg at the layer's
+#: index, and at its inverse (the same interface lit from the other side).
+KINDS_3D: dict[str, tuple[str, ...]] = {"energy": ("E", "E_avg", "E_inv", "E_inv_avg")}
 _CHANNEL_TEXT = {
     "A": "split-sum scale A: R_spec = F0*A + B (Schlick F0, F90 = 1)",
     "B": "split-sum bias B = integral of V*Fc, Fc = (1 - v.h)^5",
@@ -108,6 +111,9 @@ _CHANNEL_TEXT_3D = {
     " the side the index eta says (eta > 1: from the less dense side); 1 - E is what single"
     " scattering misses",
     "E_avg": "E_avg(roughness, eta) = 2 * integral of E(mu) mu dmu (constant along the mu axis)",
+    "E_inv": "E at 1/eta: the same interface lit from the other side (eta > 1 on the"
+    " layers axis: light leaving the denser medium)",
+    "E_inv_avg": "E_avg at 1/eta (constant along the mu axis)",
 }
 
 
@@ -432,11 +438,11 @@ class LutSpec:
             )
         fmt = FORMATS[self.format]
         chosen = self.channel_names
-        unknown = [c for c in chosen if c not in KINDS[self.kind]]
+        unknown = [c for c in chosen if c not in self.kind_channels]
         if unknown or not chosen or len(set(chosen)) != len(chosen):
             raise ValueError(
                 f"channels: {', '.join(chosen) or 'none'} for a {self.kind} table; choose"
-                f" distinct ones of {', '.join(KINDS[self.kind])}"
+                f" distinct ones of {', '.join(self.kind_channels)}"
             )
         if ("cloth" in chosen) != (self.sheen is not None):
             raise ValueError(
@@ -486,7 +492,13 @@ class LutSpec:
     def channel_names(self) -> tuple[str, ...]:
         if self.channels is not None:
             return tuple(self.channels)
-        return KINDS[self.kind][: FORMATS[self.format].channels]
+        return self.kind_channels[: FORMATS[self.format].channels]
+
+    @property
+    def kind_channels(self) -> tuple[str, ...]:
+        """Every channel the table's kind has (:data:`KINDS`, :data:`KINDS_3D` for a 3-D
+        table)."""
+        return KINDS[self.kind] if self.layers is None else KINDS_3D[self.kind]
 
     @property
     def param(self) -> str:
@@ -699,6 +711,34 @@ def _presets() -> dict[str, Preset]:
             " bilinearly, clamped) and Renderer/Private/ShadingEnergyConservation.cpp (32 x 32,"
             " PF_G16R16 UNORM; PF_G32R32F when generated at run time)",
         ),
+        "ue5_glass": Preset(
+            LutSpec(
+                "energy",
+                "ggx_dielectric",
+                Axis("mu", 32, "centres"),
+                Axis("perceptual", 32, "centres", floor=_UE5_ROUGHNESS_FLOOR),
+                "R16G16_UNORM",
+                channels=("E", "E_inv"),
+                samples=1 << 14,  # the engine builder's NumSamples
+                name="ue5_ggx_glass_energy",
+                layers=Axis("eta", 32, "centres", 1.0, 3.0),
+            ),
+            ".dds",
+            "Unreal Engine 5's GGX glass energy table (View.ShadingEnergyGGXGlassTexture):"
+            " 32 x 32 x 32 R16G16 UNORM, x = n.v, y = perceptual roughness (alpha = r^2), z ="
+            " (eta - 1)/2 for eta in [1, 3], all at texel centres; R = the total albedo"
+            " (reflection + refraction) of the white rough glass for light entering the"
+            " denser side (eta), G = for light leaving it (1/eta)",
+            "Unreal Engine Shaders/Private/ShadingEnergyConservationTable.usf"
+            " (BuildEnergyTableCS, BUILD_ENERGY_TABLE 1: Index = (id + 0.5)/N, NoV = Index.x,"
+            " Roughness = Index.y, EtaIn = 1 + 2 Index.z, EtaOut = 1/EtaIn, weights"
+            " GGXEvalReflection / GGXEvalRefraction = G2/G1 after choosing by Fresnel, x"
+            " outside -> in, y inside -> out, written to OutputTexture3D[id]),"
+            " PathTracing/Material/PathTracingGlossy.ush (GetGGXBasis: alpha = max(Roughness,"
+            " 0.01)^2; a refraction to the light's side scores 0) and"
+            " Renderer/Private/ShadingEnergyConservation.cpp (a 32^3 texture of the 2-D"
+            " table's format, PF_G16R16)",
+        ),
         "cycles": Preset(
             LutSpec(
                 "energy",
@@ -829,18 +869,39 @@ def _integrate(
     if spec.layers is not None:
         assert eta_q is not None
         eta = spec.layers.physical(eta_q)
-        e = _albedo.energy_compensation_table(
-            spec.model, mu, rough, eta=eta, samples=spec.samples, tol=None, seed=seed, **extra
-        )
-        value = np.stack([e.e, np.broadcast_to(e.e_avg, e.e.shape)], axis=-1)
-        stderr = np.stack([e.stderr, np.broadcast_to(e.e_avg_stderr, e.e.shape)], axis=-1)
-        return value, stderr
+        values, errors = [], []
+        for side, index in _sides(spec, eta):
+            e, e_se, avg, avg_se = (np.zeros(index.shape) for _ in range(4))
+            if side is None:  # no channel of this side is kept
+                pass
+            elif side == "E":  # E alone: no E_avg run
+                e, e_se = _albedo.transmitting_e(
+                    spec.model, mu, rough, index, samples=spec.samples, seed=seed, **extra
+                )
+            else:
+                ec = _albedo.energy_compensation_table(
+                    spec.model,
+                    mu,
+                    rough,
+                    eta=index,
+                    samples=spec.samples,
+                    tol=None,
+                    seed=seed,
+                    **extra,
+                )
+                e, e_se = ec.e, ec.stderr
+                avg = np.broadcast_to(ec.e_avg, e.shape)
+                avg_se = np.broadcast_to(ec.e_avg_stderr, e.shape)
+            shape = (mu.size, rough.size, eta.size)
+            values += [np.broadcast_to(e, shape), np.broadcast_to(avg, shape)]
+            errors += [np.broadcast_to(e_se, shape), np.broadcast_to(avg_se, shape)]
+        return np.stack(values, axis=-1), np.stack(errors, axis=-1)
     if spec.kind == "energy":
-        e = _albedo.energy_compensation_table(
+        en = _albedo.energy_compensation_table(
             spec.model, mu, rough, samples=spec.samples, tol=None, seed=seed, **extra
         )
-        value = np.stack([e.e, np.broadcast_to(e.e_avg, e.e.shape)], axis=-1)
-        stderr = np.stack([e.stderr, np.broadcast_to(e.e_avg_stderr, e.e.shape)], axis=-1)
+        value = np.stack([en.e, np.broadcast_to(en.e_avg, en.e.shape)], axis=-1)
+        stderr = np.stack([en.stderr, np.broadcast_to(en.e_avg_stderr, en.e.shape)], axis=-1)
         return value, stderr
     t = _albedo.dfg_table(spec.model, mu, rough, samples=spec.samples, seed=seed, **extra)
     a, b = t.value[..., 0], t.value[..., 1]
@@ -883,6 +944,17 @@ def _sheen(spec: LutSpec) -> tuple[dict[str, Any], float]:
     return weights, low
 
 
+def _sides(spec: LutSpec, eta: np.ndarray) -> list[tuple[str | None, np.ndarray]]:
+    """For a 3-D table: the indices of its two sides (``eta`` and ``1/eta``) and what
+    each must compute for the channels kept: ``"E"`` alone, ``"E+avg"`` or None."""
+    chosen = set(spec.channel_names)
+    out: list[tuple[str | None, np.ndarray]] = []
+    for e, avg, index in (("E", "E_avg", eta), ("E_inv", "E_inv_avg", 1 / eta)):
+        need = "E+avg" if avg in chosen else ("E" if e in chosen else None)
+        out.append((need, index))
+    return out
+
+
 def _to_image(spec: LutSpec, a: np.ndarray) -> np.ndarray:
     """``(mu, roughness[, eta], channels)`` to the image's ``([layers,] rows, columns,
     channels)``, kept channels only."""
@@ -892,7 +964,7 @@ def _to_image(spec: LutSpec, a: np.ndarray) -> np.ndarray:
             a = np.swapaxes(a, 1, 2)
     elif spec.rows.role != "mu":
         a = np.swapaxes(a, 0, 1)
-    keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
+    keep = [spec.kind_channels.index(c) for c in spec.channel_names]
     return np.ascontiguousarray(a[..., keep])
 
 
@@ -1116,10 +1188,18 @@ def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     mu_pts, r_pts = _check_grid(spec, interp_limit)
     eta_pts = _eta_check_points(spec, interp_limit)
     runs = []
-    for m, r in (
-        (spec.mu_axis.size, spec.roughness_axis.size * (spec.shape[0] if spec.layers else 1)),
-        (mu_pts.size, r_pts.size * (eta_pts.size if eta_pts is not None else 1)),
-    ):
+    if spec.layers is not None:
+        assert eta_pts is not None
+        for m, r, e in (
+            (spec.mu_axis.size, spec.roughness_axis.size, spec.layers.size),
+            (mu_pts.size, r_pts.size, eta_pts.size),
+        ):
+            # each side kept: E on the grid, then (with an E_avg channel) E_avg's first round
+            for need, _ in _sides(spec, np.ones(1)):
+                if need is not None:
+                    runs += [m * r * e] + ([30 * r * e] if need == "E+avg" else [])
+        return runs
+    for m, r in ((spec.mu_axis.size, spec.roughness_axis.size), (mu_pts.size, r_pts.size)):
         # dfg: F0 = 1, F0 = 0, then the cloth channel's sheen model when there is one;
         # energy: E on the grid, then E_avg's adaptive rule, 30 cells per roughness in
         # its first round (more where it halves panels).
@@ -1143,7 +1223,7 @@ def _budget(
     mu_pts, r_pts = _check_grid(spec, interp_limit)
     eta_pts = _eta_check_points(spec, interp_limit)
     ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress, eta_pts)
-    keep = [KINDS[spec.kind].index(c) for c in spec.channel_names]
+    keep = [spec.kind_channels.index(c) for c in spec.channel_names]
     ref, ref_se = ref[..., keep], ref_se[..., keep]
     grids = np.meshgrid(mu_pts, r_pts, *([] if eta_pts is None else [eta_pts]), indexing="ij")
     mq, rq = grids[0], grids[1]
