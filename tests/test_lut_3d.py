@@ -8,6 +8,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
+import shutil
 import subprocess
 
 import brdf_rs
@@ -285,11 +287,85 @@ def test_c_header_trilinear_lookup_is_the_python_lookup(glass, tmp_path):
     np.testing.assert_allclose(got, glass.lookup(mu, alpha, eta), atol=2e-6)
 
 
-@pytest.mark.parametrize("suffix", [".glsl", ".hlsl", ".wgsl"])
-def test_shader_arrays_refuse_a_3d_table_naming_what_holds_it(glass, tmp_path, suffix):
-    with pytest.raises(ValueError, match=r"path: a 3-D table \(3 layers\) .* header \(\.h\)"):
-        glass.save(tmp_path / f"g{suffix}")
-    assert list(tmp_path.iterdir()) == []
+def shader_main(suffix: str) -> str:
+    """A fragment / pixel shader entry point that calls the 3-D lookup and ``uvw``."""
+    call = "cycles_ggx_glass_E_lookup(0.3, 0.2, 1.5), cycles_ggx_glass_E_uvw(0.3, 0.2, 1.5).xy"
+    if suffix == ".hlsl":
+        return f"float4 main(float4 pos : SV_Position) : SV_Target {{\n    return float4({call});\n}}\n"
+    return f"layout(location = 0) out vec4 o;\nvoid main() {{\n    o = vec4({call});\n}}\n"
+
+
+@pytest.mark.parametrize("suffix", [".wgsl", ".glsl"])
+def test_3d_shader_source_validates_with_naga(glass, tmp_path, suffix):
+    naga = shutil.which("naga")
+    if naga is None:
+        pytest.skip("naga (a WGSL/GLSL validator) is not installed")
+    path = glass.save(tmp_path / f"g{suffix}")
+    if suffix == ".wgsl":
+        subprocess.run([naga, str(path)], check=True, capture_output=True)
+        return
+    frag = tmp_path / "main.glsl"
+    frag.write_text("#version 450\n" + path.read_text() + shader_main(suffix))
+    run = [naga, "--input-kind", "glsl", "--shader-stage", "frag", str(frag)]
+    subprocess.run(run, check=True, capture_output=True)
+
+
+@pytest.mark.parametrize("suffix", [".hlsl", ".glsl"])
+def test_3d_shader_source_compiles_with_glslang(glass, tmp_path, suffix):
+    glslang = shutil.which("glslangValidator")
+    if glslang is None:
+        pytest.skip("glslangValidator (Debian's glslang-tools) is not installed")
+    path = glass.save(tmp_path / f"g{suffix}")
+    head, flags = ("", ["-D", "-e", "main"]) if suffix == ".hlsl" else ("#version 450\n", [])
+    shader = tmp_path / f"main{suffix}"
+    shader.write_text(head + path.read_text() + shader_main(suffix))
+    spv = tmp_path / "main.spv"
+    result = subprocess.run(
+        [glslang, *flags, "-V", "-S", "frag", str(shader), "-o", str(spv)],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    validator = shutil.which("spirv-val")
+    if validator is not None:
+        subprocess.run([validator, str(spv)], check=True, capture_output=True)
+
+
+def test_3d_shader_lookups_are_the_c_lookup_written_in_each_language(glass, tmp_path):
+    """The GLSL, HLSL and WGSL lookups blend the same eight texels with the same weights as
+    the C header's (compiled and run above): their statements, turned into C, compute the
+    Python lookup."""
+    pts = [(0.3, 0.04, 1.5), (0.77, 0.5, 1.1), (0.01, 0.9, 20.0)]
+    for suffix in (".glsl", ".hlsl", ".wgsl"):
+        text = glass.save(tmp_path / f"g{suffix}").read_text()
+        body = text[text.index("_lookup(") :]
+        body = body[body.index("{") + 1 : body.index("return")]
+        # to C: declarations as float / int, WGSL's u32 casts and suffixes dropped
+        c = re.sub(
+            r"\blet (\w+) = min\(u32\(([^)]*)\), (\d+)u\);",
+            r"int \1 = (int)(\2); if (\1 > \3) \1 = \3;",
+            body,
+        )
+        c = re.sub(r"\b(let|var)\b", "float", c)
+        c = re.sub(r"(\d)u\b", r"\1", c).replace("f32(", "(float)(")
+        c = re.sub(r"\b(int|float)\((\w+)\)", r"(\1)(\2)", c)  # GLSL's casts
+        c = c.replace("sqrt(", "sqrtf(").replace("abs(", "fabsf(")
+        c = c.replace("max(", "fmaxf(").replace("min(", "fminf(")
+        data = text[text.index("BEGIN DATA") : text.index("END DATA")]
+        numbers = re.findall(r"[-+]?\d+\.\d*(?:[eE][-+]?\d+)?", re.sub(r"//.*", "", data))
+        program = (
+            "#include <math.h>\n#include <stdio.h>\n"
+            f"static const float cycles_ggx_glass_E_data[] = {{{', '.join(n + 'f' for n in numbers)}}};\n"
+            "static void lookup(float mu, float roughness, float eta) {\n"
+            + c
+            + '    printf("%.9g %.9g\\n", r0, r1);\n}\nint main(void) {\n'
+            + "".join(f"    lookup({m}f, {a}f, {e}f);\n" for m, a, e in pts)
+            + "    return 0;\n}\n"
+        )
+        out = compile_and_run(tmp_path, program)
+        got = np.array([[float(v) for v in line.split()] for line in out.splitlines()])
+        mu, alpha, eta = np.array(pts, dtype=np.float64).T
+        np.testing.assert_allclose(got, glass.lookup(mu, alpha, eta), atol=2e-6, err_msg=suffix)
 
 
 # ------------------------------------------------------------------------------- errors
@@ -323,7 +399,7 @@ def test_2d_recipes_have_no_layers_or_ceiling_so_their_hashes_are_unchanged():
     assert lut.parse_axis("eta_z:ends:16:0:1:0.0001:0.99") == lut.preset("cycles_glass").layers
 
 
-def test_cli_builds_a_3d_table_and_refuses_a_shader_array(tmp_path):
+def test_cli_builds_a_3d_table_and_refuses_a_shader_array_too_large(tmp_path):
     args = [
         "--preset",
         "cycles_glass",
@@ -340,7 +416,17 @@ def test_cli_builds_a_3d_table_and_refuses_a_shader_array(tmp_path):
     ]
     out = json.loads(run_cli("lut", *args, "-o", "g.ktx2", "--json", cwd=tmp_path).stdout)
     assert (out["width"], out["height"], out["depth"]) == (3, 3, 2)
-    err = run_cli("lut", *args, "-o", "g.glsl", cwd=tmp_path, code=2).stderr
-    assert "a 3-D table (2 layers)" in err and "Traceback" not in err
+    run_cli("lut", *args, "-o", "g.wgsl", "-q", cwd=tmp_path)
+    assert (
+        "fn cycles_ggx_glass_E_lookup(mu: f32, roughness: f32, eta: f32)"
+        in (tmp_path / "g.wgsl").read_text()
+    )
+    # 33 x 32 x 32 texels of 2 channels: more than a constant array may hold, refused
+    # before any work (counting the layers)
+    big = ["--preset", "ue5_glass", "--columns", "mu:centres:33", "-o", "big.glsl"]
+    err = run_cli("lut", *big, cwd=tmp_path, code=2).stderr
+    assert "67584 values is more than 65536" in err and "Traceback" not in err
+    assert not (tmp_path / "big.glsl").exists()
     listed = run_cli("lut", "--list", cwd=tmp_path).stdout
-    assert "cycles_glass:" in listed and "cycles_glass_inv:" in listed
+    for name in ("cycles_glass", "cycles_glass_inv", "ue5_glass"):
+        assert f"{name}:" in listed

@@ -4,8 +4,8 @@ a comment, ``NAME_lookup(mu, roughness)`` sampling the array bilinearly with the
 texel mapping (clamp to the edge texels, as a GPU's sampler) and ``NAME_uv(mu,
 roughness)`` giving the texture coordinate at which a hardware bilinear filter reads the
 same value from a texture holding the table as stored (row 0 at v = 0). A 3-D table
-(layers over eta) is written as a C/C++ header only, with ``NAME_lookup(mu, roughness,
-eta)`` trilinear and ``NAME_uvw`` the 3-D texture coordinate."""
+(layers over eta) has ``NAME_lookup(mu, roughness, eta)``, trilinear, and ``NAME_uvw``,
+the 3-D texture coordinate (slice 0 at w = 0)."""
 
 from __future__ import annotations
 
@@ -191,10 +191,100 @@ def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
     )
 
 
+def _trilinear(name: str, h: int, w: int, nc: int, k: int, let: str, u: str, f: str) -> str:
+    """Statements blending channel ``k``'s eight texels around ``(x0, y0, z0)`` by ``(fx,
+    fy, fz)`` into ``r{k}``: bilinear in slices ``z0`` and ``z0 + 1``, then between them
+    (``let``, ``u`` and ``f`` as for :func:`_bilinear`)."""
+
+    def texel(dz: int, dy: int, dx: int) -> str:
+        z = f"(z0 + 1{u})" if dz else "z0"
+        y = f"(y0 + 1{u})" if dy else "y0"
+        x = f"(x0 + 1{u})" if dx else "x0"
+        return f"{name}_data[(({z} * {h}{u} + {y}) * {w}{u} + {x}) * {nc}{u} + {k}{u}]"
+
+    lines = []
+    for dz, slab in ((0, "n"), (1, "m")):
+        lines.append(
+            f"{let} {slab}{k} = ({texel(dz, 0, 0)} * (1.0{f} - fx) + {texel(dz, 0, 1)} * fx)"
+            f" * (1.0{f} - fy)\n        + ({texel(dz, 1, 0)} * (1.0{f} - fx)"
+            f" + {texel(dz, 1, 1)} * fx) * fy;"
+        )
+    lines.append(f"{let} r{k} = n{k} * (1.0{f} - fz) + m{k} * fz;")
+    return "\n    ".join(lines)
+
+
+def _shader_3d(lut: Lut, meta: dict[str, Any], lang: str) -> str:
+    """A 3-D table in GLSL, HLSL or WGSL: the array, a trilinear lookup and the 3-D texture
+    coordinate."""
+    s = lut.spec
+    assert s.layers is not None
+    name = s.name
+    d, h, w, nc = lut.decoded.shape
+    total = d * h * w * nc
+    col_in = "mu" if s.columns.role == "mu" else "roughness"
+    row_in = "mu" if s.rows.role == "mu" else "roughness"
+    uvw = _axis_code(s.columns, col_in, lang) + _axis_code(s.rows, row_in, lang)
+    uvw += _axis_code(s.layers, "eta", lang)
+    code = [line for line in uvw if "_t = " not in line]
+    f = "f" if lang == "hlsl" else ""
+    block = f"// BEGIN DATA\n{_data(lut.decoded, 'f' if lang != 'wgsl' else '', 6)}\n// END DATA\n"
+    if lang in ("glsl", "hlsl"):
+        vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
+        v3 = "vec3" if lang == "glsl" else "float3"
+        data = (
+            f"const float {name}_data[{total}] = float[{total}](\n{block});\n\n"
+            if lang == "glsl"
+            else f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
+        )
+        cast_int = "int" if lang == "glsl" else "(int)"
+        cast_float = "float" if lang == "glsl" else "(float)"
+        interp = [
+            f"int x0 = {cast_int}({col_in}_x); if (x0 > {w - 2}) x0 = {w - 2};",
+            f"int y0 = {cast_int}({row_in}_x); if (y0 > {h - 2}) y0 = {h - 2};",
+            f"int z0 = {cast_int}(eta_x); if (z0 > {d - 2}) z0 = {d - 2};",
+            f"float fx = {col_in}_x - {cast_float}(x0);",
+            f"float fy = {row_in}_x - {cast_float}(y0);",
+            f"float fz = eta_x - {cast_float}(z0);",
+        ]
+        fetch = [_trilinear(name, h, w, nc, k, "float", "", f) for k in range(nc)]
+        lookup = f"{vec} {name}_lookup(float mu, float roughness, float eta)"
+        uv = f"{v3} {name}_uvw(float mu, float roughness, float eta)"
+    else:  # WGSL
+        vec = "f32" if nc == 1 else f"vec{nc}<f32>"
+        v3 = "vec3<f32>"
+        data = (
+            f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n{block});\n\n"
+        )
+        interp = [
+            f"let x0 = min(u32({col_in}_x), {w - 2}u);",
+            f"let y0 = min(u32({row_in}_x), {h - 2}u);",
+            f"let z0 = min(u32(eta_x), {d - 2}u);",
+            f"let fx = {col_in}_x - f32(x0);",
+            f"let fy = {row_in}_x - f32(y0);",
+            "let fz = eta_x - f32(z0);",
+        ]
+        fetch = [_trilinear(name, h, w, nc, k, "let", "u", "") for k in range(nc)]
+        lookup = f"fn {name}_lookup(mu: f32, roughness: f32, eta: f32) -> {vec}"
+        uv = f"fn {name}_uvw(mu: f32, roughness: f32, eta: f32) -> {v3}"
+    result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
+    return (
+        _comment(lut, meta, "//")
+        + data
+        + f"// Trilinear lookup at mu = cos(theta_v), {s.param} and the relative index eta.\n"
+        + f"{lookup} {{\n    "
+        + "\n    ".join(code + interp + fetch)
+        + f"\n    return {result};\n}}\n\n"
+        + "// The 3-D texture coordinate a hardware trilinear filter reads the same value at.\n"
+        + f"{uv} {{\n    "
+        + "\n    ".join(uvw)
+        + f"\n    return {v3}({col_in}_t, {row_in}_t, eta_t);\n}}\n"
+    )
+
+
 def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     lang = {".h": "c", ".glsl": "glsl", ".hlsl": "hlsl", ".wgsl": "wgsl"}[suffix]
     if lut.spec.layers is not None:
-        return _source_3d(lut, meta)
+        return _source_3d(lut, meta) if lang == "c" else _shader_3d(lut, meta, lang)
     s = lut.spec
     name = s.name
     h, w, nc = lut.decoded.shape

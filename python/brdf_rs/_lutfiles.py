@@ -14,8 +14,7 @@ Data Format basic descriptor block; Microsoft's DDS_HEADER and DDS_HEADER_DXT10)
 A 3-D table (a dielectric's, layers over eta) is a 3-D texture in KTX2 (``pixelDepth``)
 and DDS (a volume texture, ``TEXTURE3D``); EXR and PNG, which hold images, stack its
 slices top to bottom (slice 0 on top; the metadata's ``depth`` says how many); a C/C++
-header holds it with a trilinear lookup. GLSL, HLSL and WGSL constant arrays hold 2-D
-tables only.
+header and the shader sources hold it with a trilinear lookup.
 """
 
 from __future__ import annotations
@@ -44,20 +43,15 @@ DDS_MAGIC = b"DDS "
 SHADER_ARRAY_MAX = 65536
 
 
-def check(fmt_name: str, path: Path, values: int | None = None, depth: int = 0) -> str:
-    """The container of ``path`` (its suffix), checked against the pixel format, the
-    table's ``depth`` (0: 2-D) and, for GLSL and WGSL, against the array's number of
-    ``values``, before any work: raises ``ValueError`` naming the argument."""
+def check(fmt_name: str, path: Path, values: int | None = None) -> str:
+    """The container of ``path`` (its suffix), checked against the pixel format and, for
+    GLSL and WGSL, against the array's number of ``values``, before any work: raises
+    ``ValueError`` naming the argument."""
     from .lut import CONTAINERS, FORMATS
 
     suffix = path.suffix.lower()
     if suffix not in CONTAINERS:
         raise ValueError(f"path: unknown LUT file type {suffix!r}; use {', '.join(CONTAINERS)}")
-    if depth and suffix in (".glsl", ".hlsl", ".wgsl"):
-        raise ValueError(
-            f"path: a 3-D table ({depth} layers) is written as a 3-D texture (.ktx2, .dds),"
-            f" stacked slices (.exr, .png) or a C/C++ header (.h); {suffix} holds 2-D tables"
-        )
     if suffix in (".glsl", ".wgsl") and values is not None and values > SHADER_ARRAY_MAX:
         raise ValueError(
             f"path: a {suffix} table is a constant array, and {values} values is more than"
@@ -80,8 +74,7 @@ def check(fmt_name: str, path: Path, values: int | None = None, depth: int = 0) 
 def save(lut: Lut, path: Path) -> Path:
     from . import _lutcode
 
-    depth = lut.spec.layers.size if lut.spec.layers is not None else 0
-    suffix = check(lut.spec.format, path, lut.decoded.size, depth)
+    suffix = check(lut.spec.format, path, lut.decoded.size)
     meta = lut.meta(path.name)
     if suffix == ".exr":
         _save_exr(lut, path, meta)

@@ -853,8 +853,7 @@ def cmd_lut(args: argparse.Namespace) -> int:
     out = Path(args.output or default)
     try:
         count = math.prod(spec.shape) * len(spec.channel_names)
-        depth = spec.layers.size if spec.layers is not None else 0
-        _lutfiles.check(spec.format, out, None if args.fit is not None else count, depth)
+        _lutfiles.check(spec.format, out, None if args.fit is not None else count)
     except ValueError as exc:
         raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
     if args.fit is not None:

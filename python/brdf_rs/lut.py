@@ -167,9 +167,9 @@ CONTAINERS = {
     ".dds": "DirectDraw Surface with the DX10 header",
     ".png": "16-bit PNG, value = offset + scale * pixel / 65535 per channel",
     ".h": "C/C++ header: the array and a bilinear lookup function (trilinear for a 3-D table)",
-    ".glsl": "GLSL: the array and a bilinear lookup function",
-    ".hlsl": "HLSL: the array and a bilinear lookup function",
-    ".wgsl": "WGSL: the array and a bilinear lookup function",
+    ".glsl": "GLSL: the array and a bilinear (3-D: trilinear) lookup function",
+    ".hlsl": "HLSL: the array and a bilinear (3-D: trilinear) lookup function",
+    ".wgsl": "WGSL: the array and a bilinear (3-D: trilinear) lookup function",
 }
 
 
