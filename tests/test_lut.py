@@ -403,25 +403,8 @@ def test_whole_number_axis_bounds_write_the_same_files_as_floats_and_compile(tmp
 
 @pytest.mark.parametrize("suffix", [".wgsl", ".glsl"])
 def test_shader_source_validates_with_naga(filament, tmp_path, suffix):
-    naga = shutil.which("naga")
-    if naga is None:
-        pytest.skip("naga (a WGSL/GLSL validator) is not installed")
     path = filament.save(tmp_path / f"dfg{suffix}")
-    if suffix == ".wgsl":
-        subprocess.run([naga, str(path)], check=True, capture_output=True)
-        return
-    frag = tmp_path / "main.glsl"
-    frag.write_text(
-        "#version 450\n"
-        + path.read_text()
-        + "layout(location = 0) out vec4 o;\nvoid main() {\n"
-        + "    o = vec4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
-    )
-    subprocess.run(
-        [naga, "--input-kind", "glsl", "--shader-stage", "frag", str(frag)],
-        check=True,
-        capture_output=True,
-    )
+    validate_with_naga(tmp_path, path, "filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2)")
 
 
 @pytest.mark.parametrize("suffix", [".hlsl", ".glsl"])
@@ -429,24 +412,49 @@ def test_shader_source_compiles_with_glslang(filament, tmp_path, suffix):
     """The HLSL (glslang's HLSL front end, as for Vulkan: a pixel shader that calls the
     lookup and the texture-coordinate function) and the GLSL compile to SPIR-V, which
     spirv-val validates."""
+    path = filament.save(tmp_path / f"dfg{suffix}")
+    compile_with_glslang(tmp_path, path, "filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2)")
+
+
+def shader_main(suffix: str, values: str) -> str:
+    """A fragment (GLSL) or pixel (HLSL) shader entry point returning ``float4(values)``:
+    four floats from the lookups it calls."""
+    if suffix == ".hlsl":
+        return (
+            "float4 main(float4 pos : SV_Position) : SV_Target {\n"
+            f"    return float4({values});\n}}\n"
+        )
+    return f"layout(location = 0) out vec4 o;\nvoid main() {{\n    o = vec4({values});\n}}\n"
+
+
+def validate_with_naga(tmp_path, path: Path, values: str) -> None:
+    """naga validates a WGSL file as it is, a GLSL one in a fragment shader returning
+    ``vec4(values)``; skips the test without naga."""
+    naga = shutil.which("naga")
+    if naga is None:
+        pytest.skip("naga (a WGSL/GLSL validator) is not installed")
+    if path.suffix == ".wgsl":
+        subprocess.run([naga, str(path)], check=True, capture_output=True)
+        return
+    frag = tmp_path / "main.glsl"
+    frag.write_text("#version 450\n" + path.read_text() + shader_main(".glsl", values))
+    subprocess.run(
+        [naga, "--input-kind", "glsl", "--shader-stage", "frag", str(frag)],
+        check=True,
+        capture_output=True,
+    )
+
+
+def compile_with_glslang(tmp_path, path: Path, values: str) -> None:
+    """glslang compiles a GLSL or HLSL file, in a shader returning ``float4(values)``, to
+    SPIR-V, which spirv-val validates where installed; skips the test without glslang."""
     glslang = shutil.which("glslangValidator")
     if glslang is None:
         pytest.skip("glslangValidator (Debian's glslang-tools) is not installed")
-    path = filament.save(tmp_path / f"dfg{suffix}")
-    if suffix == ".hlsl":
-        main = (
-            "float4 main(float4 pos : SV_Position) : SV_Target {\n"
-            "    return float4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
-        )
-        source, flags = path.read_text() + main, ["-D", "-e", "main"]
-    else:
-        main = (
-            "layout(location = 0) out vec4 o;\nvoid main() {\n"
-            "    o = vec4(filament_dfg_lookup(0.3, 0.2), filament_dfg_uv(0.3, 0.2));\n}\n"
-        )
-        source, flags = "#version 450\n" + path.read_text() + main, []
+    suffix = path.suffix
+    head, flags = ("", ["-D", "-e", "main"]) if suffix == ".hlsl" else ("#version 450\n", [])
     shader = tmp_path / f"main{suffix}"
-    shader.write_text(source)
+    shader.write_text(head + path.read_text() + shader_main(suffix, values))
     spv = tmp_path / "main.spv"
     result = subprocess.run(
         [glslang, *flags, "-V", "-S", "frag", str(shader), "-o", str(spv)],

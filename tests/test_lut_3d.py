@@ -9,7 +9,6 @@ import dataclasses
 import json
 import math
 import re
-import shutil
 import subprocess
 
 import brdf_rs
@@ -17,7 +16,7 @@ import numpy as np
 import pytest
 from brdf_rs import lut
 from conftest import run_cli
-from test_lut import compile_and_run
+from test_lut import compile_and_run, compile_with_glslang, validate_with_naga
 from test_lut import texture_reader as texture_reader  # the fixture, shared
 
 #: Cycles' floors: perceptual roughness (alpha >= 1e-7, the model's smallest), mu.
@@ -287,48 +286,18 @@ def test_c_header_trilinear_lookup_is_the_python_lookup(glass, tmp_path):
     np.testing.assert_allclose(got, glass.lookup(mu, alpha, eta), atol=2e-6)
 
 
-def shader_main(suffix: str) -> str:
-    """A fragment / pixel shader entry point that calls the 3-D lookup and ``uvw``."""
-    call = "cycles_ggx_glass_E_lookup(0.3, 0.2, 1.5), cycles_ggx_glass_E_uvw(0.3, 0.2, 1.5).xy"
-    if suffix == ".hlsl":
-        return f"float4 main(float4 pos : SV_Position) : SV_Target {{\n    return float4({call});\n}}\n"
-    return f"layout(location = 0) out vec4 o;\nvoid main() {{\n    o = vec4({call});\n}}\n"
+#: What the shaders return: the 3-D lookup and two of the texture coordinates.
+CALLS = "cycles_ggx_glass_E_lookup(0.3, 0.2, 1.5), cycles_ggx_glass_E_uvw(0.3, 0.2, 1.5).xy"
 
 
 @pytest.mark.parametrize("suffix", [".wgsl", ".glsl"])
 def test_3d_shader_source_validates_with_naga(glass, tmp_path, suffix):
-    naga = shutil.which("naga")
-    if naga is None:
-        pytest.skip("naga (a WGSL/GLSL validator) is not installed")
-    path = glass.save(tmp_path / f"g{suffix}")
-    if suffix == ".wgsl":
-        subprocess.run([naga, str(path)], check=True, capture_output=True)
-        return
-    frag = tmp_path / "main.glsl"
-    frag.write_text("#version 450\n" + path.read_text() + shader_main(suffix))
-    run = [naga, "--input-kind", "glsl", "--shader-stage", "frag", str(frag)]
-    subprocess.run(run, check=True, capture_output=True)
+    validate_with_naga(tmp_path, glass.save(tmp_path / f"g{suffix}"), CALLS)
 
 
 @pytest.mark.parametrize("suffix", [".hlsl", ".glsl"])
 def test_3d_shader_source_compiles_with_glslang(glass, tmp_path, suffix):
-    glslang = shutil.which("glslangValidator")
-    if glslang is None:
-        pytest.skip("glslangValidator (Debian's glslang-tools) is not installed")
-    path = glass.save(tmp_path / f"g{suffix}")
-    head, flags = ("", ["-D", "-e", "main"]) if suffix == ".hlsl" else ("#version 450\n", [])
-    shader = tmp_path / f"main{suffix}"
-    shader.write_text(head + path.read_text() + shader_main(suffix))
-    spv = tmp_path / "main.spv"
-    result = subprocess.run(
-        [glslang, *flags, "-V", "-S", "frag", str(shader), "-o", str(spv)],
-        capture_output=True,
-        text=True,
-    )
-    assert result.returncode == 0, result.stdout + result.stderr
-    validator = shutil.which("spirv-val")
-    if validator is not None:
-        subprocess.run([validator, str(spv)], check=True, capture_output=True)
+    compile_with_glslang(tmp_path, glass.save(tmp_path / f"g{suffix}"), CALLS)
 
 
 def test_3d_shader_lookups_are_the_c_lookup_written_in_each_language(glass, tmp_path):

@@ -150,17 +150,12 @@ def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
     code = [line for line in uvw if "_t = " not in line]
     upper = name.upper()
     block = f"// BEGIN DATA\n{_data(lut.decoded, 'f', 6)}\n// END DATA\n"
-    body = "\n    ".join(
-        [
-            *code,
-            f"int x0 = (int)({col_in}_x); if (x0 > {w - 2}) x0 = {w - 2};",
-            f"int y0 = (int)({row_in}_x); if (y0 > {h - 2}) y0 = {h - 2};",
-            f"int z0 = (int)(eta_x); if (z0 > {d - 2}) z0 = {d - 2};",
-            f"float fx = {col_in}_x - (float)x0;",
-            f"float fy = {row_in}_x - (float)y0;",
-            "float fz = eta_x - (float)z0;",
-        ]
-    )
+    cells = [
+        (f"{col_in}_x", "x0", "fx", w),
+        (f"{row_in}_x", "y0", "fy", h),
+        ("eta_x", "z0", "fz", d),
+    ]
+    body = "\n    ".join(code + _cell_code("c", cells))
     texel = f"{name}_data[(((z0 + dz) * {h} + y0 + dy) * {w} + x0 + dx) * {nc} + c]"
     return (
         _comment(lut, meta, "//")
@@ -189,6 +184,37 @@ def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
         + f"\n    uvw[0] = {col_in}_t;\n    uvw[1] = {row_in}_t;\n    uvw[2] = eta_t;\n}}\n\n"
         + "#endif\n"
     )
+
+
+def _shader_data(lang: str, name: str, total: int, block: str) -> str:
+    """The table's array declaration in GLSL, HLSL or WGSL."""
+    if lang == "glsl":
+        return f"const float {name}_data[{total}] = float[{total}](\n{block});\n\n"
+    if lang == "hlsl":
+        return f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
+    return f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n{block});\n\n"
+
+
+def _shader_vec(lang: str, n: int) -> str:
+    """The type of ``n`` floats in GLSL, HLSL or WGSL (a scalar for one)."""
+    if lang == "wgsl":
+        return "f32" if n == 1 else f"vec{n}<f32>"
+    if n == 1:
+        return "float"
+    return ("vec" if lang == "glsl" else "float") + str(n)
+
+
+def _cell_code(lang: str, cells: list[tuple[str, str, str, int]]) -> list[str]:
+    """Statements giving, per axis ``(coordinate, index, fraction, texels)``, the first
+    texel ``index`` of the cell the continuous ``coordinate`` falls in (at most ``texels
+    − 2``) and the ``fraction`` of the way to the next."""
+    if lang == "wgsl":
+        out = [f"let {i} = min(u32({x}), {n - 2}u);" for x, i, _, n in cells]
+        return out + [f"let {fr} = {x} - f32({i});" for x, i, fr, _ in cells]
+    cast_int = "int" if lang == "glsl" else "(int)"
+    cast_float = "float" if lang == "glsl" else "(float)"
+    out = [f"int {i} = {cast_int}({x}); if ({i} > {n - 2}) {i} = {n - 2};" for x, i, _, n in cells]
+    return out + [f"float {fr} = {x} - {cast_float}({i});" for x, i, fr, _ in cells]
 
 
 def _trilinear(name: str, h: int, w: int, nc: int, k: int, let: str, u: str, f: str) -> str:
@@ -227,42 +253,21 @@ def _shader_3d(lut: Lut, meta: dict[str, Any], lang: str) -> str:
     uvw += _axis_code(s.layers, "eta", lang)
     code = [line for line in uvw if "_t = " not in line]
     f = "f" if lang == "hlsl" else ""
-    block = f"// BEGIN DATA\n{_data(lut.decoded, 'f' if lang != 'wgsl' else '', 6)}\n// END DATA\n"
+    suffix = "f" if lang != "wgsl" else ""
+    block = f"// BEGIN DATA\n{_data(lut.decoded, suffix, 6)}\n// END DATA\n"
+    data = _shader_data(lang, name, total, block)
+    vec, v3 = _shader_vec(lang, nc), _shader_vec(lang, 3)
+    cells = [
+        (f"{col_in}_x", "x0", "fx", w),
+        (f"{row_in}_x", "y0", "fy", h),
+        ("eta_x", "z0", "fz", d),
+    ]
+    interp = _cell_code(lang, cells)
     if lang in ("glsl", "hlsl"):
-        vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
-        v3 = "vec3" if lang == "glsl" else "float3"
-        data = (
-            f"const float {name}_data[{total}] = float[{total}](\n{block});\n\n"
-            if lang == "glsl"
-            else f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
-        )
-        cast_int = "int" if lang == "glsl" else "(int)"
-        cast_float = "float" if lang == "glsl" else "(float)"
-        interp = [
-            f"int x0 = {cast_int}({col_in}_x); if (x0 > {w - 2}) x0 = {w - 2};",
-            f"int y0 = {cast_int}({row_in}_x); if (y0 > {h - 2}) y0 = {h - 2};",
-            f"int z0 = {cast_int}(eta_x); if (z0 > {d - 2}) z0 = {d - 2};",
-            f"float fx = {col_in}_x - {cast_float}(x0);",
-            f"float fy = {row_in}_x - {cast_float}(y0);",
-            f"float fz = eta_x - {cast_float}(z0);",
-        ]
         fetch = [_trilinear(name, h, w, nc, k, "float", "", f) for k in range(nc)]
         lookup = f"{vec} {name}_lookup(float mu, float roughness, float eta)"
         uv = f"{v3} {name}_uvw(float mu, float roughness, float eta)"
     else:  # WGSL
-        vec = "f32" if nc == 1 else f"vec{nc}<f32>"
-        v3 = "vec3<f32>"
-        data = (
-            f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n{block});\n\n"
-        )
-        interp = [
-            f"let x0 = min(u32({col_in}_x), {w - 2}u);",
-            f"let y0 = min(u32({row_in}_x), {h - 2}u);",
-            f"let z0 = min(u32(eta_x), {d - 2}u);",
-            f"let fx = {col_in}_x - f32(x0);",
-            f"let fy = {row_in}_x - f32(y0);",
-            "let fz = eta_x - f32(z0);",
-        ]
         fetch = [_trilinear(name, h, w, nc, k, "let", "u", "") for k in range(nc)]
         lookup = f"fn {name}_lookup(mu: f32, roughness: f32, eta: f32) -> {vec}"
         uv = f"fn {name}_uvw(mu: f32, roughness: f32, eta: f32) -> {v3}"
@@ -300,14 +305,7 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
     block = f"// BEGIN DATA\n{data}\n// END DATA\n"
     head = _comment(lut, meta, "//")
     upper = name.upper()
-    cast_int = {"c": "(int)", "hlsl": "(int)", "glsl": "int"}.get(lang, "")
-    cast_float = {"c": "(float)", "hlsl": "(float)", "glsl": "float"}.get(lang, "")
-    interp = [
-        f"int x0 = {cast_int}({col_in}_x); if (x0 > {w - 2}) x0 = {w - 2};",
-        f"int y0 = {cast_int}({row_in}_x); if (y0 > {h - 2}) y0 = {h - 2};",
-        f"float fx = {col_in}_x - {cast_float}(x0);",
-        f"float fy = {row_in}_x - {cast_float}(y0);",
-    ]
+    interp = _cell_code(lang, [(f"{col_in}_x", "x0", "fx", w), (f"{row_in}_x", "y0", "fy", h)])
     if lang == "c":
         body = "\n    ".join(col_code + row_code + interp)
         return (
@@ -333,29 +331,13 @@ def source(lut: Lut, meta: dict[str, Any], suffix: str) -> str:
             + "\n    ".join(col_uv + row_uv)
             + f"\n    uv[0] = {col_in}_t;\n    uv[1] = {row_in}_t;\n}}\n\n#endif\n"
         )
+    data = _shader_data(lang, name, total, block)
+    vec, v2 = _shader_vec(lang, nc), _shader_vec(lang, 2)
     if lang in ("glsl", "hlsl"):
-        vec = "float" if nc == 1 else ("vec" if lang == "glsl" else "float") + str(nc)
-        v2 = "vec2" if lang == "glsl" else "float2"
-        data = (
-            f"const float {name}_data[{total}] = float[{total}](\n{block});\n\n"
-            if lang == "glsl"
-            else f"static const float {name}_data[{total}] = {{\n{block}}};\n\n"
-        )
         fetch = [_bilinear(name, w, nc, k, "float", "", f) for k in range(nc)]
         lookup = f"{vec} {name}_lookup(float mu, float roughness)"
         uv = f"{v2} {name}_uv(float mu, float roughness)"
     else:  # WGSL
-        vec = "f32" if nc == 1 else f"vec{nc}<f32>"
-        v2 = "vec2<f32>"
-        data = (
-            f"var<private> {name}_data: array<f32, {total}> = array<f32, {total}>(\n{block});\n\n"
-        )
-        interp = [
-            f"let x0 = min(u32({col_in}_x), {w - 2}u);",
-            f"let y0 = min(u32({row_in}_x), {h - 2}u);",
-            f"let fx = {col_in}_x - f32(x0);",
-            f"let fy = {row_in}_x - f32(y0);",
-        ]
         fetch = [_bilinear(name, w, nc, k, "let", "u", "") for k in range(nc)]
         lookup = f"fn {name}_lookup(mu: f32, roughness: f32) -> {vec}"
         uv = f"fn {name}_uv(mu: f32, roughness: f32) -> {v2}"
