@@ -396,6 +396,9 @@ def test_cli_builds_a_3d_table_and_refuses_a_shader_array_too_large(tmp_path):
     err = run_cli("lut", *big, cwd=tmp_path, code=2).stderr
     assert "67584 values is more than 65536" in err and "Traceback" not in err
     assert not (tmp_path / "big.glsl").exists()
+    for option in (["--fit", "4"], ["--max-error", "0.01"]):
+        err = run_cli("lut", *args, *option, "-o", "f.h", cwd=tmp_path, code=2).stderr
+        assert f"{option[0]}: takes 2-D tables" in err and "cell" not in err  # before any work
     listed = run_cli("lut", "--list", cwd=tmp_path).stdout
     for name in ("cycles_glass", "cycles_glass_inv", "ue5_glass"):
         assert f"{name}:" in listed

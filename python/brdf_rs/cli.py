@@ -856,6 +856,12 @@ def cmd_lut(args: argparse.Namespace) -> int:
         _lutfiles.check(spec.format, out, None if args.fit is not None else count)
     except ValueError as exc:
         raise UsageError(str(exc).replace("path:", f"-o {out}:", 1)) from None
+    for option, given in (("--fit", args.fit), ("--max-error", args.max_error)):
+        if given is not None and spec.layers is not None:
+            raise UsageError(
+                f"{option}: takes 2-D tables; this one has a layers axis"
+                f" ({spec.layers.quantity}): build it at a chosen size"
+            )
     if args.fit is not None:
         if out.suffix.lower() not in (".h", ".glsl", ".hlsl", ".wgsl"):
             raise UsageError(f"-o {out}: a --fit is source code: .h, .glsl, .hlsl or .wgsl")
