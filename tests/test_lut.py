@@ -146,6 +146,22 @@ def test_ue5_table_is_unreals_layout_r_the_albedo_g_the_schlick_share():
     np.testing.assert_allclose(t.image[..., 1], b, atol=1e-12)
 
 
+def test_published_e_avg_values_place_their_last_row_at_the_end_or_the_centre():
+    """Cycles' last ggx_Eavg entry (0.409137) and Enterprise PBR's (0.42276) disagree by 3%.
+    Their grids explain it: GGX's E_avg at r = 1 (alpha = 1, Cycles' ends) is Cycles'
+    value, and at the last texel centre of 32, r = 31.5/32 (the enterprise preset's
+    layout), Enterprise's; each value excludes the other placement."""
+    r = np.array([1.0, 31.5 / 32])
+    e = brdf_rs.energy_compensation_table("ggx", [0.5], r**2)
+    at_end, at_centre = e.e_avg
+    assert abs(at_end - 0.409137) < 2e-5  # 6 printed decimals and Cycles' noise
+    assert abs(at_centre - 0.42276) < 5e-4  # 5 digits, Monte Carlo of unknown size
+    assert abs(at_end - 0.42276) > 0.01 and abs(at_centre - 0.409137) > 0.01
+    spec = lut.preset("enterprise")
+    last = spec.rows.physical(spec.rows.positions()[-1:])
+    assert spec.rows.quantity == "perceptual" and last == pytest.approx((31.5 / 32) ** 2)
+
+
 def test_cycles_energy_table_rows_are_mu_columns_roughness():
     t = lut.build(small("cycles", 6), interp_limit=4)
     r = np.maximum(np.arange(6) / 5, 3.1623e-4)
