@@ -759,7 +759,7 @@ def _presets() -> dict[str, Preset]:
             " (size - 1): samples at the ends)",
         ),
         "cycles_glass": Preset(
-            _cycles_glass("eta_z", "cycles_ggx_glass_E"),
+            _cycles_glass("ggx_dielectric", "eta_z", "cycles_ggx_glass_E"),
             ".h",
             "Blender Cycles' ggx_glass_E and ggx_glass_Eavg: 16 x 16 x 16 floats, x = r ="
             " i/15 (alpha = r^2), y = mu = j/15, slices z = k/15 with eta = (1 + z^2)/(1 -"
@@ -775,7 +775,7 @@ def _presets() -> dict[str, Preset]:
             " sqrt(|ior - 1|/(ior + 1)), the _inv_ tables at 1/ior when ior < 1)",
         ),
         "cycles_glass_inv": Preset(
-            _cycles_glass("eta_z_inside", "cycles_ggx_glass_inv_E"),
+            _cycles_glass("ggx_dielectric", "eta_z_inside", "cycles_ggx_glass_inv_E"),
             ".h",
             "Blender Cycles' ggx_glass_inv_E and ggx_glass_inv_Eavg: the cycles_glass"
             " layout for light from the denser side, eta = (1 - z^2)/(1 + z^2) (Cycles reads"
@@ -828,11 +828,11 @@ def _presets() -> dict[str, Preset]:
     }
 
 
-def _cycles_glass(eta_quantity: str, name: str) -> LutSpec:
+def _cycles_glass(model: str, eta_quantity: str, name: str) -> LutSpec:
     """Cycles' 16^3 glass table over (r, mu, z), light from outside or inside."""
     return LutSpec(
         "energy",
-        "ggx_dielectric",
+        model,
         Axis("perceptual", 16, "ends", floor=_CYCLES_ROUGHNESS_FLOOR),
         Axis("mu", 16, "ends", floor=1e-4),
         "R32G32_SFLOAT",
