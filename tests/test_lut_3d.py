@@ -183,9 +183,9 @@ def test_trilinear_lookup_lands_on_texels_and_blends_eight_between_them(glass):
 
 
 def test_lookup_needs_eta_on_a_3d_table_and_refuses_it_on_a_2d_one(glass):
-    with pytest.raises(ValueError, match="eta: a 3-D table"):
+    with pytest.raises(ValueError, match=r"layer: a 3-D table \(layers over eta\) needs its eta"):
         glass.lookup(0.5, 0.3)
-    with pytest.raises(ValueError, match=r"eta: expected finite numbers, got nan at index 1"):
+    with pytest.raises(ValueError, match=r"layer: expected finite numbers, got nan at index 1"):
         glass.lookup(0.5, 0.3, [1.5, math.nan])
     flat = lut.build(
         lut.preset(
@@ -196,7 +196,7 @@ def test_lookup_needs_eta_on_a_3d_table_and_refuses_it_on_a_2d_one(glass):
         ),
         interp_limit=2,
     )
-    with pytest.raises(ValueError, match="eta: this table is 2-D"):
+    with pytest.raises(ValueError, match="layer: this table is 2-D"):
         flat.lookup(0.5, 0.3, 1.5)
 
 
@@ -342,11 +342,15 @@ def test_3d_shader_lookups_are_the_c_lookup_written_in_each_language(glass, tmp_
 
 def test_spec_errors_name_the_layers_and_the_fix():
     s = lut.preset("cycles_glass", samples=16)
-    with pytest.raises(ValueError, match=r"layers: ggx_dielectric's energy table is E\(mu"):
+    with pytest.raises(
+        ValueError, match=r"layers: the energy table of ggx_dielectric is a 3-D texture over eta"
+    ):
         dataclasses.replace(s, layers=None)
-    with pytest.raises(ValueError, match="layers: only the transmitting models"):
+    with pytest.raises(ValueError, match="layers: only a transmitting model's energy table"):
         dataclasses.replace(lut.preset("cycles"), layers=s.layers)
-    with pytest.raises(ValueError, match="layers: the third axis is the index of refraction"):
+    with pytest.raises(
+        ValueError, match=r"layers: this table's third axis is eta \(eta, eta_z, eta_z_inside\)"
+    ):
         dataclasses.replace(s, layers=lut.Axis("mu", 4, "centres"))
     # z = 1 is an infinite index: the last texel needs a ceiling below 1
     with pytest.raises(ValueError, match=r"layers: eta = inf at the last texel .*give a ceiling"):
@@ -402,3 +406,103 @@ def test_cli_builds_a_3d_table_and_refuses_a_shader_array_too_large(tmp_path):
     listed = run_cli("lut", "--list", cwd=tmp_path).stdout
     for name in ("cycles_glass", "cycles_glass_inv", "ue5_glass"):
         assert f"{name}:" in listed
+
+
+# ----------------------------------------------------------------- generalized Schlick
+
+
+@pytest.fixture(scope="module")
+def blend():
+    return lut.build(small("cycles_gen_schlick", n=(4, 5, 3), samples=256), interp_limit=4)
+
+
+def test_cycles_gen_schlick_preset_is_cycles_grid():
+    s = lut.preset("cycles_gen_schlick")
+    assert s.shape == (16, 16, 16) and s.channel_names == ("s",) and s.format == "R32_SFLOAT"
+    # exponent = 5 (1 - z)/z, z = clamp(k/15, 1e-4, 0.99); looked up at z = 1/(0.2 e + 1)
+    z = np.clip(np.arange(16) / 15, 1e-4, 0.99)
+    exponent = s.layers.physical(s.layers.positions())
+    np.testing.assert_allclose(exponent, 5 * (1 - z) / z, rtol=1e-12)
+    np.testing.assert_allclose(1 / (0.2 * exponent + 1), z, rtol=1e-12)
+    np.testing.assert_allclose(s.layers.quantity_of(exponent), z, rtol=1e-12)
+    # Schlick's own exponent, 5, sits at z = 0.5, between slices 7 and 8
+    assert s.layers.quantity_of(5.0) == 0.5
+
+
+def test_blend_is_the_ratio_of_the_two_albedos_in_cycles_order(blend):
+    s = blend.spec
+    r = s.columns.physical(s.columns.positions())
+    mu = s.rows.physical(s.rows.positions())
+    exponent = s.layers.physical(s.layers.positions())
+    axes = {"mu": mu, "alpha": r, "exponent": exponent}
+    common = {"samples": 256, "seed": 0, "kd": 0.0}
+    x = brdf_rs.albedo_table(s.model, axes, f0=0.0, f90=1.0, **common).value[..., 0]
+    e = brdf_rs.albedo_table(s.model, axes, f0=1.0, f90=1.0, **common).value[..., 0]
+    want = np.where(e > 0, x / np.where(e > 0, e, 1), 0.0)
+    assert blend.image.shape == (3, 5, 4, 1)  # slices of exponent, rows mu, columns r
+    assert blend.image[..., 0].tobytes() == np.ascontiguousarray(want.transpose(2, 0, 1)).tobytes()
+
+
+def test_blend_recovers_the_albedo_at_any_f0_and_f90(blend):
+    """E(F0, F90) = E * mix(F0, F90, s): checked against the albedo integrated at those
+    F0 and F90 directly, off the table's own samples."""
+    s = blend.spec
+    spec = dataclasses.replace(s, channels=("s", "E"), format="R32G32_SFLOAT")
+    t = lut.build(spec, interp_limit=2)
+    mu = s.rows.physical(s.rows.positions())[2]
+    alpha = s.columns.physical(s.columns.positions())[2]
+    exponent = s.layers.physical(s.layers.positions())[1]
+    f0, f90 = 0.04, 0.8
+    direct = brdf_rs.albedo(
+        s.model,
+        mu,
+        alpha=alpha,
+        exponent=exponent,
+        f0=f0,
+        f90=f90,
+        kd=0,
+        samples=1 << 14,
+        seed=4,
+    )
+    blend_s, e = t.image[1, 2, 2]
+    se_s, se_e = t.stderr[1, 2, 2]
+    from_table = e * (f0 + (f90 - f0) * blend_s)
+    se_table = math.hypot((f0 + (f90 - f0) * blend_s) * se_e, e * (f90 - f0) * se_s)
+    assert abs(from_table - direct.value[0]) <= 4 * math.hypot(se_table, direct.stderr[0])
+    # not vacuous: the blend matters here (F0 alone, s = 0, is far off)
+    assert abs(e * f0 - direct.value[0]) > 10 * math.hypot(se_table, direct.stderr[0])
+
+
+def test_gen_schlick_c_header_takes_the_exponent(blend, tmp_path):
+    blend.save(tmp_path / "s.h")
+    text = (tmp_path / "s.h").read_text()
+    assert "cycles_ggx_gen_schlick_s_lookup(float mu, float roughness, float exponent," in text
+    pts = [(0.3, 0.04, 5.0), (0.8, 0.5, 1.0), (0.05, 0.2, 40.0)]
+    calls = "\n".join(
+        f'    cycles_ggx_gen_schlick_s_lookup({m}f, {a}f, {e}f, o); printf("%.9g\\n", o[0]);'
+        for m, a, e in pts
+    )
+    out = compile_and_run(
+        tmp_path,
+        '#include <stdio.h>\n#include "s.h"\nint main(void) {\n    float o[1];\n'
+        + calls
+        + "\n    return 0;\n}\n",
+    )
+    got = np.array([float(line) for line in out.splitlines()])
+    mu, alpha, exponent = np.array(pts).T
+    np.testing.assert_allclose(got, blend.lookup(mu, alpha, exponent)[:, 0], atol=2e-6)
+    calls = "cycles_ggx_gen_schlick_s_lookup(0.3, 0.2, 5.0), cycles_ggx_gen_schlick_s_uvw(0.3, 0.2, 5.0)"
+    validate_with_naga(tmp_path, blend.save(tmp_path / "s.glsl"), calls)
+
+
+def test_gen_schlick_spec_errors():
+    s = lut.preset("cycles_gen_schlick", samples=16)
+    with pytest.raises(ValueError, match="model: 'ggx' has no gen_schlick table; use ggx_gen_sc"):
+        dataclasses.replace(s, model="ggx")
+    with pytest.raises(ValueError, match=r"layers: the gen_schlick table of ggx_gen_schlick is"):
+        dataclasses.replace(s, layers=None)
+    with pytest.raises(ValueError, match=r"third axis is exponent \(exponent, exponent_z\)"):
+        dataclasses.replace(s, layers=lut.preset("cycles_glass").layers)
+    # z = 0 is an infinite exponent: the first texel needs a floor
+    with pytest.raises(ValueError, match=r"layers: exponent = inf at the first texel"):
+        dataclasses.replace(s, layers=lut.Axis("exponent_z", 4, "ends", ceiling=0.99))

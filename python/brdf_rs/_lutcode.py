@@ -4,7 +4,8 @@ a comment, ``NAME_lookup(mu, roughness)`` sampling the array bilinearly with the
 texel mapping (clamp to the edge texels, as a GPU's sampler) and ``NAME_uv(mu,
 roughness)`` giving the texture coordinate at which a hardware bilinear filter reads the
 same value from a texture holding the table as stored (row 0 at v = 0). A 3-D table
-(layers over eta) has ``NAME_lookup(mu, roughness, eta)``, trilinear, and ``NAME_uvw``,
+(layers over eta or an exponent) has ``NAME_lookup(mu, roughness, eta)`` (or ``exponent``),
+trilinear, and ``NAME_uvw``,
 the 3-D texture coordinate (slice 0 at w = 0)."""
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def _comment(lut: Lut, meta: dict[str, Any], prefix: str) -> str:
     how = (
         f"lookup(mu, {s.param}) is bilinear"
         if s.layers is None
-        else f"lookup(mu, {s.param}, eta) is trilinear"
+        else f"lookup(mu, {s.param}, {s.layers.role}) is trilinear"
     )
     lines.append(
         f"Values: {s.format} texels, decoded. {how} between texel samples and clamps to the"
@@ -102,6 +103,8 @@ def _axis_code(axis: Axis, var: str, lang: str) -> list[str]:
     if axis.quantity in ("eta_z", "eta_z_inside"):
         fabs = "fabsf" if lang == "c" else "abs"
         q = f"{sqrt}({fabs}({var} - 1.0{f}) / ({var} + 1.0{f}))"
+    elif axis.quantity == "exponent_z":
+        q = f"1.0{f} / (1.0{f} + {var} / 5.0{f})"
     n = axis.size
     lo = float_literal(axis.lo, f)
     span = float_literal(axis.hi - axis.lo, f)
@@ -136,6 +139,10 @@ def _bilinear(name: str, w: int, nc: int, k: int, let: str, u: str, f: str) -> s
     )
 
 
+#: What a 3-D table's third input is, by the layers axis' role.
+_LAYER_TEXT = {"eta": "the relative index eta", "exponent": "generalized Schlick's exponent"}
+
+
 def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
     """A 3-D table as a C/C++ header: the array, a trilinear lookup and the 3-D texture
     coordinate."""
@@ -146,14 +153,15 @@ def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
     col_in = "mu" if s.columns.role == "mu" else "roughness"
     row_in = "mu" if s.rows.role == "mu" else "roughness"
     uvw = _axis_code(s.columns, col_in, "c") + _axis_code(s.rows, row_in, "c")
-    uvw += _axis_code(s.layers, "eta", "c")
+    lay = s.layers.role  # the third input's name: eta or exponent
+    uvw += _axis_code(s.layers, lay, "c")
     code = [line for line in uvw if "_t = " not in line]
     upper = name.upper()
     block = f"// BEGIN DATA\n{_data(lut.decoded, 'f', 6)}\n// END DATA\n"
     cells = [
         (f"{col_in}_x", "x0", "fx", w),
         (f"{row_in}_x", "y0", "fy", h),
-        ("eta_x", "z0", "fz", d),
+        (f"{lay}_x", "z0", "fz", d),
     ]
     body = "\n    ".join(code + _cell_code("c", cells))
     texel = f"{name}_data[(((z0 + dz) * {h} + y0 + dy) * {w} + x0 + dx) * {nc} + c]"
@@ -163,9 +171,9 @@ def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
         + f"#define {upper}_WIDTH {w}\n#define {upper}_HEIGHT {h}\n#define {upper}_DEPTH {d}\n"
         + f"#define {upper}_CHANNELS {nc}\n\n"
         + f"static const float {name}_data[{d * h * w * nc}] = {{\n{block}}};\n\n"
-        + f"/* Trilinear lookup at mu = cos(theta_v), {s.param} and the relative index eta;"
+        + f"/* Trilinear lookup at mu = cos(theta_v), {s.param} and {_LAYER_TEXT[lay]};"
         + f" writes {nc} value(s). */\n"
-        + f"static inline void {name}_lookup(float mu, float roughness, float eta,"
+        + f"static inline void {name}_lookup(float mu, float roughness, float {lay},"
         + f" float out[{nc}]) {{\n"
         + f"    {body}\n"
         + f"    for (int c = 0; c < {nc}; ++c) {{\n"
@@ -178,10 +186,10 @@ def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
         + "        out[c] = v;\n"
         + "    }\n}\n\n"
         + "/* The 3-D texture coordinate (u, v, w) a hardware trilinear filter reads it at. */\n"
-        + f"static inline void {name}_uvw(float mu, float roughness, float eta,"
+        + f"static inline void {name}_uvw(float mu, float roughness, float {lay},"
         + " float uvw[3]) {\n    "
         + "\n    ".join(uvw)
-        + f"\n    uvw[0] = {col_in}_t;\n    uvw[1] = {row_in}_t;\n    uvw[2] = eta_t;\n}}\n\n"
+        + f"\n    uvw[0] = {col_in}_t;\n    uvw[1] = {row_in}_t;\n    uvw[2] = {lay}_t;\n}}\n\n"
         + "#endif\n"
     )
 
@@ -250,7 +258,8 @@ def _shader_3d(lut: Lut, meta: dict[str, Any], lang: str) -> str:
     col_in = "mu" if s.columns.role == "mu" else "roughness"
     row_in = "mu" if s.rows.role == "mu" else "roughness"
     uvw = _axis_code(s.columns, col_in, lang) + _axis_code(s.rows, row_in, lang)
-    uvw += _axis_code(s.layers, "eta", lang)
+    lay = s.layers.role  # the third input's name: eta or exponent
+    uvw += _axis_code(s.layers, lay, lang)
     code = [line for line in uvw if "_t = " not in line]
     f = "f" if lang == "hlsl" else ""
     suffix = "f" if lang != "wgsl" else ""
@@ -260,29 +269,29 @@ def _shader_3d(lut: Lut, meta: dict[str, Any], lang: str) -> str:
     cells = [
         (f"{col_in}_x", "x0", "fx", w),
         (f"{row_in}_x", "y0", "fy", h),
-        ("eta_x", "z0", "fz", d),
+        (f"{lay}_x", "z0", "fz", d),
     ]
     interp = _cell_code(lang, cells)
     if lang in ("glsl", "hlsl"):
         fetch = [_trilinear(name, h, w, nc, k, "float", "", f) for k in range(nc)]
-        lookup = f"{vec} {name}_lookup(float mu, float roughness, float eta)"
-        uv = f"{v3} {name}_uvw(float mu, float roughness, float eta)"
+        lookup = f"{vec} {name}_lookup(float mu, float roughness, float {lay})"
+        uv = f"{v3} {name}_uvw(float mu, float roughness, float {lay})"
     else:  # WGSL
         fetch = [_trilinear(name, h, w, nc, k, "let", "u", "") for k in range(nc)]
-        lookup = f"fn {name}_lookup(mu: f32, roughness: f32, eta: f32) -> {vec}"
-        uv = f"fn {name}_uvw(mu: f32, roughness: f32, eta: f32) -> {v3}"
+        lookup = f"fn {name}_lookup(mu: f32, roughness: f32, {lay}: f32) -> {vec}"
+        uv = f"fn {name}_uvw(mu: f32, roughness: f32, {lay}: f32) -> {v3}"
     result = "r0" if nc == 1 else f"{vec}({', '.join(f'r{k}' for k in range(nc))})"
     return (
         _comment(lut, meta, "//")
         + data
-        + f"// Trilinear lookup at mu = cos(theta_v), {s.param} and the relative index eta.\n"
+        + f"// Trilinear lookup at mu = cos(theta_v), {s.param} and {_LAYER_TEXT[lay]}.\n"
         + f"{lookup} {{\n    "
         + "\n    ".join(code + interp + fetch)
         + f"\n    return {result};\n}}\n\n"
         + "// The 3-D texture coordinate a hardware trilinear filter reads the same value at.\n"
         + f"{uv} {{\n    "
         + "\n    ".join(uvw)
-        + f"\n    return {v3}({col_in}_t, {row_in}_t, eta_t);\n}}\n"
+        + f"\n    return {v3}({col_in}_t, {row_in}_t, {lay}_t);\n}}\n"
     )
 
 

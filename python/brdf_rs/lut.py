@@ -3,11 +3,13 @@ ship them, with an error budget and a provenance record in every file.
 
 A LUT is described by a :class:`LutSpec`: what it holds (``kind``: ``"dfg"``, the
 split-sum scale A and bias B; ``"dfg_multiscatter"``, Filament's ``∫V·Fc`` = B and ``∫V``
-= A + B; ``"energy"``, Kulla and Conty's E(mu) and E_avg), the model, two :class:`Axis`
-(the texture's columns and rows: which quantity, its range, how many texels and whether
-they sit at texel centres or at the ends of the range) and the pixel format. The
-presets (:data:`PRESETS`) reproduce engines' conventions; docs/luts.md says where each
-comes from.
+= A + B; ``"energy"``, Kulla and Conty's E(mu) and E_avg; ``"gen_schlick"``, generalized
+Schlick's F0/F90 blend), the model, two :class:`Axis` (the texture's columns and rows:
+which quantity, its range, how many texels and whether they sit at texel centres or at
+the ends of the range), a third for a 3-D table (``layers``: the index of refraction of a
+rough dielectric's energy table, or generalized Schlick's exponent) and the pixel
+format. The presets (:data:`PRESETS`) reproduce engines' conventions; docs/luts.md says
+where each comes from.
 
 :func:`build` integrates the table with the library's own DFG and energy builders
 (:func:`brdf_rs.dfg_table`, :func:`brdf_rs.energy_compensation_table`) and computes its
@@ -74,9 +76,15 @@ QUANTITIES = {
     " from the less dense side",
     "eta_z_inside": "z = sqrt(|eta - 1|/(eta + 1)) = F0^(1/4), eta = (1 - z^2)/(1 + z^2) <= 1:"
     " light from the denser side (a table at 1/eta)",
+    "exponent": "generalized Schlick's exponent itself (a gen_schlick table's third axis)",
+    "exponent_z": "z = 1/(1 + exponent/5), exponent = 5 (1 - z)/z: Cycles' coordinate, z = 0.5"
+    " at Schlick's exponent 5",
 }
 _MU_QUANTITIES = ("mu", "sqrt_mu")
 _ETA_QUANTITIES = ("eta", "eta_z", "eta_z_inside")
+_EXPONENT_QUANTITIES = ("exponent", "exponent_z")
+#: The quantities whose range is [0, 1] at most.
+_UNIT_QUANTITIES = (*_MU_QUANTITIES, "eta_z", "eta_z_inside", "exponent_z")
 
 #: Where a texel's sample sits: ``centres``: texel k of n at ``(k + 0.5)/n`` of the range
 #: (what a GPU's bilinear filter assumes); ``ends``: at ``k/(n − 1)`` (first and last
@@ -88,16 +96,23 @@ KINDS: dict[str, tuple[str, ...]] = {
     "dfg": ("A", "B", "cloth"),
     "dfg_multiscatter": ("B", "A+B", "cloth"),
     "energy": ("E", "E_avg"),
+    "gen_schlick": ("s", "E"),
 }
 #: The channels of a 3-D (transmitting model's) energy table: E and E_avg at the layer's
 #: index, and at its inverse (the same interface lit from the other side).
-KINDS_3D: dict[str, tuple[str, ...]] = {"energy": ("E", "E_avg", "E_inv", "E_inv_avg")}
+KINDS_3D: dict[str, tuple[str, ...]] = {
+    "energy": ("E", "E_avg", "E_inv", "E_inv_avg"),
+    "gen_schlick": ("s", "E"),
+}
 _CHANNEL_TEXT = {
     "A": "split-sum scale A: R_spec = F0*A + B (Schlick F0, F90 = 1)",
     "B": "split-sum bias B = integral of V*Fc, Fc = (1 - v.h)^5",
     "A+B": "A + B = integral of V (the directional albedo with F = 1)",
     "E": "E(mu, roughness): directional albedo with F = 1 (single scattering)",
     "E_avg": "E_avg(roughness) = 2 * integral of E(mu) mu dmu (constant along the mu axis)",
+    "s": "the blend of generalized Schlick's F0 and F90 in the albedo: E(F0, F90) ="
+    " E * (F0 + (F90 - F0) * s), s = E(F0 = 0, F90 = 1)/E(F0 = F90 = 1), at the layer's"
+    " exponent (0 where E is 0)",
     "cloth": "the sheen model's directional albedo with unit colour (integral of D*V*(n.l))"
     " at the table's roughness parameter value, or the sheen model's smallest where the"
     " table's is below it",
@@ -119,9 +134,27 @@ _CHANNEL_TEXT_3D = {
 
 def _channel_text(spec: LutSpec, channel: str) -> str:
     """What ``channel`` of a table described by ``spec`` holds."""
-    if spec.layers is not None:
+    if spec.layer_role == "eta":
         return _CHANNEL_TEXT_3D[channel]
     return _CHANNEL_TEXT[channel]
+
+
+#: An axis for each kind of third axis, as the errors suggest it.
+_LAYER_EXAMPLES = {
+    "eta": "eta_z:ends:16:0:1:0.0001:0.99",
+    "exponent": "exponent_z:ends:16:0:1:0.0001:0.99",
+}
+
+
+def _gen_schlick_models() -> list[str]:
+    """The models a ``gen_schlick`` table takes: generalized Schlick's ``f0``, ``f90`` and
+    ``exponent`` on a microfacet lobe of roughness ``alpha``."""
+    need = {"f0", "f90", "exponent", "alpha"}
+    return [
+        name
+        for name, s in _spec.specs().items()
+        if need <= {p["name"] for p in s["params"]} and s["family"] == "A"
+    ]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -221,7 +254,7 @@ class Axis:
             raise ValueError(f"axis size: {self.size} texels is more than 4096")
         if not (math.isfinite(self.lo) and math.isfinite(self.hi) and 0 <= self.lo < self.hi):
             raise ValueError(f"axis range: expected 0 <= lo < hi, got [{self.lo}, {self.hi}]")
-        if self.quantity in (*_MU_QUANTITIES, "eta_z", "eta_z_inside") and self.hi > 1:
+        if self.quantity in _UNIT_QUANTITIES and self.hi > 1:
             raise ValueError(f"axis range: {self.quantity} is at most 1, got hi = {self.hi}")
         if not (math.isfinite(self.floor) and 0 <= self.floor < self.hi):
             raise ValueError(f"axis floor: expected 0 <= floor < hi, got {self.floor}")
@@ -243,10 +276,12 @@ class Axis:
 
     @property
     def role(self) -> str:
-        """``"mu"``, ``"roughness"`` or ``"eta"``."""
+        """``"mu"``, ``"roughness"``, ``"eta"`` or ``"exponent"``."""
         if self.quantity in _MU_QUANTITIES:
             return "mu"
-        return "eta" if self.quantity in _ETA_QUANTITIES else "roughness"
+        if self.quantity in _ETA_QUANTITIES:
+            return "eta"
+        return "exponent" if self.quantity in _EXPONENT_QUANTITIES else "roughness"
 
     def fractions(self) -> np.ndarray:
         """Where the texels sit, as fractions of ``[lo, hi]``."""
@@ -273,6 +308,9 @@ class Axis:
             with np.errstate(divide="ignore"):
                 eta = np.asarray((1 + z2) / (1 - z2))
             return np.asarray(1 / eta) if self.quantity == "eta_z_inside" else eta
+        if self.quantity == "exponent_z":
+            with np.errstate(divide="ignore"):
+                return np.asarray(5 * (1 - q) / q)
         return q
 
     def quantity_of(self, x: Any) -> np.ndarray:
@@ -283,6 +321,8 @@ class Axis:
             return np.asarray(np.sqrt(np.maximum(a, 0)))
         if self.quantity in ("eta_z", "eta_z_inside"):
             return np.asarray(np.sqrt(np.abs(a - 1) / (a + 1)))
+        if self.quantity == "exponent_z":
+            return np.asarray(1 / (1 + a / 5))
         return a
 
     def texel(self, q: Any) -> np.ndarray:
@@ -316,6 +356,8 @@ class Axis:
             " from the less dense side)",
             "eta_z_inside": "z = sqrt(|eta - 1|/(eta + 1)) with eta = (1 - z^2)/(1 + z^2) <= 1"
             " (light from the denser side)",
+            "exponent": "generalized Schlick's exponent",
+            "exponent_z": "z = 1/(1 + exponent/5) with exponent = 5 (1 - z)/z",
         }[self.quantity]
         where = (
             f"texel k at q = lo + (hi - lo) * (k + 0.5) / {self.size} (texel centres)"
@@ -382,7 +424,9 @@ class LutSpec:
 
     A transmitting model's energy table (the rough dielectrics) is a 3-D texture: its
     ``layers`` axis (the depth, slice 0 first) is the index of refraction (``eta``,
-    ``eta_z`` or ``eta_z_inside``). The other tables have no ``layers``."""
+    ``eta_z`` or ``eta_z_inside``). So is a ``gen_schlick`` table, over generalized
+    Schlick's exponent (``exponent`` or ``exponent_z``). The other tables have no
+    ``layers``."""
 
     kind: str
     model: str
@@ -401,18 +445,17 @@ class LutSpec:
             raise ValueError(f"kind: unknown {self.kind!r}; use {', '.join(KINDS)}")
         if self.format not in FORMATS:
             raise ValueError(f"format: unknown {self.format!r}; use {', '.join(FORMATS)}")
-        specs = _spec.specs()
         transmitting = _spec.transmitting()
         if self.kind == "energy":
             known: Sequence[str] = _spec.with_energy_table() + transmitting
+        elif self.kind == "gen_schlick":
+            known = _gen_schlick_models()
         else:
             known = list(_spec.with_dfg())
         if self.model not in known:
             raise ValueError(
                 f"model: {self.model!r} has no {self.kind} table; use {', '.join(known)}"
             )
-        if self.model in specs and specs[self.model]["dfg"] is None and self.kind != "energy":
-            raise ValueError(f"model: {self.model} has no split-sum table")
         if {self.columns.role, self.rows.role} != {"mu", "roughness"}:
             raise ValueError(
                 "axes: one axis must be mu (mu or sqrt_mu) and the other roughness (alpha or"
@@ -420,21 +463,24 @@ class LutSpec:
             )
         if self.layers is not None and not isinstance(self.layers, Axis):
             raise ValueError(f"layers: expected an Axis or None, got {self.layers!r}")
-        if self.model in transmitting and self.layers is None:
+        role = self.layer_role
+        if role is not None and self.layers is None:
+            example = _LAYER_EXAMPLES[role]
             raise ValueError(
-                f"layers: {self.model}'s energy table is E(mu, alpha, eta), a 3-D texture;"
-                " give the eta axis (layers=Axis('eta_z', 16, 'ends', floor=1e-4,"
-                " ceiling=0.99), --layers eta_z:ends:16:0:1:0.0001:0.99)"
+                f"layers: the {self.kind} table of {self.model} is a 3-D texture over {role};"
+                f" give its axis (layers=parse_axis({example!r}), --layers {example})"
             )
-        if self.model not in transmitting and self.layers is not None:
+        if role is None and self.layers is not None:
             raise ValueError(
-                f"layers: only the transmitting models' energy tables have a third axis"
-                f" ({', '.join(transmitting)}); {self.model}'s table is 2-D"
+                "layers: only a transmitting model's energy table"
+                f" ({', '.join(transmitting)}) and a gen_schlick table have a third axis;"
+                f" a {self.kind} table of {self.model} is 2-D"
             )
-        if self.layers is not None and self.layers.role != "eta":
+        if self.layers is not None and self.layers.role != role:
+            quantities = _ETA_QUANTITIES if role == "eta" else _EXPONENT_QUANTITIES
             raise ValueError(
-                "layers: the third axis is the index of refraction (eta, eta_z or"
-                f" eta_z_inside); got {self.layers.quantity}"
+                f"layers: this table's third axis is {role} ({', '.join(quantities)}); got"
+                f" {self.layers.quantity}"
             )
         fmt = FORMATS[self.format]
         chosen = self.channel_names
@@ -471,7 +517,7 @@ class LutSpec:
         for label, axis in self._axes():
             if axis.role == "mu":
                 continue
-            param = self.param if axis.role == "roughness" else "eta"
+            param = self.param if axis.role == "roughness" else axis.role
             ends = axis.physical(axis.positions()[[0, -1]])
             for which, value, fix in (
                 ("first", float(ends[0]), "raise lo or give a floor"),
@@ -482,6 +528,15 @@ class LutSpec:
                         f"{label}: {param} = {value!r} at the {which} texel is out of"
                         f" range for {self.model}; {fix}"
                     )
+
+    @property
+    def layer_role(self) -> str | None:
+        """What the third axis holds (``"eta"``, ``"exponent"``), None for a 2-D table."""
+        if self.kind == "gen_schlick":
+            return "exponent"
+        if self.kind == "energy" and self.model in _spec.transmitting():
+            return "eta"
+        return None
 
     def _axes(self) -> list[tuple[str, Axis]]:
         """The axes by their field names, ``layers`` last when there is one."""
@@ -503,7 +558,7 @@ class LutSpec:
     @property
     def param(self) -> str:
         """The model's roughness parameter."""
-        if self.kind == "energy":
+        if self.kind in ("energy", "gen_schlick"):
             return "alpha"
         return _spec.with_dfg()[self.model]["param"]
 
@@ -603,6 +658,9 @@ _ESTIMATOR = {
     " ks = 0 and 1",
     "energy": "brdf_rs.energy_compensation_table: randomized QMC (Owen-scrambled Sobol),"
     " E_avg by adaptive Gauss-Kronrod (7/15 points) in sqrt(mu)",
+    "gen_schlick": "brdf_rs.albedo_table: randomized QMC (Owen-scrambled Sobol) of the albedo"
+    " at F0 = 0, F90 = 1 and at F0 = F90 = 1 on the same cells, s their ratio (its stderr"
+    " propagated as if independent: an upper estimate)",
 }
 
 
@@ -786,6 +844,29 @@ def _presets() -> dict[str, Preset]:
             " ggx_glass_inv_E and ggx_glass_inv_Eavg: precompute_ggx_glass_E at 1/ior) and"
             " kernel/closure/bsdf_microfacet.h (microfacet_ggx_preserve_energy)",
         ),
+        "cycles_gen_schlick": Preset(
+            LutSpec(
+                "gen_schlick",
+                "ggx_gen_schlick",
+                Axis("perceptual", 16, "ends", floor=_CYCLES_ROUGHNESS_FLOOR),
+                Axis("mu", 16, "ends", floor=1e-4),
+                "R32_SFLOAT",
+                samples=4096,
+                name="cycles_ggx_gen_schlick_s",
+                layers=Axis("exponent_z", 16, "ends", floor=1e-4, ceiling=0.99),
+            ),
+            ".h",
+            "Blender Cycles' ggx_gen_schlick_s: 16 x 16 x 16 floats, x = r = i/15 (alpha ="
+            " r^2), y = mu = j/15, slices z = k/15 with exponent = 5 (1 - z)/z; r clamped to"
+            " >= 3.1623e-4 (Cycles: 1e-4), mu to >= 1e-4, z to [1e-4, 0.99]; s the blend of"
+            " generalized Schlick's F0 and F90 in the albedo, E(F0, F90) = E * mix(F0, F90, s)",
+            "Blender intern/cycles/app/cycles_precompute.cpp (precompute_ggx_gen_schlick_s:"
+            " f0 = (0, 1, 0), f90 = (1, 1, 0), s = eval.x / eval.y, saturated; the term"
+            " ggx_gen_schlick_s at exponent = 5 (1 - z)/z, 1 << 20 samples) and"
+            " kernel/closure/bsdf_microfacet.h (bsdf_microfacet_estimate_albedo:"
+            " lookup_table_read_3D(kg, rough, cos_NI, z, ...) with z = 1/(0.2 exponent + 1),"
+            " reflectance = mix(f0, f90, s))",
+        ),
         "gltf": Preset(
             LutSpec(
                 "dfg",
@@ -869,6 +950,10 @@ def _integrate(
     mu = spec.mu_axis.physical(mu_q)
     rough = spec.roughness_axis.physical(rough_q)
     extra: dict[str, Any] = {} if progress is None else {"progress": progress}
+    if spec.kind == "gen_schlick":
+        assert eta_q is not None and spec.layers is not None
+        exponent = spec.layers.physical(eta_q)
+        return _gen_schlick_blend(spec, mu, rough, exponent, seed, extra)
     if spec.layers is not None:
         assert eta_q is not None
         eta = spec.layers.physical(eta_q)
@@ -945,6 +1030,34 @@ def _sheen(spec: LutSpec) -> tuple[dict[str, Any], float]:
         low = float(np.nextafter(low, np.inf))
     weights = _albedo._sheen_weights(spec.sheen, spec.model, spec.param, np.array([low]))
     return weights, low
+
+
+def _gen_schlick_blend(
+    spec: LutSpec,
+    mu: np.ndarray,
+    rough: np.ndarray,
+    exponent: np.ndarray,
+    seed: int,
+    extra: dict[str, Any],
+) -> tuple[np.ndarray, np.ndarray]:
+    """A ``gen_schlick`` table's channels (s, E) over ``(mu, alpha, exponent)``: the
+    albedos with ``F0 = 0, F90 = 1`` and with ``F = 1`` (``F0 = F90 = 1``), integrated at
+    the same cells, and their ratio. Its standard error is propagated to first order as
+    if the two were independent: they share their samples, which makes the ratio's error
+    smaller, so this is an upper estimate."""
+    from . import _albedo
+
+    axes = {"mu": mu, spec.param: rough, "exponent": exponent}
+    common = {"samples": spec.samples, "seed": seed, "tol": None, "kd": 0.0, **extra}
+    blend = _albedo.albedo_table(spec.model, axes, f0=0.0, f90=1.0, **common)
+    one = _albedo.albedo_table(spec.model, axes, f0=1.0, f90=1.0, **common)
+    x, se_x = blend.value[..., 0], blend.stderr[..., 0]
+    e, se_e = one.value[..., 0], one.stderr[..., 0]
+    positive = e > 0
+    safe = np.where(positive, e, 1.0)
+    s = np.where(positive, x / safe, 0.0)
+    se_s = np.where(positive, np.hypot(se_x, s * se_e) / safe, 0.0)
+    return np.stack([s, e], axis=-1), np.stack([se_s, se_e], axis=-1)
 
 
 def _sides(spec: LutSpec, eta: np.ndarray) -> list[tuple[str | None, np.ndarray]]:
@@ -1174,13 +1287,13 @@ def _worst_inside(
 
 
 def _eta_check_points(spec: LutSpec, interp_limit: int) -> np.ndarray | None:
-    """A 3-D table's eta quantities the interpolation error is checked at (indices the
-    model refuses left out); None for a 2-D table."""
+    """A 3-D table's layer quantities (eta, the exponent) the interpolation error is
+    checked at (values the model refuses left out); None for a 2-D table."""
     if spec.layers is None:
         return None
     pts = _check_points(spec.layers, interp_limit)
     phys = spec.layers.physical(pts)
-    return pts[[_spec.admits(spec.model, "eta", float(x)) for x in phys]]
+    return pts[[_spec.admits(spec.model, spec.layers.role, float(x)) for x in phys]]
 
 
 def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
@@ -1191,6 +1304,15 @@ def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     mu_pts, r_pts = _check_grid(spec, interp_limit)
     eta_pts = _eta_check_points(spec, interp_limit)
     runs = []
+    if spec.kind == "gen_schlick":
+        assert eta_pts is not None
+        # E(F0 = 0, F90 = 1), then E(F0 = F90 = 1), on the grid and between the texels
+        for cells in (
+            spec.mu_axis.size * spec.roughness_axis.size * spec.shape[0],
+            mu_pts.size * r_pts.size * eta_pts.size,
+        ):
+            runs += [cells, cells]
+        return runs
     if spec.layers is not None:
         assert eta_pts is not None
         for m, r, e in (
@@ -1304,22 +1426,24 @@ class Lut:
     def content_hash(self) -> str:
         return self.spec.content_hash()
 
-    def lookup(self, mu: Any, roughness: Any, eta: Any = None) -> np.ndarray:
+    def lookup(self, mu: Any, roughness: Any, layer: Any = None) -> np.ndarray:
         """Bilinear lookup of the stored table at incidence cosines ``mu`` and values of
         the model's roughness parameter (``alpha``), as a GPU's filter reads it; a 3-D
-        table's is trilinear and takes the relative index ``eta`` too."""
-        if (eta is None) != (self.spec.layers is None):
+        table's is trilinear and takes the layers axis' value too, ``layer`` (the relative
+        index eta, or generalized Schlick's exponent)."""
+        role = self.spec.layer_role
+        if (layer is None) != (role is None):
             raise ValueError(
-                "eta: a 3-D table (layers over eta) needs eta; a 2-D table takes none"
-                if eta is None
-                else "eta: this table is 2-D (no layers axis); leave eta out"
+                f"layer: a 3-D table (layers over {role}) needs its {role}; a 2-D table takes none"
+                if layer is None
+                else "layer: this table is 2-D (no layers axis); leave layer out"
             )
-        for label, value in (("mu", mu), ("roughness", roughness), ("eta", eta)):
+        for label, value in (("mu", mu), ("roughness", roughness), ("layer", layer)):
             if value is not None:
                 _check_finite(label, value)
         m = self.spec.mu_axis.quantity_of(mu)
         r = self.spec.roughness_axis.quantity_of(roughness)
-        e = None if self.spec.layers is None else self.spec.layers.quantity_of(eta)
+        e = None if self.spec.layers is None else self.spec.layers.quantity_of(layer)
         return _lookup_q(self.spec, self.decoded, m, r, e)
 
     def meta(self, output: str = "OUT") -> dict[str, Any]:
