@@ -710,6 +710,10 @@ _UE5_ROUGHNESS_FLOOR = 0.01
 
 def _presets() -> dict[str, Preset]:
     r32_centres = Axis("perceptual", 32, "centres")
+    # Unreal's energy tables (specular and glass): NoV and Roughness at texel centres of
+    # 32; its builder floors r at 0.01 (alpha 1e-4): no texel of 32 is below.
+    ue5_mu = Axis("mu", 32, "centres")
+    ue5_r = Axis("perceptual", 32, "centres", floor=_UE5_ROUGHNESS_FLOOR)
     return {
         "filament": Preset(
             LutSpec(
@@ -750,9 +754,8 @@ def _presets() -> dict[str, Preset]:
             LutSpec(
                 "dfg_multiscatter",
                 "ggx",
-                Axis("mu", 32, "centres"),
-                # UE's table builder floors r at 0.01 (alpha 1e-4): no texel of 32 is below.
-                Axis("perceptual", 32, "centres", floor=_UE5_ROUGHNESS_FLOOR),
+                ue5_mu,
+                ue5_r,
                 "R16G16_UNORM",
                 channels=("A+B", "B"),
                 name="ue5_ggx_spec_energy",
@@ -773,8 +776,8 @@ def _presets() -> dict[str, Preset]:
             LutSpec(
                 "energy",
                 "ggx_dielectric",
-                Axis("mu", 32, "centres"),
-                Axis("perceptual", 32, "centres", floor=_UE5_ROUGHNESS_FLOOR),
+                ue5_mu,
+                ue5_r,
                 "R16G16_UNORM",
                 channels=("E", "E_inv"),
                 samples=1 << 14,  # the engine builder's NumSamples
@@ -817,7 +820,7 @@ def _presets() -> dict[str, Preset]:
             " (size - 1): samples at the ends)",
         ),
         "cycles_glass": Preset(
-            _cycles_glass("ggx_dielectric", "eta_z", "cycles_ggx_glass_E"),
+            _cycles_16("energy", "ggx_dielectric", "eta_z", "cycles_ggx_glass_E"),
             ".h",
             "Blender Cycles' ggx_glass_E and ggx_glass_Eavg: 16 x 16 x 16 floats, x = r ="
             " i/15 (alpha = r^2), y = mu = j/15, slices z = k/15 with eta = (1 + z^2)/(1 -"
@@ -833,7 +836,7 @@ def _presets() -> dict[str, Preset]:
             " sqrt(|ior - 1|/(ior + 1)), the _inv_ tables at 1/ior when ior < 1)",
         ),
         "cycles_glass_inv": Preset(
-            _cycles_glass("ggx_dielectric", "eta_z_inside", "cycles_ggx_glass_inv_E"),
+            _cycles_16("energy", "ggx_dielectric", "eta_z_inside", "cycles_ggx_glass_inv_E"),
             ".h",
             "Blender Cycles' ggx_glass_inv_E and ggx_glass_inv_Eavg: the cycles_glass"
             " layout for light from the denser side, eta = (1 - z^2)/(1 + z^2) (Cycles reads"
@@ -845,16 +848,7 @@ def _presets() -> dict[str, Preset]:
             " kernel/closure/bsdf_microfacet.h (microfacet_ggx_preserve_energy)",
         ),
         "cycles_gen_schlick": Preset(
-            LutSpec(
-                "gen_schlick",
-                "ggx_gen_schlick",
-                Axis("perceptual", 16, "ends", floor=_CYCLES_ROUGHNESS_FLOOR),
-                Axis("mu", 16, "ends", floor=1e-4),
-                "R32_SFLOAT",
-                samples=4096,
-                name="cycles_ggx_gen_schlick_s",
-                layers=Axis("exponent_z", 16, "ends", floor=1e-4, ceiling=0.99),
-            ),
+            _cycles_16("gen_schlick", "ggx_gen_schlick", "exponent_z", "cycles_ggx_gen_schlick_s"),
             ".h",
             "Blender Cycles' ggx_gen_schlick_s: 16 x 16 x 16 floats, x = r = i/15 (alpha ="
             " r^2), y = mu = j/15, slices z = k/15 with exponent = 5 (1 - z)/z; r clamped to"
@@ -909,17 +903,19 @@ def _presets() -> dict[str, Preset]:
     }
 
 
-def _cycles_glass(model: str, eta_quantity: str, name: str) -> LutSpec:
-    """Cycles' 16^3 glass table over (r, mu, z), light from outside or inside."""
+def _cycles_16(kind: str, model: str, layer: str, name: str) -> LutSpec:
+    """A Cycles 16^3 table over (r, mu, z), all at the ends, the third axis' quantity
+    ``layer`` clamped as Cycles' generator clamps z, to [1e-4, 0.99]; floats, every
+    channel of the kind but the dielectric's other side."""
     return LutSpec(
-        "energy",
+        kind,
         model,
         Axis("perceptual", 16, "ends", floor=_CYCLES_ROUGHNESS_FLOOR),
         Axis("mu", 16, "ends", floor=1e-4),
-        "R32G32_SFLOAT",
+        "R32G32_SFLOAT" if kind == "energy" else "R32_SFLOAT",
         samples=4096,
         name=name,
-        layers=Axis(eta_quantity, 16, "ends", floor=1e-4, ceiling=0.99),
+        layers=Axis(layer, 16, "ends", floor=1e-4, ceiling=0.99),
     )
 
 
