@@ -53,7 +53,7 @@ def main() -> int:
         seconds = time.perf_counter() - start
         b = table.budget
         size = " x ".join(str(n) for n in spec.shape[::-1])
-        at = f"mu, {spec.param}" + (", eta" if spec.layers is not None else "")
+        at = f"mu, {spec.param}" + (f", {spec.layers.role}" if spec.layers is not None else "")
         lines += [
             f"## {name}",
             "",

@@ -41,7 +41,7 @@ use crate::math::geometry::{
     Cosine, ggx_mu_lambda, half_vector_exact, microfacet_length_correction, smith_quotient,
     weighted,
 };
-use crate::math::{PowUnit, Real, Vector3, max, min};
+use crate::math::{PowUnit, Real, Vector3, max};
 use crate::sampling::Warp;
 use crate::sampling::dielectric::DielectricSampler;
 
@@ -116,29 +116,15 @@ impl Microfacets for Ggx {
         Warp::GgxVisible { alpha }
     }
 
-    /// `ggx`'s lobe ([`super::ggx::lobe`]) after its half vector, operation for operation:
-    /// with `a = α² sin²θ` and `P = 2(sqrt(μ² + a) + μ)`, `D·P_i P_o/(4q)/m`, `m` the
-    /// larger cosine and `q = min·P_i P_o + (mu_o/m)·a_i P_o + (mu_i/m)·a_o P_i` (fewer
-    /// roundings than the `μ·Λ(μ)` quotient).
+    /// `ggx`'s lobe ([`super::ggx::lobe`]) after its half vector: the weighted NDF into
+    /// the same Smith quotient ([`super::ggx::smith_lobe`]), fewer roundings than the
+    /// `μ·Λ(μ)` quotient.
     #[inline(always)]
     fn lobe<F: Real>(p: &(F, F), w: F, cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
         let (alpha2, d_scale) = *p;
-        let [mu_i, mu_o] = mu;
         let denom = sin2_th + alpha2 * cos_th * cos_th;
         let ndf = weighted(w, d_scale / (denom * denom));
-        let a_i = alpha2 * sin2[0];
-        let a_o = alpha2 * sin2[1];
-        let p_i = F::TWO * ((mu_i * mu_i + a_i).sqrt() + mu_i);
-        let p_o = F::TWO * ((mu_o * mu_o + a_o).sqrt() + mu_o);
-        let m = max(mu_i, mu_o);
-        let least = min(mu_i, mu_o);
-        let ratio = least / m;
-        let i_smaller = mu_i < mu_o;
-        let r_i = if i_smaller { ratio } else { F::ONE };
-        let r_o = if i_smaller { F::ONE } else { ratio };
-        let pp = p_i * p_o;
-        let q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i;
-        ndf * pp / (F::from_f64(4.0) * q) / m
+        super::ggx::smith_lobe(ndf, mu[0], mu[1], alpha2 * sin2[0], alpha2 * sin2[1])
     }
 }
 

@@ -107,6 +107,17 @@ pub fn lobe<F: Real, P: PowUnit>(
     let ndf = d_scale / (denom * denom);
     let a_i = alpha2 * d.n.cross(d.wi).length_squared();
     let a_o = alpha2 * d.n.cross(d.wo).length_squared();
+    let spec = smith_lobe(ndf, mu_i, mu_o, a_i, a_o);
+    (corrected(spec, errors, hv.h), hv.cos_b, hv.defined)
+}
+
+/// `ndf·G2/(4 mu_i mu_o)` with GGX's height-correlated Smith `G2`, from the NDF's value
+/// (times any weight), the two cosines and `a = α² sin²θ` of each direction: `ndf·P_i
+/// P_o/(4q)/m` in the form [`lobe`] explains (`m` the larger cosine, `q = min·P_i P_o +
+/// (mu_o/m)·a_i P_o + (mu_i/m)·a_o P_i`). The rough dielectrics' reflection and
+/// refraction lobes use it too.
+#[inline(always)]
+pub fn smith_lobe<F: Real>(ndf: F, mu_i: F, mu_o: F, a_i: F, a_o: F) -> F {
     let p_i = F::TWO * ((mu_i * mu_i + a_i).sqrt() + mu_i);
     let p_o = F::TWO * ((mu_o * mu_o + a_o).sqrt() + mu_o);
     let m = max(mu_i, mu_o);
@@ -117,8 +128,7 @@ pub fn lobe<F: Real, P: PowUnit>(
     let r_o = if i_smaller { F::ONE } else { ratio };
     let pp = p_i * p_o;
     let q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i;
-    let spec = ndf * pp / (F::from_f64(4.0) * q) / m;
-    (corrected(spec, errors, hv.h), hv.cos_b, hv.defined)
+    ndf * pp / (F::from_f64(4.0) * q) / m
 }
 
 /// The length errors `e = |w|² − 1` of `n`, `wi` and `wo` ([`Real::length_error`]) that the
