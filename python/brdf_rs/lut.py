@@ -295,9 +295,10 @@ class Axis:
         return self.lo + (self.hi - self.lo) * self.fractions()
 
     def physical(self, q: np.ndarray) -> np.ndarray:
-        """``mu``, the model's roughness parameter or ``eta`` at quantity values ``q``
-        (floored, and capped at the ceiling when there is one; ``eta_z = 1`` is an
-        infinite index)."""
+        """``mu``, the model's roughness parameter, ``eta`` or generalized Schlick's
+        exponent at quantity values ``q`` (floored, and capped at the ceiling when there is
+        one; ``eta_z = 1`` is an infinite index, ``exponent_z = 0`` an infinite
+        exponent)."""
         q = np.maximum(np.asarray(q, dtype=np.float64), self.floor)
         if self.ceiling is not None:
             q = np.minimum(q, self.ceiling)
@@ -314,8 +315,8 @@ class Axis:
         return q
 
     def quantity_of(self, x: Any) -> np.ndarray:
-        """The axis quantity of a physical value (``mu``, the roughness parameter or
-        ``eta``)."""
+        """The axis quantity of a physical value (``mu``, the roughness parameter, ``eta``
+        or the exponent)."""
         a = np.asarray(x, dtype=np.float64)
         if self.quantity in ("sqrt_mu", "perceptual"):
             return np.asarray(np.sqrt(np.maximum(a, 0)))
@@ -936,10 +937,10 @@ def _integrate(
     rough_q: np.ndarray,
     seed: int,
     progress: Any = None,
-    eta_q: np.ndarray | None = None,
+    layer_q: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The kind's channels and standard errors at quantity values ``mu_q`` x ``rough_q``
-    (x ``eta_q`` for a 3-D table), shape ``(len(mu_q), len(rough_q)[, len(eta_q)],
+    (x ``layer_q`` for a 3-D table), shape ``(len(mu_q), len(rough_q)[, len(layer_q)],
     channels)`` (every channel of the kind)."""
     from . import _albedo
 
@@ -947,12 +948,12 @@ def _integrate(
     rough = spec.roughness_axis.physical(rough_q)
     extra: dict[str, Any] = {} if progress is None else {"progress": progress}
     if spec.kind == "gen_schlick":
-        assert eta_q is not None and spec.layers is not None
-        exponent = spec.layers.physical(eta_q)
+        assert layer_q is not None and spec.layers is not None
+        exponent = spec.layers.physical(layer_q)
         return _gen_schlick_blend(spec, mu, rough, exponent, seed, extra)
     if spec.layers is not None:
-        assert eta_q is not None
-        eta = spec.layers.physical(eta_q)
+        assert layer_q is not None
+        eta = spec.layers.physical(layer_q)
         values, errors = [], []
         for side, index in _sides(spec, eta):
             e, e_se, avg, avg_se = (np.zeros(index.shape) for _ in range(4))
@@ -1183,14 +1184,14 @@ class Budget:
     the float64 integrals.
     ``interp_worst``: the largest difference between the bilinear (3-D: trilinear)
     lookup of the float64 table and a fresh Monte Carlo integral (an independent seed)
-    at ``interp_points``
-    points between the texels (midpoints between neighbouring texels, and the range
-    ends); it holds the texels' and the reference's Monte Carlo noise as well as the
-    interpolation error. The reference's standard error is up to ``interp_ref_stderr``.
-    ``interp_worst_at`` says where (``[mu, roughness parameter]``, and ``eta`` for a
-    3-D table), ``interp_worst_interior`` is the worst over the points between the first
-    and last texels of every axis (leaving out the margins a texel-centre table clamps, where the
-    lookup holds the edge texel's value).
+    at ``interp_points`` points between the texels (midpoints between neighbouring
+    texels, and the range ends); it holds the texels' and the reference's Monte Carlo
+    noise as well as the interpolation error. The reference's standard error is up to
+    ``interp_ref_stderr``.
+    ``interp_worst_at`` says where (``[mu, roughness parameter]``, and the third axis'
+    value for a 3-D table), ``interp_worst_interior`` is the worst over the points
+    between the first and last texels of every axis (leaving out the margins a
+    texel-centre table clamps, where the lookup holds the edge texel's value).
 
     ``total`` = quant_worst + interp_worst + 3 * interp_ref_stderr + 3 * mc_max_stderr:
     an estimate, at 3 sigma per point, of how far the file's lookup is from the exact
@@ -1282,7 +1283,7 @@ def _worst_inside(
     return err[inside].max(axis=0) if inside.any() else np.zeros(err.shape[-1])
 
 
-def _eta_check_points(spec: LutSpec, interp_limit: int) -> np.ndarray | None:
+def _layer_check_points(spec: LutSpec, interp_limit: int) -> np.ndarray | None:
     """A 3-D table's layer quantities (eta, the exponent) the interpolation error is
     checked at (values the model refuses left out); None for a 2-D table."""
     if spec.layers is None:
@@ -1298,22 +1299,22 @@ def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
     energy table's ``E_avg`` run counts its first round, 30 cells per roughness (and
     index, for a 3-D table): where it halves panels it counts on past that."""
     mu_pts, r_pts = _check_grid(spec, interp_limit)
-    eta_pts = _eta_check_points(spec, interp_limit)
+    layer_pts = _layer_check_points(spec, interp_limit)
     runs = []
     if spec.kind == "gen_schlick":
-        assert eta_pts is not None
+        assert layer_pts is not None
         # E(F0 = 0, F90 = 1), then E(F0 = F90 = 1), on the grid and between the texels
         for cells in (
             spec.mu_axis.size * spec.roughness_axis.size * spec.shape[0],
-            mu_pts.size * r_pts.size * eta_pts.size,
+            mu_pts.size * r_pts.size * layer_pts.size,
         ):
             runs += [cells, cells]
         return runs
     if spec.layers is not None:
-        assert eta_pts is not None
+        assert layer_pts is not None
         for m, r, e in (
             (spec.mu_axis.size, spec.roughness_axis.size, spec.layers.size),
-            (mu_pts.size, r_pts.size, eta_pts.size),
+            (mu_pts.size, r_pts.size, layer_pts.size),
         ):
             # each side kept: E on the grid, then (with an E_avg channel) E_avg's first round
             for need, _ in _sides(spec, np.ones(1)):
@@ -1342,13 +1343,13 @@ def _budget(
     diff = decoded - image
     flat = diff.reshape(-1, diff.shape[-1])
     mu_pts, r_pts = _check_grid(spec, interp_limit)
-    eta_pts = _eta_check_points(spec, interp_limit)
-    ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress, eta_pts)
+    layer_pts = _layer_check_points(spec, interp_limit)
+    ref, ref_se = _integrate(spec, mu_pts, r_pts, spec.seed + 1, progress, layer_pts)
     keep = [spec.kind_channels.index(c) for c in spec.channel_names]
     ref, ref_se = ref[..., keep], ref_se[..., keep]
-    grids = np.meshgrid(mu_pts, r_pts, *([] if eta_pts is None else [eta_pts]), indexing="ij")
+    grids = np.meshgrid(mu_pts, r_pts, *([] if layer_pts is None else [layer_pts]), indexing="ij")
     mq, rq = grids[0], grids[1]
-    eq = grids[2] if eta_pts is not None else None
+    eq = grids[2] if layer_pts is not None else None
     looked = _lookup_q(spec, image, mq, rq, eq)
     ierr = np.abs(looked - ref).reshape(-1, ref.shape[-1])
     axes = [spec.mu_axis, spec.roughness_axis] + ([spec.layers] if spec.layers else [])
@@ -1380,7 +1381,7 @@ def _budget(
 
 
 def _lookup_q(spec: LutSpec, image: np.ndarray, mq: Any, rq: Any, eq: Any = None) -> np.ndarray:
-    """The filtered lookup of ``image`` at axis quantities (mu, roughness[, eta])."""
+    """The filtered lookup of ``image`` at axis quantities (mu, roughness[, layer])."""
     cols, rows = (mq, rq) if spec.columns.role == "mu" else (rq, mq)
     if spec.layers is None:
         return bilinear(image, spec.columns, spec.rows, cols, rows)
@@ -1390,14 +1391,14 @@ def _lookup_q(spec: LutSpec, image: np.ndarray, mq: Any, rq: Any, eq: Any = None
 @dataclasses.dataclass(frozen=True)
 class Checks:
     """The integrals the interpolation error was measured against: at axis quantities
-    ``mu_q`` x ``roughness_q`` (2-D, mu first; x ``eta_q`` for a 3-D table), ``value``
+    ``mu_q`` x ``roughness_q`` (2-D, mu first; x ``layer_q`` for a 3-D table), ``value``
     and ``stderr`` (kept channels last), integrated with an independent seed."""
 
     mu_q: np.ndarray
     roughness_q: np.ndarray
     value: np.ndarray
     stderr: np.ndarray
-    eta_q: np.ndarray | None = None
+    layer_q: np.ndarray | None = None
 
 
 # --------------------------------------------------------------------------------- Lut
@@ -1504,14 +1505,14 @@ def build(
         raise TypeError(f"spec: expected a LutSpec, got {type(spec).__name__}")
     if isinstance(interp_limit, bool) or not isinstance(interp_limit, int) or interp_limit < 2:
         raise ValueError(f"interp_limit: expected an integer >= 2, got {interp_limit!r}")
-    eta_q = None if spec.layers is None else spec.layers.positions()
+    layer_q = None if spec.layers is None else spec.layers.positions()
     value, se = _integrate(
         spec,
         spec.mu_axis.positions(),
         spec.roughness_axis.positions(),
         spec.seed,
         progress,
-        eta_q,
+        layer_q,
     )
     image, stderr = _to_image(spec, value), _to_image(spec, se)
     stored, decoded = quantize(image, spec.format)
