@@ -143,27 +143,40 @@ def _bilinear(name: str, w: int, nc: int, k: int, let: str, u: str, f: str) -> s
 _LAYER_TEXT = {"eta": "the relative index eta", "exponent": "generalized Schlick's exponent"}
 
 
+def _inputs_3d(lut: Lut, lang: str) -> tuple[list[str], list[str], list[str]]:
+    """A 3-D table's inputs (``mu``, ``roughness`` and the layer's ``eta`` or
+    ``exponent``) in the order of its axes, the statements turning them into texel
+    coordinates and cells (for the lookup), and into texture coordinates too (for
+    ``uvw``)."""
+    s = lut.spec
+    assert s.layers is not None
+    d, h, w, _ = lut.decoded.shape
+    names = ["mu" if a.role == "mu" else "roughness" for a in (s.columns, s.rows)]
+    names.append(s.layers.role)
+    per_axis = [
+        _axis_code(a, v, lang) for a, v in zip((s.columns, s.rows, s.layers), names, strict=True)
+    ]
+    cells = [
+        (f"{v}_x", i, fr, n)
+        for v, i, fr, n in zip(
+            names, ("x0", "y0", "z0"), ("fx", "fy", "fz"), (w, h, d), strict=True
+        )
+    ]
+    # The lookup needs no texture coordinate, each axis' last statement.
+    lookup = [line for code in per_axis for line in code[:-1]] + _cell_code(lang, cells)
+    return names, lookup, [line for code in per_axis for line in code]
+
+
 def _source_3d(lut: Lut, meta: dict[str, Any]) -> str:
     """A 3-D table as a C/C++ header: the array, a trilinear lookup and the 3-D texture
     coordinate."""
     s = lut.spec
-    assert s.layers is not None
     name = s.name
     d, h, w, nc = lut.decoded.shape
-    col_in = "mu" if s.columns.role == "mu" else "roughness"
-    row_in = "mu" if s.rows.role == "mu" else "roughness"
-    uvw = _axis_code(s.columns, col_in, "c") + _axis_code(s.rows, row_in, "c")
-    lay = s.layers.role  # the third input's name: eta or exponent
-    uvw += _axis_code(s.layers, lay, "c")
-    code = [line for line in uvw if "_t = " not in line]
+    (col_in, row_in, lay), lookup, uvw = _inputs_3d(lut, "c")
     upper = name.upper()
     block = f"// BEGIN DATA\n{_data(lut.decoded, 'f', 6)}\n// END DATA\n"
-    cells = [
-        (f"{col_in}_x", "x0", "fx", w),
-        (f"{row_in}_x", "y0", "fy", h),
-        (f"{lay}_x", "z0", "fz", d),
-    ]
-    body = "\n    ".join(code + _cell_code("c", cells))
+    body = "\n    ".join(lookup)
     texel = f"{name}_data[(((z0 + dz) * {h} + y0 + dy) * {w} + x0 + dx) * {nc} + c]"
     return (
         _comment(lut, meta, "//")
@@ -251,27 +264,15 @@ def _shader_3d(lut: Lut, meta: dict[str, Any], lang: str) -> str:
     """A 3-D table in GLSL, HLSL or WGSL: the array, a trilinear lookup and the 3-D texture
     coordinate."""
     s = lut.spec
-    assert s.layers is not None
     name = s.name
     d, h, w, nc = lut.decoded.shape
     total = d * h * w * nc
-    col_in = "mu" if s.columns.role == "mu" else "roughness"
-    row_in = "mu" if s.rows.role == "mu" else "roughness"
-    uvw = _axis_code(s.columns, col_in, lang) + _axis_code(s.rows, row_in, lang)
-    lay = s.layers.role  # the third input's name: eta or exponent
-    uvw += _axis_code(s.layers, lay, lang)
-    code = [line for line in uvw if "_t = " not in line]
+    (col_in, row_in, lay), lookup_code, uvw = _inputs_3d(lut, lang)
     f = "f" if lang == "hlsl" else ""
     suffix = "f" if lang != "wgsl" else ""
     block = f"// BEGIN DATA\n{_data(lut.decoded, suffix, 6)}\n// END DATA\n"
     data = _shader_data(lang, name, total, block)
     vec, v3 = _shader_vec(lang, nc), _shader_vec(lang, 3)
-    cells = [
-        (f"{col_in}_x", "x0", "fx", w),
-        (f"{row_in}_x", "y0", "fy", h),
-        (f"{lay}_x", "z0", "fz", d),
-    ]
-    interp = _cell_code(lang, cells)
     if lang in ("glsl", "hlsl"):
         fetch = [_trilinear(name, h, w, nc, k, "float", "", f) for k in range(nc)]
         lookup = f"{vec} {name}_lookup(float mu, float roughness, float {lay})"
@@ -286,7 +287,7 @@ def _shader_3d(lut: Lut, meta: dict[str, Any], lang: str) -> str:
         + data
         + f"// Trilinear lookup at mu = cos(theta_v), {s.param} and {_LAYER_TEXT[lay]}.\n"
         + f"{lookup} {{\n    "
-        + "\n    ".join(code + interp + fetch)
+        + "\n    ".join(lookup_code + fetch)
         + f"\n    return {result};\n}}\n\n"
         + "// The 3-D texture coordinate a hardware trilinear filter reads the same value at.\n"
         + f"{uv} {{\n    "

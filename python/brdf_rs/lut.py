@@ -98,12 +98,10 @@ KINDS: dict[str, tuple[str, ...]] = {
     "energy": ("E", "E_avg"),
     "gen_schlick": ("s", "E"),
 }
-#: The channels of a 3-D (transmitting model's) energy table: E and E_avg at the layer's
-#: index, and at its inverse (the same interface lit from the other side).
-KINDS_3D: dict[str, tuple[str, ...]] = {
-    "energy": ("E", "E_avg", "E_inv", "E_inv_avg"),
-    "gen_schlick": ("s", "E"),
-}
+#: The kinds whose 3-D tables have more channels than :data:`KINDS` says: a
+#: transmitting model's energy table has E and E_avg at the layer's index, and at its
+#: inverse (the same interface lit from the other side).
+KINDS_3D: dict[str, tuple[str, ...]] = {"energy": ("E", "E_avg", "E_inv", "E_inv_avg")}
 _CHANNEL_TEXT = {
     "A": "split-sum scale A: R_spec = F0*A + B (Schlick F0, F90 = 1)",
     "B": "split-sum bias B = integral of V*Fc, Fc = (1 - v.h)^5",
@@ -552,9 +550,11 @@ class LutSpec:
 
     @property
     def kind_channels(self) -> tuple[str, ...]:
-        """Every channel the table's kind has (:data:`KINDS`, :data:`KINDS_3D` for a 3-D
-        table)."""
-        return KINDS[self.kind] if self.layers is None else KINDS_3D[self.kind]
+        """Every channel the table's kind has (:data:`KINDS`; :data:`KINDS_3D` for a 3-D
+        table of a kind listed there)."""
+        if self.layers is None:
+            return KINDS[self.kind]
+        return KINDS_3D.get(self.kind, KINDS[self.kind])
 
     @property
     def param(self) -> str:
@@ -955,7 +955,7 @@ def _integrate(
         assert layer_q is not None
         eta = spec.layers.physical(layer_q)
         values, errors = [], []
-        for side, index in _sides(spec, eta):
+        for side, index in zip(_side_needs(spec), (eta, 1 / eta), strict=True):
             e, e_se, avg, avg_se = (np.zeros(index.shape) for _ in range(4))
             if side is None:  # no channel of this side is kept
                 pass
@@ -1057,15 +1057,14 @@ def _gen_schlick_blend(
     return np.stack([s, e], axis=-1), np.stack([se_s, se_e], axis=-1)
 
 
-def _sides(spec: LutSpec, eta: np.ndarray) -> list[tuple[str | None, np.ndarray]]:
-    """For a 3-D table: the indices of its two sides (``eta`` and ``1/eta``) and what
-    each must compute for the channels kept: ``"E"`` alone, ``"E+avg"`` or None."""
+def _side_needs(spec: LutSpec) -> list[str | None]:
+    """For a dielectric's 3-D table: what each side (at ``eta``, then at ``1/eta``) must
+    compute for the channels kept: ``"E"`` alone, ``"E+avg"`` or None."""
     chosen = set(spec.channel_names)
-    out: list[tuple[str | None, np.ndarray]] = []
-    for e, avg, index in (("E", "E_avg", eta), ("E_inv", "E_inv_avg", 1 / eta)):
-        need = "E+avg" if avg in chosen else ("E" if e in chosen else None)
-        out.append((need, index))
-    return out
+    return [
+        "E+avg" if avg in chosen else ("E" if e in chosen else None)
+        for e, avg in (("E", "E_avg"), ("E_inv", "E_inv_avg"))
+    ]
 
 
 def _to_image(spec: LutSpec, a: np.ndarray) -> np.ndarray:
@@ -1317,7 +1316,7 @@ def passes(spec: LutSpec, interp_limit: int = 64) -> list[int]:
             (mu_pts.size, r_pts.size, layer_pts.size),
         ):
             # each side kept: E on the grid, then (with an E_avg channel) E_avg's first round
-            for need, _ in _sides(spec, np.ones(1)):
+            for need in _side_needs(spec):
                 if need is not None:
                     runs += [m * r * e] + ([30 * r * e] if need == "E+avg" else [])
         return runs
