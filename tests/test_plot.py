@@ -179,6 +179,54 @@ def test_energy_compensation_figure_of_a_view_albedo_says_mu_is_the_views():
     assert fig.axes[0].get_xlabel() == "μ = cos θo (view)"
 
 
+def test_lut_texels_draws_the_decoded_texels_at_their_sample_positions(tmp_path):
+    """Each panel holds one channel's decoded texels (row 0 at the bottom), its cells
+    centred on the axis' sample positions; a 3-D table shows its first, middle and last
+    slices, titled with the slice's index of refraction."""
+    from brdf_rs import lut
+
+    axis = lut.parse_axis
+    spec = lut.preset(
+        "ue5", samples=64, columns=axis("mu:centres:8"), rows=axis("perceptual:ends:5:0:1:0.01")
+    )
+    table = lut.build(spec)
+    fig = plot.lut_texels(table, path=tmp_path / "u.png", dpi=50)
+    assert png_size(tmp_path / "u.png")[1] == round(3.4 * 50)
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title() for ax in panels] == list(spec.channel_names)
+    for c, ax in enumerate(panels):
+        mesh = ax.collections[0]
+        np.testing.assert_array_equal(
+            np.asarray(mesh.get_array()).reshape(5, 8), table.decoded[:, :, c]
+        )
+        # Texel centres along n·v: edges at k/8; range ends along r: edges half a step out.
+        x0, x1 = ax.get_xlim()
+        assert (x0, x1) == pytest.approx((0.0, 1.0))
+        assert ax.get_ylim() == pytest.approx((-0.125, 1.125))
+    assert panels[0].get_xlabel() == "n·v"
+
+    glass = lut.build(
+        lut.preset(
+            "cycles_glass",
+            samples=16,
+            columns=axis("perceptual:ends:4:0:1:0.01"),
+            rows=axis("mu:ends:3:0:1:0.01"),
+            layers=axis("eta:ends:5:1.1:2"),
+        )
+    )
+    fig = plot.lut_texels(glass, dpi=40)
+    titles = [ax.get_title() for ax in fig.axes if ax.get_title()]
+    assert titles == [
+        f"{c} at η = {eta}" for eta in ("1.1", "1.55", "2") for c in glass.spec.channel_names
+    ]
+    last = [ax for ax in fig.axes if ax.get_title()][-1]
+    np.testing.assert_array_equal(
+        np.asarray(last.collections[0].get_array()).reshape(3, 4), glass.decoded[4, :, :, -1]
+    )
+    with pytest.raises(TypeError, match=r"expected a brdf_rs\.lut\.Lut"):
+        plot.lut_texels(table.image)
+
+
 def test_convergence_from_the_benchmark_json_and_from_a_dict(tmp_path):
     bench = ROOT / "benches" / "results" / "albedo_convergence.json"
     fig = plot.convergence(bench, targets=(1e-3, 1e-4), path=tmp_path / "c.png", dpi=50)

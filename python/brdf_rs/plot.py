@@ -15,6 +15,9 @@ itself). Functions that draw one panel also take ``ax=`` to draw into your own a
 - :func:`table_heatmap`: an albedo or split-sum table as a heat map (a 1-D table as a
   curve).
 - :func:`energy_compensation`: ``E(mu, alpha)`` and ``E_avg(alpha)`` of a microfacet model.
+- :func:`lut_texels`: an engine LUT (:mod:`brdf_rs.lut`) as the engine samples it: each
+  channel's decoded texels over the axes' quantities (a 3-D table's first, middle and
+  last slices).
 - :func:`convergence`: error against time (``benches/albedo_convergence.py`` results).
 - :func:`spheres`: rendered images side by side with labels; :func:`render_sphere`
   renders one model on a sphere, :func:`render_glass_sphere` a transmitting one as a
@@ -45,6 +48,7 @@ __all__ = [
     "albedo_curves",
     "convergence",
     "energy_compensation",
+    "lut_texels",
     "polar_lobe",
     "render_glass_sphere",
     "render_sphere",
@@ -463,6 +467,76 @@ def table_heatmap(
             a.set_ylabel(_AXIS_LABELS.get(names[1], names[1]), fontsize=10)
         a.set_title(f"{model} {label}".strip(), fontsize=11)
     return _finish(fig, path, dpi)  # type: ignore[arg-type]
+
+
+#: Axis labels of a LUT's quantities (:data:`brdf_rs.lut.QUANTITIES`).
+_LUT_QUANTITY_LABELS = {
+    "mu": "n·v",
+    "sqrt_mu": "sqrt(n·v)",
+    "alpha": "α",
+    "perceptual": "perceptual roughness r (α = r²)",
+    "eta": "η",
+    "eta_z": "z (η = (1 + z²)/(1 − z²))",
+    "eta_z_inside": "z (η = (1 − z²)/(1 + z²))",
+    "exponent": "exponent",
+    "exponent_z": "z (exponent = 5(1 − z)/z)",
+}
+
+
+def lut_texels(
+    table: Any,
+    *,
+    path: str | os.PathLike[str] | None = None,
+    dpi: float = 100,
+    cmap: str = "viridis",
+) -> Figure:
+    """An engine LUT (a :class:`brdf_rs.lut.Lut`) as the engine reads it: one panel per
+    channel of its decoded texels (what the stored format decodes to), each texel a cell
+    centred on its sample position in the axis quantity (texel centres or range ends, as
+    the spec places them), columns across and rows up (row 0 at the bottom). A 3-D
+    table's panels are its first, middle and last slices, one row of panels per slice,
+    titled with the slice's quantity."""
+    from . import lut as _lut
+
+    if not isinstance(table, _lut.Lut):
+        raise TypeError(f"table: expected a brdf_rs.lut.Lut, got {type(table).__name__}")
+    spec = table.spec
+    names = spec.channel_names
+    decoded = np.asarray(table.decoded, dtype=np.float64)
+    if spec.layers is None:
+        slices: list[tuple[np.ndarray, str]] = [(decoded, "")]
+    else:
+        layers = spec.layers
+        q = layers.positions()
+        value = layers.physical(q)
+        role = "η" if layers.role == "eta" else "exponent"
+        slices = [
+            (
+                decoded[k],
+                f" at {role} = {value[k]:.4g}"
+                + (f" (z = {q[k]:.4g})" if layers.quantity.endswith(("_z", "_inside")) else ""),
+            )
+            for k in sorted({0, layers.size // 2, layers.size - 1})
+        ]
+    fig = _figure(max(4.2 * len(names), 5.6), 3.4 * len(slices))
+    xq, yq = spec.columns.positions(), spec.rows.positions()
+    xe, _ = _edges(xq)
+    ye, _ = _edges(yq)
+    for i, (image, where) in enumerate(slices):
+        for c, name in enumerate(names):
+            a = fig.add_subplot(len(slices), len(names), i * len(names) + c + 1)
+            mesh = a.pcolormesh(xe, ye, image[:, :, c], cmap=cmap, shading="flat")
+            fig.colorbar(mesh, ax=a, shrink=0.9)
+            a.set_xlabel(_LUT_QUANTITY_LABELS[spec.columns.quantity], fontsize=9)
+            a.set_ylabel(_LUT_QUANTITY_LABELS[spec.rows.quantity], fontsize=9)
+            a.set_title(f"{name}{where}", fontsize=10)
+            a.tick_params(labelsize=8)
+    fig.suptitle(
+        f"{spec.kind} of {spec.model}: {' x '.join(str(s) for s in spec.shape[::-1])}"
+        f" {spec.format}",
+        fontsize=11,
+    )
+    return _finish(fig, path, dpi)
 
 
 def energy_compensation(
