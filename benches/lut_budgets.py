@@ -13,7 +13,10 @@ points between the texels (at most 64 per axis: midpoints between neighbouring t
 and the range ends; the reference integrals' own standard error alongside), and the
 total (quantization + interpolation + 3 standard errors of the reference and 3 of the
 texels: a per-point estimate at 3 sigma, not a bound over the whole table). Writes
-benches/results/lut_budgets.md; docs/luts.md quotes it.
+benches/results/lut_budgets.md; docs/luts.md quotes it. With matplotlib installed it
+also draws each preset's decoded texels (``brdf_rs.plot.lut_texels``) into
+docs/luts/PRESET.png, the pictures docs/luts.md shows (``--pictures DIR`` elsewhere,
+``--pictures ''`` for none).
 """
 
 from __future__ import annotations
@@ -24,17 +27,33 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _plot import pyplot
 from brdf_rs import __version__, lut
 
 FIT_DEGREE = 6
 OUT = Path(__file__).resolve().parent / "results" / "lut_budgets.md"
+PICTURES = Path(__file__).resolve().parent.parent / "docs" / "luts"
+
+
+def small(path: Path) -> None:
+    """Rewrites a picture with a palette of 128 colours (a third of the bytes, for the
+    docs' size budget), when Pillow is installed."""
+    try:
+        from PIL import Image
+    except ImportError:
+        return
+    with Image.open(path) as image:
+        quantized = image.convert("RGB").quantize(colors=128)
+    quantized.save(path, optimize=True)
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("presets", nargs="*", default=list(lut.PRESETS))
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--pictures", default=str(PICTURES))
     args = parser.parse_args()
+    plt = pyplot() if args.pictures else None
     lines = [
         "# Engine LUT error budgets",
         "",
@@ -52,6 +71,14 @@ def main() -> int:
         table = lut.build(spec)
         seconds = time.perf_counter() - start
         b = table.budget
+        if plt is not None:
+            from brdf_rs import plot
+
+            picture = Path(args.pictures) / f"{name}.png"
+            picture.parent.mkdir(parents=True, exist_ok=True)
+            plot.lut_texels(table, path=picture, dpi=80)
+            small(picture)
+            print(f"wrote {picture}")
         size = " x ".join(str(n) for n in spec.shape[::-1])
         at = f"mu, {spec.param}" + (f", {spec.layers.role}" if spec.layers is not None else "")
         lines += [
