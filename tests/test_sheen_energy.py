@@ -129,3 +129,54 @@ def test_integrated_tables_are_the_integrators_albedo(model):
     np.testing.assert_array_equal(got.e, want.value[..., 0])
     np.testing.assert_array_equal(got.stderr, want.stderr[..., 0])
     assert np.all(got.stderr > 0) and "randomized QMC" in got.estimator
+
+
+#: Blender Cycles' published ``table_sheen_ltc``, its albedo plane (the tabulated fit of
+#: Zeltner et al. that Cycles ships, 32 x 32 at the ends: ``cos = i/31``, ``alpha =
+#: j/31``) at six interior cells, as Blender 5.2 prints them: ``(i, j, albedo)``
+#: (``python scripts/sheen_published_compare.py --blender ...`` reads them all).
+CYCLES_SHEEN_ALBEDO = [
+    (16, 16, 0.13153),
+    (8, 24, 0.50671),
+    (24, 31, 0.37756),
+    (4, 16, 0.50616),
+    (31, 31, 0.31508),
+    (2, 28, 0.68481),
+]
+
+
+def test_e_is_near_cycles_published_albedo_table():
+    """``E(mu, alpha)`` (the paper's closed-form fit of the albedo, which OpenPBR and
+    MaterialX evaluate) against Cycles' tabulated albedo: within 0.035 at interior cells
+    (the closed form lies 0.015 to 0.03 above the table there). The axes swapped (the
+    table read as ``[cos][alpha]``) miss by more than 0.1: the test tells them apart."""
+    mu = np.array([i / 31 for i, _, _ in CYCLES_SHEEN_ALBEDO])
+    alpha = np.array([j / 31 for _, j, _ in CYCLES_SHEEN_ALBEDO])
+    published = np.array([v for _, _, v in CYCLES_SHEEN_ALBEDO])
+
+    def e(mus: np.ndarray, alphas: np.ndarray) -> np.ndarray:
+        cells = zip(mus, alphas, strict=True)
+        return np.array(
+            [brdf_rs.energy_compensation_table(MODEL, [m], [a]).e[0][0] for m, a in cells]
+        )
+
+    ours = e(mu, alpha)
+    np.testing.assert_array_less(np.abs(ours - published), 0.035)
+    assert np.abs(e(alpha, mu) - published).max() > 0.1
+
+
+@pytest.mark.parametrize(("mu", "alpha"), [(0.3, 0.4), (0.8, 0.9)])
+def test_the_ltc_fitter_recovers_the_papers_own_ltc(mu, alpha):
+    """``scripts/ltc_sheen_fit.py`` fits the paper's LTC to a lobe from ``brdf_rs.eval``;
+    given ``zeltner_sheen`` (an LTC itself) it must find the closed form's ``a``, ``b`` and
+    ``R`` with an error at the quadrature's floor, which is what makes its error for the
+    Charlie lobe a property of that lobe."""
+    fit = script("ltc_sheen_fit")
+    w, weight = fit.hemisphere()
+    a, b, albedo, error = fit.fit_cell(MODEL, mu, alpha, w, weight)
+    a0, b0 = fit.paper_ab(mu, alpha)
+    assert a == pytest.approx(a0, rel=2e-3)
+    assert b == pytest.approx(b0, abs=2e-3 * a0)
+    exact = brdf_rs.energy_compensation_table(MODEL, [mu], [alpha]).e[0][0]
+    assert albedo == pytest.approx(exact, rel=1e-3)
+    assert error < 1e-3
