@@ -101,17 +101,29 @@ def zeltner_vs_cycles(binary: Path) -> dict[str, np.ndarray]:
     }
 
 
-def _report(
-    title: str, rows: np.ndarray, cols: np.ndarray, name: str, ours: np.ndarray, pub: np.ndarray
-) -> None:
+def _compare(
+    c: dict[str, np.ndarray], col: str, name: str, cut: float, pick: slice | np.ndarray
+) -> np.ndarray:
+    """Prints brdf-rs' values, the published ones and their difference at the rows and
+    columns ``pick`` (indices, or a slice), the largest and RMS difference over every
+    cell, and the largest where mu and the column's quantity are at least ``cut``; returns
+    where they are (a mask of the cells)."""
+    ours, pub = c["ours"], c["published"]
     d = np.abs(ours - pub)
-    i, j = np.unravel_index(d.argmax(), d.shape)
-    rms = float(np.sqrt(np.mean(d * d)))
-    print(f"\n## {title}\n")
+    rows, cols = (np.arange(n)[pick] for n in d.shape)
+    cells = np.ix_(rows, cols)
+    print(f"\nrows mu = {c['mu'][rows]}, columns {col} = {c[col][cols]}")
     print(
-        f"max |difference| {d.max():.4f} at mu = {rows[i]:.3g}, {name} = {cols[j]:.3g};"
-        f" RMS {rms:.4f}"
+        f"\nbrdf-rs:\n{ours[cells]}\n\n{name}:\n{pub[cells]}\n\ndifference:\n{(ours - pub)[cells]}"
     )
+    i, j = np.unravel_index(d.argmax(), d.shape)
+    print(
+        f"\nmax |difference| {d.max():.4f} at mu = {c['mu'][i]:.3g}, {col} = {c[col][j]:.3g};"
+        f" RMS {float(np.sqrt(np.mean(d * d))):.4f}"
+    )
+    inner = (c["mu"] >= cut)[:, None] & (c[col] >= cut)[None, :]
+    print(f"mu >= {cut} and {col} >= {cut}: max |difference| {d[inner].max():.4f}")
+    return inner
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -121,29 +133,16 @@ def main(argv: list[str] | None = None) -> int:
     np.set_printoptions(precision=4, suppress=True, linewidth=120)
 
     c = charlie_vs_three_js()
-    print("# charlie_sheen_neubelt against three.js' fit (rows mu, columns r; alpha = r²)")
-    print(f"\nmu = {c['mu']}\nr  = {c['r']}")
-    print(f"\nbrdf-rs (largest standard error {c['stderr'].max():.1e}):\n{c['ours']}")
-    print(f"\nthree.js' fit:\n{c['published']}")
-    print(f"\ndifference:\n{c['ours'] - c['published']}")
-    _report("all cells", c["mu"], c["r"], "r", c["ours"], c["published"])
-    inner = (c["mu"] >= 0.4)[:, None] & (c["r"] >= 0.5)[None, :]
-    d = np.abs(c["ours"] - c["published"])
-    print(f"mu >= 0.4 and r >= 0.5: max |difference| {d[inner].max():.4f}")
+    print("# charlie_sheen_neubelt against three.js' fit (alpha = r²)")
+    print(f"\nbrdf-rs' largest standard error: {c['stderr'].max():.1e}")
+    inner = _compare(c, "r", "three.js' fit", 0.5, slice(None))
     d_lin = np.abs(c["alpha_r"] - c["published"])
     print(f"the same cells with alpha = r instead: max |difference| {d_lin[inner].max():.4f}")
 
     if args.blender is not None:
         z = zeltner_vs_cycles(args.blender)
         print("\n# zeltner_sheen against Cycles' table_sheen_ltc albedo (cos, alpha = k/31)")
-        pick = np.array([0, 3, 7, 15, 23, 30])
-        print(f"\nsome cells: rows mu = {z['mu'][pick]}, columns alpha = {z['alpha'][pick]}")
-        print(f"\nbrdf-rs:\n{z['ours'][np.ix_(pick, pick)]}")
-        print(f"\nCycles:\n{z['published'][np.ix_(pick, pick)]}")
-        _report("every cell, k = 1..31", z["mu"], z["alpha"], "alpha", z["ours"], z["published"])
-        inner = (z["mu"] >= 0.2)[:, None] & (z["alpha"] >= 0.2)[None, :]
-        d = np.abs(z["ours"] - z["published"])
-        print(f"mu >= 0.2 and alpha >= 0.2: max |difference| {d[inner].max():.4f}")
+        _compare(z, "alpha", "Cycles", 0.2, np.array([0, 3, 7, 15, 23, 30]))
         signed = z["ours"] - z["published"]
         lit = z["published"] > 0.05
         band = np.mean((signed[lit] >= 0.01) & (signed[lit] <= 0.035))
