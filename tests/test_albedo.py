@@ -211,6 +211,32 @@ def test_adaptive_cells_stop_where_they_converge():
     assert r.samples[0] > r.samples[1]  # the grazing cell needs more
 
 
+def test_relative_tolerance_holds_each_cell_to_its_own_value():
+    """``rtol``: each cell stops once every channel's standard error is within ``rtol`` of
+    its own value. Over albedos that span decades (a near-matched interface: 0.29 at
+    grazing incidence, 0.02 at mu = 0.5) one absolute ``tol`` overspends on the bright
+    cell and leaves the dim one at a larger relative error; ``rtol`` does neither. With
+    both, the bound is ``tol + rtol·|value|`` (looser than either: no more samples than
+    either). The table records ``rtol``; same seed, same bits."""
+    mu = [0.05, 0.5]
+    args = {"p": 10.0, "eta": 1.05, "kd": 0, "ks": [1.0, 0.5, 0.25], "samples": 256, "seed": 0}
+    rel = brdf_rs.albedo("torrance_sparrow", mu, rtol=0.01, **args)
+    assert (rel.stderr <= 0.01 * rel.value).all()
+    assert rel.value[0, 0] > 10 * rel.value[1, 0]
+    absolute = brdf_rs.albedo("torrance_sparrow", mu, tol=1e-3, **args)
+    assert absolute.stderr[1, 0] > 0.01 * absolute.value[1, 0]  # the dim cell's error
+    assert rel.samples[0] < absolute.samples[0]  # the bright cell's cost
+    both = brdf_rs.albedo("torrance_sparrow", mu, tol=1e-3, rtol=0.01, **args)
+    assert (both.stderr <= 1e-3 + 0.01 * both.value).all()
+    assert (both.samples <= np.minimum(rel.samples, absolute.samples)).all()
+    again = brdf_rs.albedo("torrance_sparrow", mu, rtol=0.01, **args)
+    np.testing.assert_array_equal(again.value, rel.value)
+    table = brdf_rs.albedo_table("torrance_sparrow", {"mu": mu}, rtol=0.01, **args)
+    np.testing.assert_array_equal(table.value, rel.value)
+    assert table.meta["rtol"] == 0.01
+    assert "rtol" not in brdf_rs.albedo_table("lambert", {"mu": mu}, samples=64).meta
+
+
 # ---------------------------------------------------------------------- tables
 
 

@@ -122,6 +122,13 @@ def test_adaptive_tol_and_the_local_threaded_scheduler(client):
     assert_same_bits(on_cluster, local)
     lazy = brdf_rs.dask.albedo_table("normalized_phong", AXES_2D, chunks=(5, 5), **args)
     assert_same_bits(lazy.compute(scheduler="threads"), local)
+    # A relative tolerance too, recorded in the metadata as locally.
+    relative = {**args, "tol": None, "rtol": 0.02}
+    local = brdf_rs.albedo_table("normalized_phong", AXES_2D, **relative)
+    lazy = brdf_rs.dask.albedo_table("normalized_phong", AXES_2D, chunks=(5, 5), **relative)
+    computed = lazy.compute(scheduler="threads")
+    assert_same_bits(computed, local)
+    assert computed.meta == local.meta and local.meta["rtol"] == 0.02
 
 
 @needs_dask

@@ -72,6 +72,7 @@ def albedo(
     sequence: str = "sobol",
     seed: int = 0,
     tol: float | None = None,
+    rtol: float | None = None,
     max_samples: int | None = None,
     replicates: int = DEFAULT_REPLICATES,
     progress: Callable[[int, int], None] | None = None,
@@ -115,6 +116,11 @@ def albedo(
         seed: the streams are keyed by (seed, cell): same seed, same bits.
         tol: stop each cell once every channel's standard error is at most ``tol``
             (doubling its samples, up to ``max_samples``, default max(samples, 2^24)).
+        rtol: stop each cell once every channel's standard error is at most ``rtol``
+            times the channel's absolute value (with ``tol`` too: at most ``tol + rtol·
+            |value|``, NumPy's ``allclose`` rule), so that small albedos get as many
+            digits as large ones; a cell whose value is tiny but not 0 runs to
+            ``max_samples``.
         progress: called as ``progress(cells_done, samples_done)`` about every 0.1 s.
         cell_ids: ids keying each cell's stream (default: the flat cell index):
             non-negative integers below 2**64, as integers or integral floats.
@@ -145,7 +151,8 @@ def albedo(
     numeric = _arrays.numeric(params)
     p = _arrays.parameters(_normalization.apply(model, numeric, normalization), np.float64)
     options = {"samples": samples, "sampler": sampler, "sequence": sequence, "seed": seed}
-    options.update(replicates=replicates, tol=tol, max_samples=max_samples, component=component)
+    options.update(replicates=replicates, tol=tol, rtol=rtol, max_samples=max_samples)
+    options["component"] = component
     # Checked before cell_ids (the core converts them again, by the same code).
     options = _options.check(options)
     ids = _options.cell_ids(cell_ids)
@@ -176,6 +183,7 @@ def albedo_table(
     sequence: str = "sobol",
     seed: int = 0,
     tol: float | None = None,
+    rtol: float | None = None,
     max_samples: int | None = None,
     replicates: int = DEFAULT_REPLICATES,
     progress: Callable[[int, int], None] | None = None,
@@ -220,6 +228,7 @@ def albedo_table(
         sequence=sequence,
         seed=seed,
         tol=tol,
+        rtol=rtol,
         max_samples=max_samples,
         replicates=replicates,
         progress=progress,
@@ -241,6 +250,7 @@ def albedo_table(
         "sequence": sequence,
         "seed": seed,
         "tol": tol,
+        "rtol": rtol,
         "max_samples": max_samples,
         "replicates": replicates,
         "component": component,
@@ -863,7 +873,7 @@ def transmitting_e(
 
 #: The integrator's options :func:`energy_compensation_table` checks but does not use
 #: for a closed form (with ``samples``, ``tol`` and ``seed``).
-_SAMPLING_OPTIONS = ("sampler", "sequence", "replicates", "max_samples", "component")
+_SAMPLING_OPTIONS = ("sampler", "sequence", "replicates", "rtol", "max_samples", "component")
 
 #: The closed form's E_avg: panels are halved until ``|G20 − G10|`` is at most this much
 #: per unit of ``mu`` (so at most this much in all), ...

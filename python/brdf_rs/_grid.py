@@ -222,6 +222,8 @@ def table_meta(
             k: options[k]
             for k in ("samples", "sampler", "sequence", "seed", "tol", "max_samples", "replicates")
         },
+        # A relative tolerance (recorded when one was given).
+        **({"rtol": options["rtol"]} if options.get("rtol") is not None else {}),
         "brdf_rs": __version__,
         "quantity": "directional albedo R(mu): integral of f(wi, wo) cos(theta_o) d(omega_o)",
         # The part of a transmitting model's albedo (recorded when it is not the total).

@@ -1,7 +1,7 @@
 """The integrator's options at the edge of the Rust core.
 
 :func:`brdf_rs.albedo`, :func:`brdf_rs.albedo_table`, ``brdf_rs.dask``, scene tables and
-the command line take the same options (samples, sampler, sequence, seed, tol,
+the command line take the same options (samples, sampler, sequence, seed, tol, rtol,
 max_samples, replicates, cell ids, the azimuth ``phi``). The scalar options are converted
 and their errors worded once, in the core (``rust/src/py/options.rs``): :func:`check`
 calls that converter for callers that must refuse bad options before any work starts.
@@ -66,10 +66,10 @@ def cell_ids(ids: Any) -> np.ndarray | None:
 
 def check(given: dict[str, Any]) -> dict[str, Any]:
     """The options of :func:`brdf_rs.albedo` (a dict of ``samples``, ``sampler``,
-    ``sequence``, ``seed``, ``replicates``, ``tol``, ``max_samples``, ``component``; absent: the
-    default; ``tol`` and ``max_samples`` may be None), converted (integers as ``int``,
-    ``tol`` as ``float``; ``tol`` and ``max_samples`` None when not given) or refused
-    with an error naming the option.
+    ``sequence``, ``seed``, ``replicates``, ``tol``, ``rtol``, ``max_samples``,
+    ``component``; absent: the default; ``tol``, ``rtol`` and ``max_samples`` may be None),
+    converted (integers as ``int``, ``tol`` and ``rtol`` as ``float``; ``tol``, ``rtol``
+    and ``max_samples`` None when not given) or refused with an error naming the option.
     The core converts them the same way when it is handed them: this is for callers
     that check before any work starts."""
     return _core.check_albedo_options(given)

@@ -197,6 +197,7 @@ _META_TYPES: dict[str, tuple[str, tuple[type, ...]]] = {
     "seed": ("a number", (int, float)),
     "replicates": ("a number", (int, float)),
     "tol": ("a number or null", (int, float, type(None))),
+    "rtol": ("a number or null", (int, float, type(None))),
     "max_samples": ("a number or null", (int, float, type(None))),
     "component": ("a string", (str,)),
     "fixed": ("an object", (dict,)),

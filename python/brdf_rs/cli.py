@@ -222,6 +222,7 @@ def cmd_table(args: argparse.Namespace) -> int:
             "sequence": args.sequence,
             "seed": args.seed,
             "tol": tol,
+            "rtol": args.rtol,
             "max_samples": args.max_samples,
             "component": args.component,
         }
@@ -252,6 +253,7 @@ def cmd_table(args: argparse.Namespace) -> int:
             sequence=args.sequence,
             seed=args.seed,
             tol=tol,
+            rtol=args.rtol,
             max_samples=args.max_samples,
             progress=progress,
             component=args.component,
@@ -581,7 +583,9 @@ def cmd_dfg(args: argparse.Namespace) -> int:
     cells = mu.size * roughness.size
     passes = 2 if args.sheen is None else 3
     progress = _PassProgress([cells] * passes, args.quiet or args.json)
-    options: dict[str, Any] = {"tol": args.tol} if args.tol is not None else {}
+    options: dict[str, Any] = {
+        k: v for k, v in (("tol", args.tol), ("rtol", args.rtol)) if v is not None
+    }
     if args.sheen is not None:
         options["sheen"] = args.sheen
     start = time.perf_counter()
@@ -700,7 +704,9 @@ def cmd_energy(args: argparse.Namespace) -> int:
     progress = _PassProgress(
         [mu.size * alpha.size * n_eta, 30 * alpha.size * n_eta], args.quiet or args.json
     )
-    extra = {} if eta is None else {"eta": eta}
+    extra: dict[str, Any] = {} if eta is None else {"eta": eta}
+    if args.rtol is not None:
+        extra["rtol"] = args.rtol
     start = time.perf_counter()
     completed = False
     try:
@@ -1209,11 +1215,21 @@ def _add_integrator(
     tol: float | None = None,
     tol_help: str = TOL_PER_CELL_HELP,
     sampling: bool = False,
+    relative: bool = False,
 ) -> None:
-    """``--samples``, ``--tol``, (with ``sampling``: ``--max-samples``, ``--sampler``,
-    ``--sequence``) and ``--seed``: the integrator's options."""
+    """``--samples``, ``--tol``, (with ``relative``: ``--rtol``; with ``sampling``:
+    ``--max-samples``, ``--sampler``, ``--sequence``) and ``--seed``: the integrator's
+    options."""
     p.add_argument("--samples", type=int, default=samples, help=samples_help)
     p.add_argument("--tol", type=float, default=tol, help=tol_help)
+    if relative:
+        p.add_argument(
+            "--rtol",
+            type=float,
+            default=None,
+            help="stop each cell once its standard error is at most this times its value"
+            " (with --tol: at most tol + rtol·|value|; default: none)",
+        )
     if sampling:
         p.add_argument(
             "--max-samples",
@@ -1340,6 +1356,7 @@ def _add_table_command(sub: Any) -> None:
         tol_help="stop each cell at this standard error (default: 1e-4 for the default"
         " table, else none: --samples per cell)",
         sampling=True,
+        relative=True,
     )
     _add_table_files(
         p, "table.npz | table.exr | table.png", "also draw the table (needs matplotlib): out.png"
@@ -1439,7 +1456,7 @@ def _add_dfg_command(sub: Any) -> None:
         " Filament's cloth DG channel; pass --roughness as squared perceptual roughness to"
         " match its rows); alpha tables only",
     )
-    _add_integrator(p, samples=1 << 14, samples_help="samples per cell")
+    _add_integrator(p, samples=1 << 14, samples_help="samples per cell", relative=True)
     _add_table_files(
         p,
         "dfg.npz | dfg.exr | dfg.png",
@@ -1480,6 +1497,7 @@ def _add_energy_command(sub: Any) -> None:
         samples_help="samples per cell (first round)",
         tol=1e-5,
         tol_help="standard error per cell",
+        relative=True,
     )
     _add_table_files(p, "energy.npz", "also draw E and E_avg (needs matplotlib): out.png")
     _add_reporting(p)

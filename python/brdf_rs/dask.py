@@ -69,7 +69,16 @@ if TYPE_CHECKING:
 __all__ = ["LazyTable", "albedo_table", "read_zarr", "write_zarr"]
 
 #: The options of :func:`brdf_rs.albedo_table` that are not model parameters.
-_OPTION_NAMES = ("samples", "sampler", "sequence", "seed", "tol", "max_samples", "replicates")
+_OPTION_NAMES = (
+    "samples",
+    "sampler",
+    "sequence",
+    "seed",
+    "tol",
+    "rtol",
+    "max_samples",
+    "replicates",
+)
 #: Default blocks aim at about this many samples each (≈ 0.2–1 s of one core) ...
 TARGET_SAMPLES_PER_CHUNK = 1 << 24
 #: ... with between this many ...
@@ -270,7 +279,7 @@ def _probe(
     # the core checks them: on no cells, so no work.
     mu, grid, rest = _grid.grid_inputs(names, colour, [coords[n][:0] for n in names], fixed)
     _albedo.albedo(model, mu, **options, **grid, **rest)
-    quick = {**options, "samples": 1, "tol": None, "max_samples": None}
+    quick = {**options, "samples": 1, "tol": None, "rtol": None, "max_samples": None}
     for k in range(len(names)):
         line = [coords[n] if j == k else coords[n][:1] for j, n in enumerate(names)]
         mu, grid, rest = _grid.grid_inputs(names, colour, line, fixed)

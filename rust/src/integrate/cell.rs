@@ -176,7 +176,8 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
             previous = Some(se);
             (mean, std::array::from_fn(|c| pooled[c].max(floor[c])))
         };
-        let done = rounds.finished(total, &se);
+        let value: [f64; 3] = std::array::from_fn(|c| exact[c] + mean[c]);
+        let done = rounds.finished(total, &se, &value);
         if done || progress.cancel.load(Ordering::Relaxed) {
             break (mean, se, total);
         }

@@ -41,9 +41,9 @@
 //! one ulp of its value, and is formed in scaled colours so that colours near the float
 //! range give a finite one.
 //!
-//! With `tol`, a cell doubles its sample count until the largest channel's standard
-//! error is at most `tol` (or `max_samples` is reached): cells that converge early stop
-//! early.
+//! With `tol` (absolute) or `rtol` (relative to the value), a cell doubles its sample
+//! count until every channel's standard error is at most `tol + rtol·|value|` (or
+//! `max_samples` is reached): cells that converge early stop early.
 //!
 //! Azimuth: `wi = (sin θ cos φ, sin θ sin φ, mu)` with `n = +z` and the tangent `+x` (φ is
 //! measured from the tangent, counterclockwise about `n`). Isotropic models (no tangent)
@@ -399,6 +399,43 @@ mod tests {
             let r = albedo_one("oren_nayar", 0.5, &base, opts);
             assert!(r.stderr.iter().all(|&s| s <= 1e-3), "{r:?}");
             assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
+        }
+    }
+
+    #[test]
+    fn relative_stopping_holds_each_cell_to_its_own_value() {
+        // Under rtol alone a small albedo stops at a smaller error bar than a large one:
+        // each within rtol of its own value. With tol as well, the bound is their sum.
+        let base = [("kd", 1.0), ("sigma", 0.5)];
+        for sequence in [Sequence::Sobol, Sequence::Random] {
+            let opts = AlbedoOptions {
+                samples: 256,
+                rtol: Some(2e-3),
+                max_samples: 1 << 22,
+                sequence,
+                ..Default::default()
+            };
+            let bright = albedo_one("oren_nayar", 0.5, &base, opts);
+            let dim = albedo_one("oren_nayar", 0.5, &[("kd", 0.01), ("sigma", 0.5)], opts);
+            for r in [&bright, &dim] {
+                assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
+                for c in 0..3 {
+                    assert!(r.stderr[c] <= 2e-3 * r.value[c], "{r:?}");
+                }
+            }
+            assert!(dim.stderr[0] < 0.1 * bright.stderr[0], "{bright:?} {dim:?}");
+            let both = AlbedoOptions {
+                tol: Some(1e-3),
+                ..opts
+            };
+            let r = albedo_one("oren_nayar", 0.5, &[("kd", 0.01), ("sigma", 0.5)], both);
+            assert!(
+                r.stderr
+                    .iter()
+                    .zip(r.value)
+                    .all(|(&s, v)| s <= 1e-3 + 2e-3 * v)
+            );
+            assert!(r.samples < dim.samples, "{r:?} {dim:?}");
         }
     }
 

@@ -57,6 +57,7 @@ pub struct Rounds {
     pub streams: u64,
     random: bool,
     tol: Option<f64>,
+    rtol: Option<f64>,
     max_samples: u64,
 }
 
@@ -71,15 +72,16 @@ impl Rounds {
             },
             random,
             tol: options.tol,
+            rtol: options.rtol,
             max_samples: options.max_samples,
         }
     }
 
-    /// Points per stream in the first round: `samples` (at most the cap under `tol`), at
-    /// least 2 for a variance (random); a power of two per replicate, as every such prefix
-    /// is a net (Sobol).
+    /// Points per stream in the first round: `samples` (at most the cap under `tol` or
+    /// `rtol`), at least 2 for a variance (random); a power of two per replicate, as every
+    /// such prefix is a net (Sobol).
     pub fn first(&self, samples: u64) -> u64 {
-        let cap = if self.tol.is_some() {
+        let cap = if self.tol.is_some() || self.rtol.is_some() {
             self.max_samples
         } else {
             u64::MAX
@@ -93,20 +95,23 @@ impl Rounds {
     }
 
     /// Whether the round that brought the cell to `total` points is its last: always
-    /// without `tol`; under it, once every channel's error bar `se` is within `tol` or the
-    /// next round would pass `max_samples`.
-    pub fn finished(&self, total: u64, se: &[f64; 3]) -> bool {
-        match self.tol {
-            None => true,
-            Some(tol) => {
-                let capped = if self.random {
-                    total >= self.max_samples
-                } else {
-                    total * 2 > self.max_samples
-                };
-                se.iter().all(|&s| s <= tol) || capped
-            }
+    /// without `tol` and `rtol`; with either, once every channel's error bar `se` is within
+    /// `tol + rtol·|value|` (an absent one counting 0) or the next round would pass
+    /// `max_samples`.
+    pub fn finished(&self, total: u64, se: &[f64; 3], value: &[f64; 3]) -> bool {
+        if self.tol.is_none() && self.rtol.is_none() {
+            return true;
         }
+        let capped = if self.random {
+            total >= self.max_samples
+        } else {
+            total * 2 > self.max_samples
+        };
+        let (tol, rtol) = (self.tol.unwrap_or(0.0), self.rtol.unwrap_or(0.0));
+        se.iter()
+            .zip(value)
+            .all(|(&s, &v)| s <= tol + rtol * v.abs())
+            || capped
     }
 
     /// Points per stream after the next round: twice as many (random: at most the cap).
@@ -122,14 +127,18 @@ impl Rounds {
 /// Options of an albedo computation.
 #[derive(Clone, Copy, Debug)]
 pub struct AlbedoOptions {
-    /// Samples per cell (the first round when `tol` is set).
+    /// Samples per cell (the first round when `tol` or `rtol` is set).
     pub samples: u64,
     pub sampler: SamplerChoice,
     pub sequence: Sequence,
     pub seed: u64,
-    /// Stop a cell once every channel's standard error is at most this.
+    /// Stop a cell once every channel's standard error is at most this (plus `rtol` times
+    /// the channel's value, when `rtol` is set too).
     pub tol: Option<f64>,
-    /// Upper bound on a cell's samples when `tol` is set.
+    /// Stop a cell once every channel's standard error is at most this times the
+    /// channel's absolute value (plus `tol`, when set too).
+    pub rtol: Option<f64>,
+    /// Upper bound on a cell's samples when `tol` or `rtol` is set.
     pub max_samples: u64,
     /// Independent scrambles per cell for `sobol` (the error bar's degrees of freedom + 1).
     pub replicates: u32,
@@ -152,6 +161,7 @@ impl Default for AlbedoOptions {
             sequence: Sequence::Sobol,
             seed: 0,
             tol: None,
+            rtol: None,
             max_samples: 1 << 24,
             replicates: DEFAULT_REPLICATES,
             fold_azimuth: true,
@@ -162,6 +172,12 @@ impl Default for AlbedoOptions {
 }
 
 impl AlbedoOptions {
+    /// Whether cells stop on their own error bars (`tol` or `rtol` set), doubling their
+    /// samples up to `max_samples`.
+    pub fn adaptive(&self) -> bool {
+        self.tol.is_some() || self.rtol.is_some()
+    }
+
     /// Checks the options for `cells` cells; refuses absurd requests up front.
     pub fn validate(&self, cells: usize) -> Result<(), BrdfError> {
         let bad = |m: String| Err(BrdfError::InvalidArgument(m));
@@ -171,16 +187,20 @@ impl AlbedoOptions {
                 self.samples
             ));
         }
-        if let Some(tol) = self.tol {
-            if !(tol > 0.0 && tol.is_finite()) {
-                return bad(format!("tol: must be a positive number; got {tol}"));
+        for (name, value) in [("tol", self.tol), ("rtol", self.rtol)] {
+            if let Some(t) = value
+                && !(t > 0.0 && t.is_finite())
+            {
+                return bad(format!("{name}: must be a positive number; got {t}"));
             }
-            if self.max_samples < self.samples || self.max_samples > MAX_SAMPLES_PER_CELL {
-                return bad(format!(
-                    "max_samples: must be between samples ({}) and 2^40; got {}",
-                    self.samples, self.max_samples
-                ));
-            }
+        }
+        if self.adaptive()
+            && (self.max_samples < self.samples || self.max_samples > MAX_SAMPLES_PER_CELL)
+        {
+            return bad(format!(
+                "max_samples: must be between samples ({}) and 2^40; got {}",
+                self.samples, self.max_samples
+            ));
         }
         if !(MIN_REPLICATES..=MAX_REPLICATES).contains(&self.replicates) {
             return bad(format!(
@@ -189,7 +209,7 @@ impl AlbedoOptions {
                 self.replicates
             ));
         }
-        let per_cell = if self.tol.is_some() {
+        let per_cell = if self.adaptive() {
             self.max_samples
         } else {
             self.samples

@@ -643,7 +643,7 @@ pub(super) fn integrate_cell<K: Kernel>(
             });
             (mean, std::array::from_fn(|c| pooled[c].max(floor[c])))
         };
-        let finished = rounds.finished(total, &se);
+        let finished = rounds.finished(total, &se, &mean);
         if finished || progress.cancel.load(Ordering::Relaxed) {
             let stderr = std::array::from_fn(|c| se[c].max(mean[c].abs() * f64::EPSILON));
             return CellResult {

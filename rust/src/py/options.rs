@@ -187,22 +187,22 @@ impl std::fmt::Display for Float {
 }
 
 /// The names of the options [`albedo_options`] reads, in the order it checks them.
-const ALBEDO_OPTIONS: [&str; 8] = [
+const ALBEDO_OPTIONS: [&str; 9] = [
     "samples",
     "sampler",
     "sequence",
     "seed",
     "replicates",
     "tol",
+    "rtol",
     "max_samples",
     "component",
 ];
 
 /// The options of an albedo computation, given as the Python API takes them: a dict of
-/// `samples`, `sampler`, `sequence`, `seed`, `replicates`, `tol`, `max_samples` and
-/// `component`
-/// (absent: the default; `tol` and `max_samples` may also be None, for not given),
-/// checked in that order.
+/// `samples`, `sampler`, `sequence`, `seed`, `replicates`, `tol`, `rtol`, `max_samples`
+/// and `component` (absent: the default; `tol`, `rtol` and `max_samples` may also be
+/// None, for not given), checked in that order.
 /// Returns the options and `max_samples` as given.
 pub(crate) fn albedo_options(given: &Bound<'_, PyDict>) -> PyResult<(AlbedoOptions, Option<u64>)> {
     for key in given.keys() {
@@ -218,7 +218,8 @@ pub(crate) fn albedo_options(given: &Bound<'_, PyDict>) -> PyResult<(AlbedoOptio
         }
     }
     let get = |key: &str| given.get_item(key);
-    // `tol` and `max_samples` are None where not given; None is no value for the rest.
+    // `tol`, `rtol` and `max_samples` are None where not given; None is no value for the
+    // rest.
     let optional = |key: &str| -> PyResult<Option<Bound<'_, PyAny>>> {
         Ok(given.get_item(key)?.filter(|v| !v.is_none()))
     };
@@ -239,15 +240,27 @@ pub(crate) fn albedo_options(given: &Bound<'_, PyDict>) -> PyResult<(AlbedoOptio
         let (lo, hi) = (MIN_REPLICATES.into(), MAX_REPLICATES.into());
         o.replicates = integer("replicates", &v, lo, hi, "")? as u32;
     }
-    if let Some(v) = optional("tol")? {
-        let t = real("tol", &v, "a positive number (a standard error)")?;
-        if !(t > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "tol: must be a positive number; got {}",
-                Float(t)
-            )));
+    for (name, what) in [
+        ("tol", "a positive number (a standard error)"),
+        (
+            "rtol",
+            "a positive number (a standard error relative to the value)",
+        ),
+    ] {
+        if let Some(v) = optional(name)? {
+            let t = real(name, &v, what)?;
+            if !(t > 0.0) {
+                return Err(PyValueError::new_err(format!(
+                    "{name}: must be a positive number; got {}",
+                    Float(t)
+                )));
+            }
+            *if name == "tol" {
+                &mut o.tol
+            } else {
+                &mut o.rtol
+            } = Some(t);
         }
-        o.tol = Some(t);
     }
     let max_given = match optional("max_samples")? {
         Some(v) => Some(integer(
@@ -274,7 +287,7 @@ pub(crate) fn index(name: &str, value: &Bound<'_, PyAny>, choices: &[&str]) -> P
 
 /// Checks and converts the options of `brdf_rs.albedo` (see [`albedo_options`]; the
 /// core's `albedo` converts them the same way): the same dict, every option present,
-/// converted (`tol` and `max_samples` None where not given).
+/// converted (`tol`, `rtol` and `max_samples` None where not given).
 #[pyfunction]
 pub(crate) fn check_albedo_options<'py>(
     given: &Bound<'py, PyDict>,
@@ -287,6 +300,7 @@ pub(crate) fn check_albedo_options<'py>(
     d.set_item("seed", o.seed)?;
     d.set_item("replicates", o.replicates)?;
     d.set_item("tol", o.tol)?;
+    d.set_item("rtol", o.rtol)?;
     d.set_item("max_samples", max_given)?;
     d.set_item("component", o.component.name())?;
     Ok(d)
