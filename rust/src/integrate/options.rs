@@ -107,11 +107,10 @@ impl Rounds {
         } else {
             total * 2 > self.max_samples
         };
-        let (tol, rtol) = (self.tol.unwrap_or(0.0), self.rtol.unwrap_or(0.0));
-        se.iter()
-            .zip(value)
-            .all(|(&s, &v)| s <= tol + rtol * v.abs())
-            || capped
+        let tol = self.tol.unwrap_or(0.0);
+        // Without rtol the value stays out of the rule (as before it existed: no 0·inf).
+        let bound = |v: f64| self.rtol.map_or(tol, |r| tol + r * v.abs());
+        se.iter().zip(value).all(|(&s, &v)| s <= bound(v)) || capped
     }
 
     /// Points per stream after the next round: twice as many (random: at most the cap).
