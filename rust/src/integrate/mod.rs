@@ -386,8 +386,14 @@ mod tests {
 
     #[test]
     fn adaptive_stopping_reaches_the_tolerance() {
-        // A lobe without a closed-form bulk (power-cosine lobes now have one).
-        let base = [("kd", 1.0), ("sigma", 0.5)];
+        // A lobe without a closed-form bulk (power-cosine lobes now have one). Under tol,
+        // every error bar within tol; under rtol, each within rtol of its own value, so a
+        // dim albedo stops at a smaller error bar than a bright one; with both, within
+        // their sum.
+        let (bright, dim) = (
+            [("kd", 1.0), ("sigma", 0.5)],
+            [("kd", 0.01), ("sigma", 0.5)],
+        );
         for sequence in [Sequence::Sobol, Sequence::Random] {
             let opts = AlbedoOptions {
                 samples: 256,
@@ -396,46 +402,30 @@ mod tests {
                 sequence,
                 ..Default::default()
             };
-            let r = albedo_one("oren_nayar", 0.5, &base, opts);
-            assert!(r.stderr.iter().all(|&s| s <= 1e-3), "{r:?}");
-            assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
-        }
-    }
-
-    #[test]
-    fn relative_stopping_holds_each_cell_to_its_own_value() {
-        // Under rtol alone a small albedo stops at a smaller error bar than a large one:
-        // each within rtol of its own value. With tol as well, the bound is their sum.
-        let base = [("kd", 1.0), ("sigma", 0.5)];
-        for sequence in [Sequence::Sobol, Sequence::Random] {
-            let opts = AlbedoOptions {
-                samples: 256,
+            let relative = AlbedoOptions {
+                tol: None,
                 rtol: Some(2e-3),
-                max_samples: 1 << 22,
-                sequence,
-                ..Default::default()
-            };
-            let bright = albedo_one("oren_nayar", 0.5, &base, opts);
-            let dim = albedo_one("oren_nayar", 0.5, &[("kd", 0.01), ("sigma", 0.5)], opts);
-            for r in [&bright, &dim] {
-                assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
-                for c in 0..3 {
-                    assert!(r.stderr[c] <= 2e-3 * r.value[c], "{r:?}");
-                }
-            }
-            assert!(dim.stderr[0] < 0.1 * bright.stderr[0], "{bright:?} {dim:?}");
-            let both = AlbedoOptions {
-                tol: Some(1e-3),
                 ..opts
             };
-            let r = albedo_one("oren_nayar", 0.5, &[("kd", 0.01), ("sigma", 0.5)], both);
-            assert!(
-                r.stderr
-                    .iter()
-                    .zip(r.value)
-                    .all(|(&s, v)| s <= 1e-3 + 2e-3 * v)
-            );
-            assert!(r.samples < dim.samples, "{r:?} {dim:?}");
+            let both = AlbedoOptions {
+                rtol: Some(2e-3),
+                ..opts
+            };
+            let r = albedo_one("oren_nayar", 0.5, &bright, opts);
+            assert!(r.stderr.iter().all(|&s| s <= 1e-3), "{r:?}");
+            assert!(r.samples > 256 && r.samples < 1 << 22, "{r:?}");
+            let [b, d, r] = [(&bright, relative), (&dim, relative), (&dim, both)]
+                .map(|(params, o)| albedo_one("oren_nayar", 0.5, params, o));
+            for (x, t) in [(&b, 0.0), (&d, 0.0), (&r, 1e-3)] {
+                assert!(x.samples < 1 << 22, "{x:?}");
+                assert!(
+                    (0..3).all(|c| x.stderr[c] <= t + 2e-3 * x.value[c]),
+                    "{x:?}"
+                );
+            }
+            assert!(b.samples > 256 && d.samples > 256, "{b:?} {d:?}");
+            assert!(d.stderr[0] < 0.1 * b.stderr[0], "{b:?} {d:?}");
+            assert!(r.samples < d.samples, "{r:?} {d:?}");
         }
     }
 
