@@ -1,5 +1,6 @@
 //! Times the batch engine alone (no Python) on N random direction pairs:
-//! `cargo run --release --example eval_kernel -- [model] [n] [reps] [f32|f64]`.
+//! `cargo run --release --example eval_kernel -- [model] [n] [reps] [f32|f64]`
+//! (`PRECISION=fast` for the fast tier, `P=` for the exponent of models that take `p`).
 
 use brdf_rs::ModelKind;
 use brdf_rs::eval::{EvalInputs, EvalOptions, plan};
@@ -42,6 +43,10 @@ fn run<F: brdf_rs::math::Real>(model: ModelKind, n: usize, reps: usize) {
     let mut out = vec![F::ZERO; 3 * n];
     let options = EvalOptions {
         normalized: true,
+        precision: brdf_rs::eval::Precision::from_name(
+            &std::env::var("PRECISION").unwrap_or_else(|_| "accurate".into()),
+        )
+        .unwrap(),
         ..Default::default()
     };
     let mut best = f64::INFINITY;
