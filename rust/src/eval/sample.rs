@@ -85,17 +85,17 @@ impl KernelVisitor for Run<'_, '_> {
             named.push(("n", last_axis("n", n, 3)?));
         }
         if let Some(t) = &inputs.tangent {
-            if K::spec().tangent == TangentUse::None {
+            if K::SPEC.tangent == TangentUse::None {
                 return Err(BrdfError::UnknownParameter {
-                    model: K::spec().name,
+                    model: K::SPEC.name,
                     name: "tangent".into(),
                     suggestion: None,
-                    known: K::spec().param_names(),
+                    known: K::SPEC.param_names(),
                 });
             }
             named.push(("tangent", last_axis("tangent", t, 3)?));
         }
-        let params = ParamRows::<f64>::new(K::spec(), inputs.params, &named)?;
+        let params = ParamRows::<f64>::new(K::SPEC, inputs.params, &named)?;
         let batch = params.batch.clone();
         let count = params.count();
         let wi = Rows::new(inputs.wi, true, 3, &batch);
@@ -169,7 +169,7 @@ impl KernelVisitor for Run<'_, '_> {
                 let f = K::eval::<f64>(&prepared, &d);
                 let mu_o = wo.dot(n_v.0).abs();
                 let delta = pdf == f64::INFINITY;
-                let kt = K::spec().param("kt").map(|p| p.slot);
+                let kt = K::SPEC.param("kt").map(|p| p.slot);
                 for c in 0..3 {
                     weight_out[c] = if !ok {
                         f64::NAN
@@ -288,7 +288,7 @@ fn check_inputs<K: Kernel>(
     poll: &mut dyn FnMut() -> bool,
 ) -> Result<(), BrdfError> {
     let count: usize = batch.iter().product();
-    let projected = K::spec().tangent == TangentUse::Optional;
+    let projected = K::SPEC.tangent == TangentUse::Optional;
     let own = |name: &str| {
         named
             .iter()

@@ -108,7 +108,7 @@ unsafe fn integrate_cell<K: Kernel, I: Loops>(
     let terms = K::albedo_terms(slots, mu).unwrap_or_default();
     // A model with a tangent reads it through anisotropic lobes (family A: Ward and
     // Ashikhmin–Shirley); the rest are isotropic and ignore phi.
-    let anisotropic = K::spec().tangent != TangentUse::None;
+    let anisotropic = K::SPEC.tangent != TangentUse::None;
     let (mut integrand, exact) = CellIntegrand::<K>::new(mu, phi, anisotropic, &terms, options);
     if integrand.lobes.is_empty() {
         return CellResult {

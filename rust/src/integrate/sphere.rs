@@ -477,7 +477,7 @@ pub(super) fn integrate_cell<K: Kernel>(
     options: &AlbedoOptions,
     progress: &Progress,
 ) -> CellResult {
-    let spec = K::spec();
+    let spec = K::SPEC;
     let colour = |name: &str| -> [f64; 3] {
         spec.param(name).map_or([0.0; 3], |p| {
             [slots[p.slot], slots[p.slot + 1], slots[p.slot + 2]]

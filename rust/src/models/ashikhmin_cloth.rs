@@ -57,9 +57,7 @@ impl Kernel for AshikhminCloth {
 
     const WIDE_COSINES: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

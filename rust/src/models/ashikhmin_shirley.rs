@@ -15,7 +15,7 @@
 use super::albedo::{Importance, Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+    DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
@@ -46,7 +46,6 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ashikhmin_shirley",
-    family: Family::A,
     summary: "Ashikhmin-Shirley anisotropic Phong: Fresnel-weighted specular, coupled diffuse",
     formula: "f = sqrt((nu+1)(nv+1))/(8π)·(n·h)^((nu(h·u)²+nv(h·v)²)/(1−(n·h)²))/((h·k)·max(mu_i,mu_o))·F \
               + 28·Rd/(23π)·(1−Rs)·(1−(1−mu_i/2)^5)·(1−(1−mu_o/2)^5), F = Rs + (1−Rs)(1−k·h)^5",
@@ -72,14 +71,8 @@ pub static SPEC: ModelSpec = ModelSpec {
         exponent("nv", NV, "Phong exponent along the bitangent v = n × u"),
     ],
     tangent: TangentUse::Optional,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Coupled),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// Derived constants.
@@ -107,9 +100,7 @@ impl Kernel for AshikhminShirley {
     type Prepared<F: Real> = Prepared<F>;
     const POWERS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

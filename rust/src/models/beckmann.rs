@@ -12,7 +12,7 @@
 
 use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, DfgAxis, DiffuseTerm, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource, ggx};
 use crate::math::geometry::{
     Cosine, above_both, clamped_cosine, schlick_rgb, schlick_weight, smith_quotient, weighted,
@@ -30,7 +30,6 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "beckmann",
-    family: Family::A,
     summary: "Beckmann microfacet BRDF, exact height-correlated Smith G2, Schlick F",
     formula: "f = kd/π + D·G2·F/(4·mu_i·mu_o), D = exp(−tan²θh/α²)/(π α² cos⁴θh), \
               G2 = 1/(1+Λ(mu_i)+Λ(mu_o)), Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π)), \
@@ -41,18 +40,13 @@ pub static SPEC: ModelSpec = ModelSpec {
         spec::f0(1.0, KS),
         spec::roughness("alpha", 0.5, ALPHA, ALPHA_DOC),
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: Some(DfgAxis {
         param: "alpha",
         axis: "mid:0:1:32",
     }),
     energy_table: true,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// The roughness parameter's doc line (shared with the models on this lobe).
@@ -165,9 +159,7 @@ impl Kernel for Beckmann {
     type Prepared<F: Real> = Prepared<F>;
     const LENGTH_CORRECTIONS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

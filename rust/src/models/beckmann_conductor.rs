@@ -31,7 +31,5 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl VariantSpec for BeckmannConductor {
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 }

@@ -26,7 +26,5 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl DielectricSpec for BeckmannDielectric {
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 }

@@ -31,7 +31,5 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl VariantSpec for BeckmannGenSchlick {
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 }

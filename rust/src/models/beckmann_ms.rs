@@ -4,7 +4,7 @@
 use super::albedo::Term;
 use super::ggx_ms::{Prepared, TABLE_ALPHA, albedo_ms, eval_ms, prepare_ms};
 use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
+    self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse,
 };
 // `prepare_ms` reads the layout of `ggx_ms`, which this model shares.
 pub use super::ggx_ms::{ALPHA, KS, SLOTS};
@@ -17,7 +17,6 @@ pub struct BeckmannMs;
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "beckmann_ms",
-    family: Family::A,
     summary: "Kulla-Conty multiple-scattering lobe restoring the energy beckmann loses",
     formula: "f = (1−E(mu_i))(1−E(mu_o))/(π(1−E_avg))·F_avg²E_avg/(1−F_avg(1−E_avg)), \
               F_avg = ks + (1−ks)/21",
@@ -33,23 +32,14 @@ pub static SPEC: ModelSpec = ModelSpec {
             slot: ALPHA.first(),
         },
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for BeckmannMs {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

@@ -7,7 +7,7 @@
 use super::albedo::{Importance, Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::lobes::DiffuseSpecular;
 use super::spec::{
-    self, DfgAxis, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse,
+    self, DfgAxis, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse,
     ValidRange,
 };
 // The power-lobe models' layout (`kd`, `ks`, `p`).
@@ -21,7 +21,6 @@ pub struct BlinnPhongFresnel;
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "blinn_phong_fresnel",
-    family: Family::A,
     summary: "normalized Blinn-Phong lobe weighted by Schlick's Fresnel term, plus Lambert",
     formula: "f = kd/π + (p+8)/(8π)·F·cos_th^p, F = ks + (1−ks)(1−cos_b)^5 (ks is F0)",
     source: "RTR 3rd ed. eq. 7.49",
@@ -37,18 +36,12 @@ pub static SPEC: ModelSpec = ModelSpec {
         },
         spec::exponent(P),
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: Some(DfgAxis {
         param: "p",
         axis: "log:1:10000:32",
     }),
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for BlinnPhongFresnel {
@@ -56,9 +49,7 @@ impl Kernel for BlinnPhongFresnel {
     type Prepared<F: Real> = (DiffuseSpecular<F>, F);
     const POWERS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> (DiffuseSpecular<F>, F) {

@@ -5,7 +5,7 @@
 
 use super::lobes::half_cosine_pow_over;
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real, Vector3};
 
@@ -24,24 +24,17 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "s = ks·clamp(n·h, 0, 1)^p, 0 when n·l <= 0",
     source: "scan-line shading assignment (Blinn specular)",
     params: &[spec::ks(1.0, KS), spec::exponent(P)],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["ks"]),
     scene: SceneUse::Specular,
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for BlinnSpecular {
     type Prepared<F: Real> = ([F; 3], F);
     const POWERS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {

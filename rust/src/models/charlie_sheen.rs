@@ -52,9 +52,7 @@ impl Kernel for CharlieSheen {
     const POWERS: bool = true;
     const WIDE_COSINES: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

@@ -39,9 +39,7 @@ impl Kernel for CharlieSheenNeubelt {
     const POWERS: bool = true;
     const WIDE_COSINES: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

@@ -33,9 +33,7 @@ use std::marker::PhantomData;
 use super::fresnel::{self, INDEX_RANGE};
 use super::sheen::Dd;
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
-};
+use super::spec::{self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
 use super::{Directions, Kernel, ParamSource, beckmann};
 use crate::math::geometry::{
     Cosine, ggx_mu_lambda, half_vector_exact, microfacet_length_correction, smith_quotient,
@@ -165,7 +163,7 @@ pub struct Dielectric<M>(PhantomData<M>);
 
 /// The spec of a [`Dielectric`], implemented in its model file.
 pub trait DielectricSpec {
-    fn spec() -> &'static ModelSpec;
+    const SPEC: &'static ModelSpec;
 }
 
 /// Derived constants of a [`Dielectric`].
@@ -264,9 +262,7 @@ where
 {
     type Prepared<F: Real> = Prepared<F, M::Prepared<F>>;
 
-    fn spec() -> &'static ModelSpec {
-        <Self as DielectricSpec>::spec()
-    }
+    const SPEC: &'static ModelSpec = <Self as DielectricSpec>::SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {
@@ -370,22 +366,14 @@ where
 /// no tangent, 0 when `ks` and `kt` are, no tables nor exact normalization, and no place
 /// in a scene yet (scenes shade reflection only: a transmitting model is refused there).
 pub const DIELECTRIC_SPEC: ModelSpec = ModelSpec {
-    name: "",
-    family: Family::A,
-    summary: "",
-    formula: "",
     source: "Walter, Marschner, Li & Torrance 2007 (rough dielectrics); \
               Pharr, Jakob & Humphreys, pbrt-v4 (DielectricBxDF)",
     params: &[],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["ks", "kt"]),
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
-    dfg: None,
-    energy_table: false,
-    sheen_layer: false,
-    exact: None,
     transmission: true,
+    ..ModelSpec::PLAIN
 };
 
 /// The formula both models' specs share after their `D` and `Λ` (a literal, for

@@ -13,7 +13,7 @@
 
 use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, DfgAxis, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, DfgAxis, DiffuseTerm, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     Cosine, HalfVector, above_both, half_vector, half_vector_exact, microfacet_length_correction,
@@ -32,7 +32,6 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ggx",
-    family: Family::A,
     summary: "GGX / Trowbridge-Reitz microfacet BRDF, height-correlated Smith G2, Schlick F",
     formula: "f = kd/π + D·G2·F/(4·mu_i·mu_o), D = α²/(π(cos_th²(α²−1)+1)²), \
               G2 = 1/(1+Λ(mu_i)+Λ(mu_o)), Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2, \
@@ -43,18 +42,13 @@ pub static SPEC: ModelSpec = ModelSpec {
         spec::f0(1.0, KS),
         spec::roughness("alpha", 0.5, ALPHA, ALPHA_DOC),
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: Some(DfgAxis {
         param: "alpha",
         axis: "mid:0:1:32",
     }),
     energy_table: true,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// The roughness parameter's doc line (shared with the models on this lobe).
@@ -168,9 +162,7 @@ impl Kernel for Ggx {
     type Prepared<F: Real> = Prepared<F>;
     const LENGTH_CORRECTIONS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

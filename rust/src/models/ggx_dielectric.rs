@@ -25,7 +25,5 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl DielectricSpec for GgxDielectric {
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 }

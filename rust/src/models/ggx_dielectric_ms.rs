@@ -70,9 +70,7 @@ pub struct Prepared<F: Real> {
 impl Kernel for GgxDielectricMs {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

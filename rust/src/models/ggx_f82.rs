@@ -29,7 +29,5 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl VariantSpec for GgxF82 {
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 }

@@ -14,7 +14,7 @@
 use super::albedo::{Integral, Term};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+    self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange,
 };
 use super::tables::{EnergyTable, GGX};
 use super::{Directions, Kernel, ParamSource};
@@ -39,7 +39,6 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ggx_ms",
-    family: Family::A,
     summary: "Kulla-Conty multiple-scattering lobe restoring the energy ggx loses",
     formula: "f = (1−E(mu_i))(1−E(mu_o))/(π(1−E_avg))·F_avg²E_avg/(1−F_avg(1−E_avg)), \
               F_avg = ks + (1−ks)/21",
@@ -55,15 +54,8 @@ pub static SPEC: ModelSpec = ModelSpec {
             slot: ALPHA.first(),
         },
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Absent),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// Prepared constants of a multiple-scattering lobe on a table.
@@ -114,9 +106,7 @@ pub fn albedo_ms(table: &EnergyTable, slots: &[f64], mu: f64) -> Vec<Term> {
 impl Kernel for GgxMs {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

@@ -34,20 +34,14 @@ pub static SPEC: ModelSpec = ModelSpec {
     reciprocal: false,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Both,
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for KajiyaKay {
     type Prepared<F: Real> = super::lobes::DiffuseSpecular<F>;
     const POWERS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {

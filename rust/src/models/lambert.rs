@@ -5,7 +5,7 @@
 
 use super::albedo::{Integral, Term};
 use super::slots::ColourSlot;
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, DiffuseTerm, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::Vector3;
 use crate::math::geometry::above_both;
@@ -20,29 +20,20 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "lambert",
-    family: Family::A,
     summary: "perfectly diffuse reflection",
     formula: "f = kd/π",
     source: "RTR 3rd ed. §7.6; BRDF Summary (diffuse term)",
     params: &[spec::kd(0.5, KD)],
-    tangent: TangentUse::None,
-    reciprocal: true,
     weights: Some(&["kd"]),
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for Lambert {
     /// `kd / π`.
     type Prepared<F: Real> = [F; 3];
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {

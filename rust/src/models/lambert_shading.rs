@@ -3,7 +3,7 @@
 //! `s(l, v) = kd·max(n·l, 0)` (the assignment's m_D is `kd`); `= π·mu_i·lambert`.
 
 use super::slots::ColourSlot;
-use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real, Vector3, max};
 
@@ -21,23 +21,16 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "s = kd·max(n·l, 0)",
     source: "scan-line shading assignment (Lambert term, m_D = kd)",
     params: &[spec::kd(0.5, KD)],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd"]),
     scene: SceneUse::Diffuse,
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for LambertShading {
     type Prepared<F: Real> = [F; 3];
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {

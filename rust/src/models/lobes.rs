@@ -3,7 +3,7 @@
 //! and the [`Kernel`] of the six models that are just that ([`PowerLobeModel`]).
 
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, DiffuseTerm, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource, PowerStage};
 use crate::math::geometry::{Cosine, above_both, clamped_cosine, half_vector, mirror, weighted};
 use crate::math::{PowUnit, Real, Vector3};
@@ -18,25 +18,15 @@ crate::param_slots! {
 
 /// The spec fields the six models of the Phong and Blinn-Phong families share: family A,
 /// the parameters `kd` (default 0), `ks` (default 1) and `p`, both colours weights, no
-/// tangent, no split-sum table, no energy table, no exact normalization. A model's spec
-/// names its own fields and takes these with `..POWER_LOBE_SPEC`; the name, texts,
-/// reciprocity and scene use here are placeholders that every model sets.
+/// tangent, no split-sum table, no energy table, no exact normalization, reciprocal
+/// unless the model says otherwise. A model's spec names its own fields and takes these
+/// with `..POWER_LOBE_SPEC`; the name, texts and scene use here are placeholders that
+/// every model sets.
 pub const POWER_LOBE_SPEC: ModelSpec = ModelSpec {
-    name: "",
-    family: Family::A,
-    summary: "",
-    formula: "",
-    source: "",
     params: &[spec::kd(0.0, KD), spec::ks(1.0, KS), spec::exponent(P)],
-    tangent: TangentUse::None,
-    reciprocal: false,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// A model of the Phong and Blinn-Phong families, `f = kd·c + ks·A·lobe` in the layout
@@ -102,9 +92,7 @@ impl<K: PowerLobeModel> Kernel for K {
     type Prepared<F: Real> = DiffuseSpecular<F>;
     const POWERS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        K::SPEC
-    }
+    const SPEC: &'static ModelSpec = <K as PowerLobeModel>::SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {

@@ -23,9 +23,7 @@ use std::marker::PhantomData;
 use super::albedo::{Importance, Integral, Slots, Term, basis};
 use super::fresnel::{self, EXTINCTION_RANGE, INDEX_RANGE};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
-};
+use super::spec::{self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
 use super::{Directions, Kernel, ParamSource, beckmann, ggx};
 use crate::math::geometry::{Cosine, above_both, weighted};
 use crate::math::{PowUnit, Real, Vector3};
@@ -156,7 +154,7 @@ pub struct Variant<L, R>(PhantomData<(L, R)>);
 
 /// The spec of a [`Variant`], implemented in its model file.
 pub trait VariantSpec {
-    fn spec() -> &'static ModelSpec;
+    const SPEC: &'static ModelSpec;
 }
 
 /// Derived constants of a [`Variant`].
@@ -175,9 +173,7 @@ where
     const POWERS: bool = R::POWERS;
     const LENGTH_CORRECTIONS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        <Self as VariantSpec>::spec()
-    }
+    const SPEC: &'static ModelSpec = <Self as VariantSpec>::SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {
@@ -222,21 +218,9 @@ where
 /// split-sum or energy tables (both assume Schlick's `F`), no exact normalization. A
 /// model's spec names its own fields and takes these with `..VARIANT_SPEC`.
 pub const VARIANT_SPEC: ModelSpec = ModelSpec {
-    name: "",
-    family: Family::A,
-    summary: "",
-    formula: "",
-    source: "",
     params: &[],
-    tangent: TangentUse::None,
-    reciprocal: true,
-    weights: None,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// `f0`, the reflectance at normal incidence, of the F82-tint and generalized Schlick
@@ -535,7 +519,7 @@ mod tests {
                     got[c].to_bits(),
                     want.to_bits(),
                     "{}: {got:?} vs {base:?}",
-                    V::spec().name
+                    V::SPEC.name
                 );
             }
         }

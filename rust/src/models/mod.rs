@@ -74,8 +74,8 @@ impl<F: Real> ParamSource<F> for [F] {
 pub trait Kernel: 'static {
     /// Constants derived once per parameter set (normalizations, Fresnel R0, ...).
     type Prepared<F: Real>: Copy + Send + Sync;
-    /// Returns the model's spec.
-    fn spec() -> &'static ModelSpec;
+    /// The model's spec.
+    const SPEC: &'static ModelSpec;
     /// Returns the derived constants for the parameters in `p`.
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F>;
     /// Returns the model's RGB value for one set of unit directions: `f(wi, wo)` in 1/sr
@@ -422,6 +422,30 @@ mod tests {
         }
         assert!(ModelKind::ZeltnerSheen.view_albedo_closed_form());
         assert!(!ModelKind::CharlieSheen.view_albedo_closed_form());
+    }
+
+    /// [`ModelSpec::PLAIN`]'s placeholders are set by every model, and a model's family
+    /// and scene use agree (family A is a BRDF in a scene, family B a shading term).
+    #[test]
+    fn every_spec_sets_what_the_plain_spec_leaves_open() {
+        for kind in ModelKind::ALL {
+            let spec = kind.spec();
+            for (field, text) in [
+                ("name", spec.name),
+                ("summary", spec.summary),
+                ("formula", spec.formula),
+                ("source", spec.source),
+            ] {
+                assert!(!text.is_empty(), "{:?}: no {field}", kind);
+            }
+            assert!(!spec.params.is_empty(), "{}: no parameters", spec.name);
+            assert_eq!(
+                spec.family == spec::Family::A,
+                matches!(spec.scene, spec::SceneUse::Brdf(_)),
+                "{}: family and scene use disagree",
+                spec.name
+            );
+        }
     }
 
     #[test]

@@ -19,7 +19,6 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "reciprocal Blinn-Phong: diffuse plus a cosine-power lobe of the half vector",
     formula: "f = kd + ks·cos_th^p",
     source: "BRDF Summary eq. 8",
-    reciprocal: true,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
     ..POWER_LOBE_SPEC
 };

@@ -20,7 +20,6 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "reciprocal Phong: diffuse plus a cosine-power lobe about the mirror direction",
     formula: "f = kd + ks·cos_ar^p",
     source: "BRDF Summary eq. 3",
-    reciprocal: true,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(std::f64::consts::PI)),
     ..POWER_LOBE_SPEC
 };

@@ -21,9 +21,7 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "Blinn-Phong lobe with the approximate (p+8)/(8π) normalization, plus Lambert",
     formula: "f = kd/π + ks·(p+8)/(8π)·cos_th^p",
     source: "BRDF Summary eq. 9 (cos_th, not cos_ar: typo fixed); RTR 3rd ed. eq. 7.48",
-    reciprocal: true,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    transmission: false,
     exact: Some(ExactNormalization {
         factor: ExactFactor::BlinnClosedForm,
         params: &["p"],

@@ -20,7 +20,6 @@ pub static SPEC: ModelSpec = ModelSpec {
     summary: "energy-normalized Phong lobe about the mirror direction, plus Lambert",
     formula: "f = kd/π + ks·(p+2)/(2π)·cos_ar^p",
     source: "BRDF Summary eq. 5; RTR 3rd ed. eq. 7.47",
-    reciprocal: true,
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     ..POWER_LOBE_SPEC
 };

@@ -7,7 +7,7 @@
 
 use super::albedo::{Importance, Integral, Term, basis};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, DiffuseTerm, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, DiffuseTerm, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::Vector3;
 use crate::math::geometry::{
@@ -25,21 +25,14 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "oren_nayar",
-    family: Family::A,
     summary: "rough diffuse reflection (qualitative Oren-Nayar)",
     formula: "f = (kd/π)·(A + B·max(0, cos(φi−φo))·sin a·tan b), a = max(θi,θo), b = min(θi,θo), \
               A = 1 − 0.5σ²/(σ²+0.33), B = 0.45σ²/(σ²+0.09)",
     source: "Oren & Nayar 1994 (qualitative model), as in the shading assignment",
     params: &[spec::kd(0.5, KD), spec::sigma(SIGMA)],
-    tangent: TangentUse::None,
-    reciprocal: true,
     weights: Some(&["kd"]),
     scene: SceneUse::Brdf(DiffuseTerm::Whole),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// Derived constants: `kd·A` and `kd·B` times a constant factor (here `1/π`;
@@ -66,9 +59,7 @@ impl<F: Real> Prepared<F> {
 impl Kernel for OrenNayar {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

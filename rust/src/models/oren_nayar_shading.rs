@@ -6,7 +6,7 @@
 
 // The layout and the derived constants of `oren_nayar` (`kd·A`, `kd·B`), unscaled here.
 pub use super::oren_nayar::{KD, Prepared, SIGMA, SLOTS};
-use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
+use super::spec::{self, Family, ModelSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::{PowUnit, Real, Vector3, clamp, max};
 
@@ -20,23 +20,16 @@ pub static SPEC: ModelSpec = ModelSpec {
     formula: "s = kd·clamp(n·l, 0, 1)·(A + B·max(0, cos(φi−φo))·sin a·tan b)",
     source: "scan-line shading assignment (Oren-Nayar term)",
     params: &[spec::kd(0.5, KD), spec::sigma(SIGMA)],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd"]),
     scene: SceneUse::Diffuse,
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 impl Kernel for OrenNayarShading {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

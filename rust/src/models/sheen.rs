@@ -10,9 +10,7 @@
 
 use super::albedo::{Importance, Integral, Term, basis};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
-};
+use super::spec::{self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
 use super::{Directions, ParamSource, WideRow};
 use crate::math::geometry::{WideCosine, above_both, half_vector, weighted};
 use crate::math::{PowUnit, Real, SeriesPow, Vector3, max, min};
@@ -49,11 +47,6 @@ pub const SHEEN_COLOUR: ParamSpec = ParamSpec {
 /// `kd = 0`, `ks = 1`), no exact normalization. A model's spec names its own fields and
 /// takes these with `..SHEEN_SPEC`; the name and texts here are placeholders.
 pub const SHEEN_SPEC: ModelSpec = ModelSpec {
-    name: "",
-    family: Family::A,
-    summary: "",
-    formula: "",
-    source: "",
     params: &[
         spec::kd(0.0, KD),
         SHEEN_COLOUR,
@@ -67,15 +60,11 @@ pub const SHEEN_SPEC: ModelSpec = ModelSpec {
             slot: ALPHA.first(),
         },
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
     energy_table: true,
-    transmission: false,
     sheen_layer: true,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// The colours every sheen model prepares: `kd/π` and `ks`.

@@ -428,6 +428,29 @@ pub struct DfgAxis {
 }
 
 impl ModelSpec {
+    /// What a model is unless its spec says otherwise: family A, no tangent, reciprocal,
+    /// no weight set, no split-sum axis, no energy tables, no sheen layer, no exact
+    /// normalization, not transmitting. A spec names its own facts and takes the rest
+    /// with `..ModelSpec::PLAIN`. The name, the texts, the parameters and the scene use
+    /// here are placeholders that every model sets (a test checks the first four).
+    pub const PLAIN: ModelSpec = ModelSpec {
+        name: "",
+        family: Family::A,
+        summary: "",
+        formula: "",
+        source: "",
+        params: &[],
+        tangent: TangentUse::None,
+        reciprocal: true,
+        weights: None,
+        scene: SceneUse::Brdf(DiffuseTerm::Absent),
+        dfg: None,
+        energy_table: false,
+        sheen_layer: false,
+        exact: None,
+        transmission: false,
+    };
+
     /// Returns the number of float slots of the raw parameter vector.
     pub fn slot_count(&self) -> usize {
         self.params.iter().map(|p| p.kind.slots()).sum()

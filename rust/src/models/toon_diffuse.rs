@@ -6,7 +6,7 @@
 //! `colors=[m_D2, m_D1]`; its listing mixes up `C` and `Cd`: this follows the formula.
 
 use super::slots::{ColourListSlot, ScalarListSlot};
-use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
+use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::cosine_at_least;
 use crate::math::{PowUnit, Real};
@@ -52,15 +52,10 @@ pub static SPEC: ModelSpec = ModelSpec {
             slot: COLORS.first(),
         },
     ],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["colors"]),
     scene: SceneUse::Diffuse,
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// Thresholds (unused ones are +inf) and band colours.
@@ -73,9 +68,7 @@ pub struct Prepared<F> {
 impl Kernel for ToonDiffuse {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

@@ -5,7 +5,7 @@
 //! range (see [`cosine_at_least`]): at `threshold = 1` only the exact mirror direction is inside.
 
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange};
+use super::spec::{Family, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{cosine_at_least, mirror};
 use crate::math::{PowUnit, Real, Vector3};
@@ -51,15 +51,10 @@ pub static SPEC: ModelSpec = ModelSpec {
             slot: LOW.first(),
         },
     ],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["high", "low"]),
     scene: SceneUse::Specular,
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// Threshold, high and low colours.
@@ -73,9 +68,7 @@ pub struct Prepared<F> {
 impl Kernel for ToonSpecular {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

@@ -12,8 +12,8 @@
 use super::albedo::{Importance, Term, basis, diffuse_and_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, ParamKind, ParamSpec,
-    SceneUse, TangentUse, ValidRange,
+    self, DiffuseTerm, ExactFactor, ExactNormalization, ModelSpec, ParamKind, ParamSpec,
+    SceneUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource, PowerStage};
 use crate::math::geometry::{clamped_cosine, half_vector, schlick_weight, weighted};
@@ -31,7 +31,6 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "torrance_sparrow",
-    family: Family::A,
     summary: "microfacet BRDF: cosine-power NDF, Schlick Fresnel from eta, V-cavity shadowing",
     formula: "f = kd/π + ks·D·F·G/(4·mu_i·mu_o), D = (p+2)/(2π)·cos_th^p, \
               F = R0 + (1−R0)(1−cos_b)^5, R0 = ((eta−1)/(eta+1))², \
@@ -50,19 +49,14 @@ pub static SPEC: ModelSpec = ModelSpec {
             slot: ETA.first(),
         },
     ],
-    tangent: TangentUse::None,
-    reciprocal: true,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
     exact: Some(ExactNormalization {
         factor: ExactFactor::One,
         params: &["p"],
         scales: "ks",
     }),
+    ..ModelSpec::PLAIN
 };
 
 /// Derived constants.
@@ -79,9 +73,7 @@ impl Kernel for TorranceSparrow {
     type Prepared<F: Real> = Prepared<F>;
     const POWERS: bool = true;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

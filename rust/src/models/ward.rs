@@ -8,7 +8,7 @@
 use super::albedo::{Importance, Term, diffuse_and_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{
-    self, DiffuseTerm, ExactFactor, ExactNormalization, Family, ModelSpec, SceneUse, TangentUse,
+    self, DiffuseTerm, ExactFactor, ExactNormalization, ModelSpec, SceneUse, TangentUse,
 };
 use super::{Directions, Kernel, ParamSource, WideRow};
 use crate::math::geometry::{above_both, half_vector, tangent_frame, weighted};
@@ -26,7 +26,6 @@ crate::param_slots! {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ward",
-    family: Family::A,
     summary: "Ward's anisotropic Gaussian lobe of the half vector, plus Lambert",
     formula: "f = kd/π + ks·exp(−((h·x/αx)² + (h·y/αy)²)/cos_th²)/(4π·αx·αy·sqrt(mu_i·mu_o))",
     source: "Ward 1992 (SIGGRAPH), anisotropic form; RTR 3rd ed. §7.6",
@@ -47,18 +46,14 @@ pub static SPEC: ModelSpec = ModelSpec {
         ),
     ],
     tangent: TangentUse::Optional,
-    reciprocal: true,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
-    energy_table: false,
-    transmission: false,
-    sheen_layer: false,
     exact: Some(ExactNormalization {
         factor: ExactFactor::Table("ward"),
         params: &["alpha_x", "alpha_y"],
         scales: "ks",
     }),
+    ..ModelSpec::PLAIN
 };
 
 /// Derived constants.
@@ -75,9 +70,7 @@ pub struct Prepared<F> {
 impl Kernel for Ward {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {

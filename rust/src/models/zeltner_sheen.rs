@@ -11,7 +11,7 @@
 use super::albedo::{Importance, Term};
 use super::sheen::{self, ALPHA, Dd, KD, KS};
 use super::spec::{
-    self, DiffuseTerm, Family, ModelSpec, ParamKind, ParamSpec, SceneUse, TangentUse, ValidRange,
+    self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange,
 };
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{above_both, weighted};
@@ -33,7 +33,6 @@ const FIT_ROUGHNESS: ValidRange = ValidRange {
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "zeltner_sheen",
-    family: Family::A,
     summary: "Zeltner et al.'s sheen: a linearly transformed cosine fitted to a volumetric \
               fibre layer, scaled by its albedo (OpenPBR's fuzz)",
     formula: "f = kd/π + ks·R(mu_o, α)·D(wi)/mu_i, D(w) = max(z, 0)/π·(a/|w′|²)², \
@@ -53,18 +52,15 @@ pub static SPEC: ModelSpec = ModelSpec {
             slot: ALPHA.first(),
         },
     ],
-    tangent: TangentUse::None,
     reciprocal: false,
     weights: Some(&["kd", "ks"]),
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: None,
     // Its table holds the albedo seen from the view, `R` in closed form
     // ([`Kernel::sheen_view_albedo`]): the lobe is not reciprocal, and `brdf_rs.albedo`
     // (over the other direction) is not the albedo a layer takes out of the light.
     energy_table: true,
-    transmission: false,
     sheen_layer: true,
-    exact: None,
+    ..ModelSpec::PLAIN
 };
 
 /// The fit's decimals as the nearest `f64` and the rest, for [`Dd`]:
@@ -206,9 +202,7 @@ fn lobe<F: Real>(fits: &Fits<F>, d: &Directions<F>) -> F {
 impl Kernel for ZeltnerSheen {
     type Prepared<F: Real> = Prepared<F>;
 
-    fn spec() -> &'static ModelSpec {
-        &SPEC
-    }
+    const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
