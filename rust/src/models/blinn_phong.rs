@@ -7,8 +7,8 @@ use super::albedo::StratumLobe;
 use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine_pow_over};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
-use super::{Directions, ParamSource};
+pub use super::lobes::SLOTS;
+use super::Directions;
 use crate::math::{PowUnit, Real};
 
 /// The Blinn-Phong kernel.
@@ -27,11 +27,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 impl PowerLobeModel for BlinnPhong {
     const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Blinn;
-
-    #[inline(always)]
-    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
-        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
-    }
 
     #[inline(always)]
     fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {

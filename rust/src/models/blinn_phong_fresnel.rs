@@ -5,13 +5,13 @@
 //! from a vector difference, so Schlick's weight has no cancellation near normal incidence.
 
 use super::albedo::{Importance, Integral, Term, basis, diffuse_and_schlick_lobe};
-use super::lobes::DiffuseSpecular;
+use super::lobes::{DiffuseSpecular, KD, KS, P};
 use super::spec::{
     self, DfgAxis, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse,
     ValidRange,
 };
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
+pub use super::lobes::SLOTS;
 use super::{Directions, Kernel, ParamSource, PowerStage};
 use crate::math::geometry::{clamped_cosine, half_vector, schlick_weight};
 use crate::math::{PowUnit, Real, Vector3};

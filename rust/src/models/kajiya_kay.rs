@@ -15,7 +15,8 @@
 
 use super::spec::{self, Family, ModelSpec, SceneUse, TangentUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
+pub use super::lobes::SLOTS;
+use super::lobes::{DiffuseSpecular, KD, KS, P};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::Cosine;
 use crate::math::{PowUnit, Real, Vector3, min};
@@ -38,14 +39,14 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl Kernel for KajiyaKay {
-    type Prepared<F: Real> = super::lobes::DiffuseSpecular<F>;
+    type Prepared<F: Real> = DiffuseSpecular<F>;
     const POWERS: bool = true;
 
     const SPEC: &'static ModelSpec = &SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {
-        super::lobes::DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
+        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
     }
 
     #[inline(always)]

@@ -40,8 +40,12 @@ pub trait PowerLobeModel: 'static {
     /// Which cosine the lobe raises to `p`: about the mirror direction or of the half
     /// vector (also how the integrator splits the lobe).
     const LOBE: StratumLobe;
-    /// Reads the parameters with the model's constant factors ([`DiffuseSpecular::read`]).
-    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F>;
+    /// Reads the parameters with the model's constant factors ([`DiffuseSpecular::read`]);
+    /// by default none (`kd` and `ks` as given, the Summary's non-normalized models).
+    #[inline(always)]
+    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
+        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
+    }
     /// Returns the lobe for a unit `ks` at `d`, given `mu_i = n·wi`; 0 where it is
     /// undefined (the half vector of opposite directions). By default the plain power
     /// [`plain_power_lobe`] of [`PowerLobeModel::lobe_base`]: a model whose lobe is not
@@ -72,8 +76,11 @@ pub trait PowerLobeModel: 'static {
             false,
         )
     }
-    /// Returns the lobe's factor `A` (of `A·cos^p`) in the albedo at incidence `mu`.
-    fn lobe_scale(slots: &[f64], mu: f64) -> f64;
+    /// Returns the lobe's factor `A` (of `A·cos^p`) in the albedo at incidence `mu`; by
+    /// default 1.
+    fn lobe_scale(_slots: &[f64], _mu: f64) -> f64 {
+        1.0
+    }
 }
 
 /// The albedo of a power-lobe model's diffuse term for a unit `kd`: its scene spec's

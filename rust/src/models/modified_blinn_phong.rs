@@ -6,8 +6,8 @@ use super::albedo::StratumLobe;
 use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
-use super::{Directions, ParamSource};
+pub use super::lobes::SLOTS;
+use super::Directions;
 use crate::math::geometry::Cosine;
 use crate::math::Real;
 
@@ -27,19 +27,10 @@ impl PowerLobeModel for ModifiedBlinnPhong {
     const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Blinn;
 
-    #[inline(always)]
-    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
-        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
-    }
-
     const PLAIN_POWER: bool = true;
 
     #[inline(always)]
     fn lobe_base<F: Real>(_pp: &DiffuseSpecular<F>, d: &Directions<F>, _mu_i: F) -> (Cosine<F>, bool) {
         half_cosine(d)
-    }
-
-    fn lobe_scale(_slots: &[f64], _mu: f64) -> f64 {
-        1.0
     }
 }

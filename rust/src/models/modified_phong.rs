@@ -7,8 +7,8 @@ use super::albedo::StratumLobe;
 use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
-use super::{Directions, ParamSource};
+pub use super::lobes::SLOTS;
+use super::Directions;
 use crate::math::geometry::Cosine;
 use crate::math::Real;
 
@@ -28,19 +28,10 @@ impl PowerLobeModel for ModifiedPhong {
     const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Phong;
 
-    #[inline(always)]
-    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
-        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
-    }
-
     const PLAIN_POWER: bool = true;
 
     #[inline(always)]
     fn lobe_base<F: Real>(_pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> (Cosine<F>, bool) {
         (mirror_cosine(d, mu_i), true)
-    }
-
-    fn lobe_scale(_slots: &[f64], _mu: f64) -> f64 {
-        1.0
     }
 }

@@ -5,10 +5,10 @@
 //! normal incidence is `(p+8)(p+2^(−p/2))/((p+2)(p+4))`, slightly above 1.
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, half_cosine};
+use super::lobes::{DiffuseSpecular, P, POWER_LOBE_SPEC, PowerLobeModel, half_cosine};
 use super::spec::{DiffuseTerm, ExactFactor, ExactNormalization, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
+pub use super::lobes::SLOTS;
 use super::{Directions, ParamSource};
 use crate::math::geometry::Cosine;
 use crate::math::Real;

@@ -4,10 +4,10 @@
 //! its directional albedo at normal incidence is exactly 1 and lower elsewhere.
 
 use super::albedo::StratumLobe;
-use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine};
+use super::lobes::{DiffuseSpecular, P, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
+pub use super::lobes::SLOTS;
 use super::{Directions, ParamSource};
 use crate::math::geometry::Cosine;
 use crate::math::Real;

@@ -8,8 +8,8 @@ use super::albedo::StratumLobe;
 use super::lobes::{DiffuseSpecular, POWER_LOBE_SPEC, PowerLobeModel, mirror_cosine};
 use super::spec::{DiffuseTerm, ModelSpec, SceneUse};
 // The power-lobe models' layout (`kd`, `ks`, `p`).
-pub use super::lobes::{KD, KS, P, SLOTS};
-use super::{Directions, ParamSource};
+pub use super::lobes::SLOTS;
+use super::Directions;
 use crate::math::{PowUnit, Real};
 
 /// The original Phong kernel.
@@ -28,11 +28,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 impl PowerLobeModel for Phong {
     const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Phong;
-
-    #[inline(always)]
-    fn read_params<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {
-        DiffuseSpecular::read(p, F::ONE, |_| F::ONE)
-    }
 
     #[inline(always)]
     fn lobe<F: Real, P: PowUnit>(pp: &DiffuseSpecular<F>, d: &Directions<F>, mu_i: F) -> F {
