@@ -4,30 +4,22 @@
 //! (`l = −v`); `= mu_i·blinn_phong(kd=0)` for mu_i, mu_o > 0.
 
 use super::lobes::half_cosine_pow_over;
-use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, Family, ModelSpec, SceneUse};
+// The specular terms' layout (`ks`, `p`).
+pub use super::phong_specular::SLOTS;
+use super::phong_specular::{KS, P, SPECULAR_TERM_SPEC};
+use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource};
 use crate::math::{PowUnit, Real, Vector3};
 
 /// The Blinn specular kernel.
 pub struct BlinnSpecular;
 
-crate::param_slots! {
-    KS: ColourSlot,
-    P: ScalarSlot,
-}
-
 pub static SPEC: ModelSpec = ModelSpec {
     name: "blinn_specular",
-    family: Family::B,
     summary: "Blinn specular shading term: cosine power of the half vector",
     formula: "s = ks·clamp(n·h, 0, 1)^p, 0 when n·l <= 0",
     source: "scan-line shading assignment (Blinn specular)",
-    params: &[spec::ks(1.0, KS), spec::exponent(P)],
-    reciprocal: false,
-    weights: Some(&["ks"]),
-    scene: SceneUse::Specular,
-    ..ModelSpec::PLAIN
+    ..SPECULAR_TERM_SPEC
 };
 
 impl Kernel for BlinnSpecular {

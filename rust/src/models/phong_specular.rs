@@ -17,17 +17,25 @@ crate::param_slots! {
     P: ScalarSlot,
 }
 
-pub static SPEC: ModelSpec = ModelSpec {
-    name: "phong_specular",
+/// The spec fields the assignment's two specular terms share (`phong_specular`,
+/// [`super::blinn_specular`]): family B, `ks` (default 1) and `p`, `ks` the weight, not
+/// reciprocal, the material's specular slot. A model's spec names its own fields and
+/// takes these with `..SPECULAR_TERM_SPEC`; the name and texts here are placeholders.
+pub const SPECULAR_TERM_SPEC: ModelSpec = ModelSpec {
     family: Family::B,
-    summary: "Phong specular shading term: cosine power about the mirror direction",
-    formula: "s = ks·clamp(v·r, 0, 1)^p, 0 when n·l <= 0",
-    source: "scan-line shading assignment (Phong specular, m_S = ks, γ = p)",
     params: &[spec::ks(1.0, KS), spec::exponent(P)],
     reciprocal: false,
     weights: Some(&["ks"]),
     scene: SceneUse::Specular,
     ..ModelSpec::PLAIN
+};
+
+pub static SPEC: ModelSpec = ModelSpec {
+    name: "phong_specular",
+    summary: "Phong specular shading term: cosine power about the mirror direction",
+    formula: "s = ks·clamp(v·r, 0, 1)^p, 0 when n·l <= 0",
+    source: "scan-line shading assignment (Phong specular, m_S = ks, γ = p)",
+    ..SPECULAR_TERM_SPEC
 };
 
 impl Kernel for PhongSpecular {
