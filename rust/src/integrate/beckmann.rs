@@ -143,7 +143,8 @@ impl ClosedFormLobe for VisibleLobe {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::beckmann::{ALPHA, Beckmann, KS};
+    use crate::models::beckmann::Beckmann;
+    use crate::models::ggx::{ALPHA, KS};
     use crate::models::{Directions, Kernel};
     use crate::sampling::{Warp, reflect, reflected_pdf};
 

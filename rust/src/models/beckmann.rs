@@ -10,23 +10,22 @@
 //! α·sinθ·exp(−c²)/(2 sqrt(π))`, bounded at grazing angles. `erf` is the `libm` crate's
 //! (scalar: this model's loop does not vectorize).
 
-use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
-use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, DfgAxis, DiffuseTerm, ModelSpec, SceneUse};
+use super::albedo::{Integral, Term};
+// The layout of the microfacet models with Schlick's Fresnel (`kd`, `ks`, `alpha`).
+pub use super::ggx::SLOTS;
+use super::ggx::{
+    ALPHA, KD, KS, SCHLICK_MICROFACET_SPEC, schlick_microfacet_params, schlick_microfacet_terms,
+    schlick_microfacet_value,
+};
+use super::spec::ModelSpec;
 use super::{Directions, Kernel, ParamSource, ggx};
 use crate::math::geometry::{
-    Cosine, above_both, clamped_cosine, schlick_rgb, schlick_weight, smith_quotient, weighted,
+    Cosine, clamped_cosine, smith_quotient,
 };
 use crate::math::{PowUnit, Real, Vector3, max};
 
 /// The Beckmann kernel.
 pub struct Beckmann;
-
-crate::param_slots! {
-    KD: ColourSlot,
-    KS: ColourSlot,
-    ALPHA: ScalarSlot,
-}
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "beckmann",
@@ -35,18 +34,8 @@ pub static SPEC: ModelSpec = ModelSpec {
               G2 = 1/(1+Λ(mu_i)+Λ(mu_o)), Λ(μ) = (erf(c)−1)/2 + exp(−c²)/(2c·sqrt(π)), \
               c = μ/(α·sqrt(1−μ²)), F = ks + (1−ks)(1−cos_b)^5",
     source: "Beckmann & Spizzichino 1963; Walter et al. 2007 (Smith Λ); Heitz 2014 (height-correlated G2)",
-    params: &[
-        spec::kd(0.0, KD),
-        spec::f0(1.0, KS),
-        spec::roughness("alpha", 0.5, ALPHA, ALPHA_DOC),
-    ],
-    scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
-    dfg: Some(DfgAxis {
-        param: "alpha",
-        axis: "mid:0:1:32",
-    }),
-    energy_table: true,
-    ..ModelSpec::PLAIN
+    params: &schlick_microfacet_params(ALPHA_DOC),
+    ..SCHLICK_MICROFACET_SPEC
 };
 
 /// The roughness parameter's doc line (shared with the models on this lobe).
@@ -174,30 +163,18 @@ impl Kernel for Beckmann {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let (spec, cos_b, defined) = lobe::<F, P>(d, pp.alpha, pp.alpha2);
-        let spec = if defined { spec } else { F::ZERO };
-        let fresnel = schlick_rgb(pp.f0, schlick_weight(cos_b));
-        let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);
-        above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
+        let lobe = lobe::<F, P>(d, pp.alpha, pp.alpha2);
+        schlick_microfacet_value(lobe, pp.f0, pp.kd_over_pi, d)
     }
 
-    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals
-    /// (Heitz & d'Eon 2014) with their closed-form weights `F·G2/G1(wi)`, bounded by 1
-    /// ([`Integral::BeckmannVisible`]).
+    /// Lobes drawn from the visible normals (Heitz & d'Eon 2014) with their closed-form
+    /// weights `F·G2/G1(wi)`, bounded by 1 ([`Integral::BeckmannVisible`]).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        let f0 = KS.read(slots);
-        let alpha = ALPHA.read(slots);
-        let diffuse = Term {
-            colour: KD.read(slots),
-            integral: Integral::Exact(1.0),
-        };
-        Some(diffuse_and_schlick_lobe(diffuse, f0, |f0| {
-            Integral::BeckmannVisible {
-                alpha,
-                f0,
-                basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
-            }
-        }))
+        schlick_microfacet_terms(slots, |alpha, f0, basis| Integral::BeckmannVisible {
+            alpha,
+            f0,
+            basis,
+        })
     }
 }
 

@@ -11,9 +11,9 @@
 //! bounded form of [`ggx_mu_lambda`](crate::math::geometry::ggx_mu_lambda) (finite at
 //! grazing angles, where `Λ` overflows), as one quotient: see [`lobe`].
 
-use super::albedo::{Integral, Term, basis, diffuse_and_schlick_lobe};
+use super::albedo::{Integral, Slots, Term, basis, diffuse_and_schlick_lobe};
 use super::slots::{ColourSlot, ScalarSlot};
-use super::spec::{self, DfgAxis, DiffuseTerm, ModelSpec, SceneUse};
+use super::spec::{self, DfgAxis, DiffuseTerm, ModelSpec, ParamSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
     Cosine, HalfVector, above_both, half_vector, half_vector_exact, microfacet_length_correction,
@@ -37,11 +37,15 @@ pub static SPEC: ModelSpec = ModelSpec {
               G2 = 1/(1+Λ(mu_i)+Λ(mu_o)), Λ(μ) = (−1+sqrt(1+α²(1−μ²)/μ²))/2, \
               F = ks + (1−ks)(1−cos_b)^5",
     source: "Walter et al. 2007 (GGX); Heitz 2014 (height-correlated Smith)",
-    params: &[
-        spec::kd(0.0, KD),
-        spec::f0(1.0, KS),
-        spec::roughness("alpha", 0.5, ALPHA, ALPHA_DOC),
-    ],
+    params: &schlick_microfacet_params(ALPHA_DOC),
+    ..SCHLICK_MICROFACET_SPEC
+};
+
+/// The spec fields of the microfacet models with Schlick's Fresnel (`ggx`,
+/// [`super::beckmann`]): a Lambert diffuse term in scenes, a split-sum table over `alpha`
+/// in [0, 1] and energy tables. A model's spec names its own fields, its parameters from
+/// [`schlick_microfacet_params`], and takes these with `..SCHLICK_MICROFACET_SPEC`.
+pub const SCHLICK_MICROFACET_SPEC: ModelSpec = ModelSpec {
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     dfg: Some(DfgAxis {
         param: "alpha",
@@ -50,6 +54,16 @@ pub static SPEC: ModelSpec = ModelSpec {
     energy_table: true,
     ..ModelSpec::PLAIN
 };
+
+/// The parameters of a microfacet model with Schlick's Fresnel in this layout: `kd`
+/// (default 0), `ks` as F0 (default 1) and `alpha` (default 0.5) with the lobe's doc line.
+pub const fn schlick_microfacet_params(alpha_doc: &'static str) -> [ParamSpec; 3] {
+    [
+        spec::kd(0.0, KD),
+        spec::f0(1.0, KS),
+        spec::roughness("alpha", 0.5, ALPHA, alpha_doc),
+    ]
+}
 
 /// The roughness parameter's doc line (shared with the models on this lobe).
 pub const ALPHA_DOC: &str = "roughness α: the NDF's width (α = r² for a perceptual roughness r)";
@@ -178,28 +192,50 @@ impl Kernel for Ggx {
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let (spec, cos_b, defined) = lobe::<F, P>(d, pp.alpha2, pp.d_scale);
-        let spec = if defined { spec } else { F::ZERO };
-        let fresnel = schlick_rgb(pp.f0, schlick_weight(cos_b));
-        let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + pp.kd_over_pi[c]);
-        above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
+        let lobe = lobe::<F, P>(d, pp.alpha2, pp.d_scale);
+        schlick_microfacet_value(lobe, pp.f0, pp.kd_over_pi, d)
     }
 
-    /// `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, lobes drawn from the visible normals
-    /// with their closed-form weights ([`Integral::GgxVisible`]).
+    /// Lobes drawn from the visible normals with their closed-form weights
+    /// ([`Integral::GgxVisible`]).
     fn albedo_terms(slots: &[f64], _mu: f64) -> Option<Vec<Term>> {
-        let f0 = KS.read(slots);
-        let alpha = ALPHA.read(slots);
-        let diffuse = Term {
-            colour: KD.read(slots),
-            integral: Integral::Exact(1.0),
-        };
-        Some(diffuse_and_schlick_lobe(diffuse, f0, |f0| {
-            Integral::GgxVisible {
-                alpha,
-                f0,
-                basis: basis(slots, &[(KD, 0.0), (KS, f0)]),
-            }
-        }))
+        schlick_microfacet_terms(slots, |alpha, f0, basis| Integral::GgxVisible {
+            alpha,
+            f0,
+            basis,
+        })
     }
+}
+
+/// The value of a microfacet model with Schlick's Fresnel in this layout (`ggx`,
+/// [`super::beckmann`]): `kd/π + F·lobe` above both directions, from the lobe as [`lobe`]
+/// returns it (0 where it is undefined) and `F0 = f0`.
+#[inline(always)]
+pub fn schlick_microfacet_value<F: Real>(
+    (spec, cos_b, defined): (F, Cosine<F>, bool),
+    f0: [F; 3],
+    kd_over_pi: [F; 3],
+    d: &Directions<F>,
+) -> [F; 3] {
+    let spec = if defined { spec } else { F::ZERO };
+    let fresnel = schlick_rgb(f0, schlick_weight(cos_b));
+    let rgb = [0, 1, 2].map(|c| weighted(fresnel[c], spec) + kd_over_pi[c]);
+    above_both(d.n.dot(d.wi), d.n.dot(d.wo), rgb)
+}
+
+/// The albedo terms of such a model: `kd·1 + F0·I(F0 = 1) + (1 − F0)·I(F0 = 0)`, each
+/// lobe the integral `visible(alpha, f0, basis)` gives (`basis`: the slots with `kd = 0`
+/// and `ks = f0`).
+pub fn schlick_microfacet_terms(
+    slots: &[f64],
+    visible: impl Fn(f64, f64, Slots) -> Integral,
+) -> Option<Vec<Term>> {
+    let alpha = ALPHA.read(slots);
+    let diffuse = Term {
+        colour: KD.read(slots),
+        integral: Integral::Exact(1.0),
+    };
+    Some(diffuse_and_schlick_lobe(diffuse, KS.read(slots), |f0| {
+        visible(alpha, f0, basis(slots, &[(KD, 0.0), (KS, f0)]))
+    }))
 }
