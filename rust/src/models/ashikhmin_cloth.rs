@@ -57,8 +57,6 @@ impl Kernel for AshikhminCloth {
 
     const WIDE_COSINES: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let alpha = ALPHA.read(p);

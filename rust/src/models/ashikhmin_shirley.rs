@@ -100,8 +100,6 @@ impl Kernel for AshikhminShirley {
     type Prepared<F: Real> = Prepared<F>;
     const POWERS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let (rd, rs) = (RD.read(p), RS.read(p));

@@ -148,8 +148,6 @@ impl Kernel for Beckmann {
     type Prepared<F: Real> = Prepared<F>;
     const LENGTH_CORRECTIONS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let alpha = ALPHA.read(p);

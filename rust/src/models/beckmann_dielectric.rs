@@ -5,7 +5,7 @@
 //! The kernel, layout and shared spec fields are the rough dielectrics'
 //! ([`super::dielectric`]); this file names the distribution.
 
-use super::dielectric::{self, Beckmann, DIELECTRIC_SPEC, Dielectric, DielectricSpec};
+use super::dielectric::{self, Beckmann, DIELECTRIC_SPEC, Dielectric};
 use super::spec::ModelSpec;
 // The rough dielectrics' layout (`ks`, `kt`, `eta`, `alpha`).
 pub use super::dielectric::SLOTS;
@@ -25,6 +25,3 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..DIELECTRIC_SPEC
 };
 
-impl DielectricSpec for BeckmannDielectric {
-    const SPEC: &'static ModelSpec = &SPEC;
-}

@@ -7,7 +7,7 @@
 //! channel ([`f82`](super::fresnel::f82)). The kernel and layout are the family's
 //! ([`super::microfacet_fresnel`]).
 
-use super::microfacet_fresnel::{Beckmann, F82Tint, VARIANT_SPEC, Variant, VariantSpec, f82_params};
+use super::microfacet_fresnel::{Beckmann, F82Tint, VARIANT_SPEC, Variant, f82_params};
 use super::spec::ModelSpec;
 // The F82-tint variants' layout (`kd`, `f0`, `f82`, `alpha`).
 pub use super::microfacet_fresnel::f82::SLOTS;
@@ -28,6 +28,3 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..VARIANT_SPEC
 };
 
-impl VariantSpec for BeckmannF82 {
-    const SPEC: &'static ModelSpec = &SPEC;
-}

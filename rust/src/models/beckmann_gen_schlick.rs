@@ -7,7 +7,7 @@
 //! ([`super::microfacet_fresnel`]).
 
 use super::microfacet_fresnel::{
-    Beckmann, GenSchlick, VARIANT_SPEC, Variant, VariantSpec, gen_schlick_params,
+    Beckmann, GenSchlick, VARIANT_SPEC, Variant, gen_schlick_params,
 };
 use super::spec::ModelSpec;
 // The generalized Schlick variants' layout (`kd`, `f0`, `f90`, `exponent`, `alpha`).
@@ -30,6 +30,3 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..VARIANT_SPEC
 };
 
-impl VariantSpec for BeckmannGenSchlick {
-    const SPEC: &'static ModelSpec = &SPEC;
-}

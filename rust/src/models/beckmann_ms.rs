@@ -39,8 +39,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 impl Kernel for BeckmannMs {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         prepare_ms(&BECKMANN, p)

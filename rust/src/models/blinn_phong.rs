@@ -25,7 +25,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl PowerLobeModel for BlinnPhong {
-    const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Blinn;
 
     #[inline(always)]

@@ -49,8 +49,6 @@ impl Kernel for BlinnPhongFresnel {
     type Prepared<F: Real> = (DiffuseSpecular<F>, F);
     const POWERS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> (DiffuseSpecular<F>, F) {
         let lobe = DiffuseSpecular::read(p, F::FRAC_1_PI, |_| F::ONE);

@@ -26,8 +26,6 @@ impl Kernel for BlinnSpecular {
     type Prepared<F: Real> = ([F; 3], F);
     const POWERS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {
         (KS.read(p), P.read(p))

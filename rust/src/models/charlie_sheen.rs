@@ -52,8 +52,6 @@ impl Kernel for CharlieSheen {
     const POWERS: bool = true;
     const WIDE_COSINES: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let alpha = ALPHA.read(p);

@@ -39,8 +39,6 @@ impl Kernel for CharlieSheenNeubelt {
     const POWERS: bool = true;
     const WIDE_COSINES: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {

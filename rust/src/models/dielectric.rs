@@ -34,7 +34,7 @@ use super::fresnel::{self, INDEX_RANGE};
 use super::sheen::Dd;
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
-use super::{Directions, Kernel, ParamSource, beckmann};
+use super::{Directions, Kernel, ParamSource, Registered, beckmann};
 use crate::math::geometry::{
     Cosine, ggx_mu_lambda, half_vector_exact, microfacet_length_correction, smith_quotient,
     weighted,
@@ -157,14 +157,9 @@ impl Microfacets for Beckmann {
     }
 }
 
-/// The kernel of a rough dielectric over the distribution `M`; its spec comes from the
-/// model file ([`DielectricSpec`]).
+/// The kernel of a rough dielectric over the distribution `M`; its spec is the model
+/// file's, where the model is registered ([`Registered`]).
 pub struct Dielectric<M>(PhantomData<M>);
-
-/// The spec of a [`Dielectric`], implemented in its model file.
-pub trait DielectricSpec {
-    const SPEC: &'static ModelSpec;
-}
 
 /// Derived constants of a [`Dielectric`].
 #[derive(Clone, Copy)]
@@ -258,11 +253,9 @@ pub fn refraction_half_vector(wi: [f64; 3], wo: [f64; 3], n: [f64; 3], k: [f64; 
 
 impl<M: Microfacets> Kernel for Dielectric<M>
 where
-    Self: DielectricSpec,
+    Self: Registered,
 {
     type Prepared<F: Real> = Prepared<F, M::Prepared<F>>;
-
-    const SPEC: &'static ModelSpec = <Self as DielectricSpec>::SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {

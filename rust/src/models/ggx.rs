@@ -176,8 +176,6 @@ impl Kernel for Ggx {
     type Prepared<F: Real> = Prepared<F>;
     const LENGTH_CORRECTIONS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let alpha = ALPHA.read(p);

@@ -8,7 +8,7 @@
 //! ([`super::microfacet_fresnel`]).
 
 use super::microfacet_fresnel::{
-    Conductor, Ggx, VARIANT_SPEC, Variant, VariantSpec, conductor_params,
+    Conductor, Ggx, VARIANT_SPEC, Variant, conductor_params,
 };
 use super::spec::ModelSpec;
 // The conductor variants' layout (`kd`, `eta`, `k`, `alpha`).
@@ -30,6 +30,3 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..VARIANT_SPEC
 };
 
-impl VariantSpec for GgxConductor {
-    const SPEC: &'static ModelSpec = &SPEC;
-}

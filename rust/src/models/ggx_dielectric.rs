@@ -4,7 +4,7 @@
 //! The kernel, layout and shared spec fields are the rough dielectrics'
 //! ([`super::dielectric`]); this file names the distribution.
 
-use super::dielectric::{self, DIELECTRIC_SPEC, Dielectric, DielectricSpec, Ggx};
+use super::dielectric::{self, DIELECTRIC_SPEC, Dielectric, Ggx};
 use super::spec::ModelSpec;
 // The rough dielectrics' layout (`ks`, `kt`, `eta`, `alpha`).
 pub use super::dielectric::SLOTS;
@@ -24,6 +24,3 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..DIELECTRIC_SPEC
 };
 
-impl DielectricSpec for GgxDielectric {
-    const SPEC: &'static ModelSpec = &SPEC;
-}

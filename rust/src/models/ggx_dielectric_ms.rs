@@ -70,8 +70,6 @@ pub struct Prepared<F: Real> {
 impl Kernel for GgxDielectricMs {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {

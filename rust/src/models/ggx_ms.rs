@@ -106,8 +106,6 @@ pub fn albedo_ms(table: &EnergyTable, slots: &[f64], mu: f64) -> Vec<Term> {
 impl Kernel for GgxMs {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         prepare_ms(&GGX, p)

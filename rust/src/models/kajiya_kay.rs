@@ -42,8 +42,6 @@ impl Kernel for KajiyaKay {
     type Prepared<F: Real> = DiffuseSpecular<F>;
     const POWERS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {
         DiffuseSpecular::read(p, F::ONE, |_| F::ONE)

@@ -33,8 +33,6 @@ impl Kernel for Lambert {
     /// `kd / π`.
     type Prepared<F: Real> = [F; 3];
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {
         KD.read(p).map(|kd| kd * F::FRAC_1_PI)

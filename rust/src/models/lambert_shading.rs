@@ -30,8 +30,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 impl Kernel for LambertShading {
     type Prepared<F: Real> = [F; 3];
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> [F; 3] {
         KD.read(p)

@@ -4,7 +4,7 @@
 
 use super::albedo::{StratumLobe, Term, diffuse_and_power_lobe, diffuse_and_whole_power_lobe};
 use super::spec::{self, DiffuseTerm, ModelSpec, SceneUse};
-use super::{Directions, Kernel, ParamSource, PowerStage};
+use super::{Directions, Kernel, ParamSource, PowerStage, Registered};
 use crate::math::geometry::{Cosine, above_both, clamped_cosine, half_vector, mirror, weighted};
 use crate::math::{PowUnit, Real, Vector3};
 use crate::models::slots::{ColourSlot, ScalarSlot};
@@ -33,10 +33,10 @@ pub const POWER_LOBE_SPEC: ModelSpec = ModelSpec {
 /// above, above both directions and 0 elsewhere: the model states its spec, its constant
 /// factors and its lobe, and the [`Kernel`] follows (the albedo and sampling terms from
 /// [`diffuse_and_power_lobe`] and [`diffuse_and_whole_power_lobe`]).
-pub trait PowerLobeModel: 'static {
-    /// The model's spec; its scene use is `Brdf(Lambert(c))` with the diffuse term's
-    /// albedo `c` for a unit `kd` (π where `kd` enters without `1/π`).
-    const SPEC: &'static ModelSpec;
+///
+/// The model's spec ([`Registered`]) has the scene use `Brdf(Lambert(c))`, `c` the
+/// diffuse term's albedo for a unit `kd` (π where `kd` enters without `1/π`).
+pub trait PowerLobeModel: Registered + 'static {
     /// Which cosine the lobe raises to `p`: about the mirror direction or of the half
     /// vector (also how the integrator splits the lobe).
     const LOBE: StratumLobe;
@@ -98,8 +98,6 @@ fn diffuse_albedo(spec: &ModelSpec) -> f64 {
 impl<K: PowerLobeModel> Kernel for K {
     type Prepared<F: Real> = DiffuseSpecular<F>;
     const POWERS: bool = true;
-
-    const SPEC: &'static ModelSpec = <K as PowerLobeModel>::SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, S: ParamSource<F> + ?Sized>(p: &S) -> DiffuseSpecular<F> {

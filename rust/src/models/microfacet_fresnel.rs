@@ -24,7 +24,7 @@ use super::albedo::{Importance, Integral, Slots, Term, basis};
 use super::fresnel::{self, EXTINCTION_RANGE, INDEX_RANGE};
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
-use super::{Directions, Kernel, ParamSource, beckmann, ggx};
+use super::{Directions, Kernel, ParamSource, Registered, beckmann, ggx};
 use crate::math::geometry::{Cosine, above_both, weighted};
 use crate::math::{PowUnit, Real, Vector3};
 
@@ -148,14 +148,9 @@ fn per_channel_terms(
     out
 }
 
-/// The kernel of a lobe `L` with a Fresnel term `R`; its spec comes from the model file
-/// ([`VariantSpec`]).
+/// The kernel of a lobe `L` with a Fresnel term `R`; its spec is the model file's, where
+/// the model is registered ([`Registered`]).
 pub struct Variant<L, R>(PhantomData<(L, R)>);
-
-/// The spec of a [`Variant`], implemented in its model file.
-pub trait VariantSpec {
-    const SPEC: &'static ModelSpec;
-}
 
 /// Derived constants of a [`Variant`].
 #[derive(Clone, Copy)]
@@ -167,13 +162,11 @@ pub struct Prepared<F, L, C> {
 
 impl<L: MicrofacetLobe, R: FresnelTerm> Kernel for Variant<L, R>
 where
-    Self: VariantSpec,
+    Self: Registered,
 {
     type Prepared<F: Real> = Prepared<F, L::Prepared<F>, R::Channel<F>>;
     const POWERS: bool = R::POWERS;
     const LENGTH_CORRECTIONS: bool = true;
-
-    const SPEC: &'static ModelSpec = <Self as VariantSpec>::SPEC;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F> {

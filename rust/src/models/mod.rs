@@ -70,12 +70,18 @@ impl<F: Real> ParamSource<F> for [F] {
     }
 }
 
-/// A reflectance model the batch engine can evaluate.
-pub trait Kernel: 'static {
-    /// Constants derived once per parameter set (normalizations, Fresnel R0, ...).
-    type Prepared<F: Real>: Copy + Send + Sync;
+/// A registered model's spec: [`declare_models!`] implements it for each model's kernel
+/// with the `SPEC` of the model's file, so the registration line ties the kernel to its
+/// spec and no file writes that twice.
+pub trait Registered {
     /// The model's spec.
     const SPEC: &'static ModelSpec;
+}
+
+/// A reflectance model the batch engine can evaluate.
+pub trait Kernel: Registered + 'static {
+    /// Constants derived once per parameter set (normalizations, Fresnel R0, ...).
+    type Prepared<F: Real>: Copy + Send + Sync;
     /// Returns the derived constants for the parameters in `p`.
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Self::Prepared<F>;
     /// Returns the model's RGB value for one set of unit directions: `f(wi, wo)` in 1/sr
@@ -270,6 +276,10 @@ pub trait KernelVisitor {
 macro_rules! declare_models {
     ($($variant:ident => $module:ident :: $ty:ident),* $(,)?) => {
         $(pub mod $module;)*
+
+        $(impl Registered for $module::$ty {
+            const SPEC: &'static ModelSpec = &$module::SPEC;
+        })*
 
         /// Every model brdf-rs knows, in the order `brdf_rs.models()` lists them.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -24,7 +24,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl PowerLobeModel for ModifiedBlinnPhong {
-    const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Blinn;
 
     const PLAIN_POWER: bool = true;

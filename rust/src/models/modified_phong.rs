@@ -25,7 +25,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl PowerLobeModel for ModifiedPhong {
-    const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Phong;
 
     const PLAIN_POWER: bool = true;

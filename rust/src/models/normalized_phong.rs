@@ -25,7 +25,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl PowerLobeModel for NormalizedPhong {
-    const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Phong;
 
     #[inline(always)]

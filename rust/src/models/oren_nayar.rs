@@ -59,8 +59,6 @@ impl<F: Real> Prepared<F> {
 impl Kernel for OrenNayar {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared::read(p, F::FRAC_1_PI)

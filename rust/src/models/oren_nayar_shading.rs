@@ -29,8 +29,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 impl Kernel for OrenNayarShading {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared::read(p, F::ONE)

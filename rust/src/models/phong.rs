@@ -26,7 +26,6 @@ pub static SPEC: ModelSpec = ModelSpec {
 };
 
 impl PowerLobeModel for Phong {
-    const SPEC: &'static ModelSpec = &SPEC;
     const LOBE: StratumLobe = StratumLobe::Phong;
 
     #[inline(always)]

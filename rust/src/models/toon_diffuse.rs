@@ -68,8 +68,6 @@ pub struct Prepared<F> {
 impl Kernel for ToonDiffuse {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {

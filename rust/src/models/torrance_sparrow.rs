@@ -73,8 +73,6 @@ impl Kernel for TorranceSparrow {
     type Prepared<F: Real> = Prepared<F>;
     const POWERS: bool = true;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let exponent = P.read(p);

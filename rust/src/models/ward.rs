@@ -70,8 +70,6 @@ pub struct Prepared<F> {
 impl Kernel for Ward {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         let (ax, ay) = (ALPHA_X.read(p), ALPHA_Y.read(p));

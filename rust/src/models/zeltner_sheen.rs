@@ -202,8 +202,6 @@ fn lobe<F: Real>(fits: &Fits<F>, d: &Directions<F>) -> F {
 impl Kernel for ZeltnerSheen {
     type Prepared<F: Real> = Prepared<F>;
 
-    const SPEC: &'static ModelSpec = &SPEC;
-
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
         Prepared {
