@@ -60,6 +60,19 @@ def required_extras(model: str) -> dict:
     return {}
 
 
+def fresnel(c: float, r: float) -> float:
+    """The unpolarized reflectance for the cosine ``c`` on the incident side and the
+    relative index ``r`` (far side / incident side), from Snell's law and the amplitude
+    ratios ``r_s``, ``r_p`` (the textbook form, not docs/models.md's)."""
+    sin2_t = (1.0 - c * c) / (r * r)
+    if sin2_t >= 1.0:
+        return 1.0
+    c_t = math.sqrt(1.0 - sin2_t)
+    r_s = (c - r * c_t) / (c + r * c_t)
+    r_p = (r * c - c_t) / (r * c + c_t)
+    return 0.5 * (r_s * r_s + r_p * r_p)
+
+
 def random_directions(rng: np.random.Generator, n: int, *, unnormalized: bool = True):
     """Random directions over the whole sphere, some with random lengths."""
     v = rng.normal(size=(n, 3))

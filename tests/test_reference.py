@@ -68,7 +68,16 @@ def assert_close(model, got, want, cond, rtol, eps, atol, label):
 
 
 def check_rows_against_reference(
-    model, rng, case, params, *, precision, tol64, tol32, excusable, delta=1e-7
+    model,
+    rng,
+    case,
+    params,
+    *,
+    precision="accurate",
+    tol64=(1e-12, ATOL64),
+    tol32=(1e-5, ATOL32),
+    excusable=0.02,
+    delta=1e-7,
 ):
     """Evaluates ``model`` at ``case`` (``wi, wo, n, tangent``, as :func:`random_case`
     returns them) in float64 and in float32 (inputs and parameters rounded to
@@ -76,7 +85,8 @@ def check_rows_against_reference(
     ``tol32``: ``(rtol, atol)``; float32 against the reference on the rounded inputs), or,
     where not, within what the inputs' precision allows. At most a share ``excusable`` of
     the rows may need that allowance (an ill-conditioned reference), and most must be
-    nonzero, so that the comparison has teeth. ``delta``: the nudge of :func:`condition`."""
+    nonzero, so that the comparison has teeth. ``delta``: the nudge of :func:`condition`.
+    The defaults are the accurate tier's bounds."""
     wi, wo, n, tangent = case
     count = len(wi)
     got64 = brdf_rs.eval(model, wi, wo, n, tangent=tangent, precision=precision, **params)
@@ -125,16 +135,7 @@ def check_rows_against_reference(
 def test_random_inputs_match_reference(model, rng):
     case = random_case(rng, model, N_RANDOM)
     params = random_params(rng, model, size=N_RANDOM)
-    check_rows_against_reference(
-        model,
-        rng,
-        case,
-        params,
-        precision="accurate",
-        tol64=(1e-12, ATOL64),
-        tol32=(1e-5, ATOL32),
-        excusable=0.02,
-    )
+    check_rows_against_reference(model, rng, case, params)
 
 
 def _adversarial_geometry():

@@ -15,6 +15,7 @@ import brdf_rs
 import numpy as np
 import pytest
 import quadrature
+from conftest import fresnel
 
 SCRIPT = Path(__file__).resolve().parent.parent / "scripts" / "stderr_calibration.py"
 _spec = importlib.util.spec_from_file_location("stderr_calibration", SCRIPT)
@@ -228,24 +229,12 @@ def test_bad_arguments_name_the_option(argv, name, capsys, tmp_path):
 # ------------------------------------------------- the rough dielectrics' reference
 
 
-def _fresnel(c: float, r: float) -> float:
-    """The textbook unpolarized reflectance (Snell's law, r_s and r_p) at the cosine ``c``
-    for the relative index ``r``."""
-    sin2_t = (1.0 - c * c) / (r * r)
-    if sin2_t >= 1.0:
-        return 1.0
-    c_t = math.sqrt(1.0 - sin2_t)
-    r_s = (c - r * c_t) / (c + r * c_t)
-    r_p = (r * c - c_t) / (r * c + c_t)
-    return 0.5 * (r_s * r_s + r_p * r_p)
-
-
 @pytest.mark.parametrize("model", sc.DIELECTRICS)
 @pytest.mark.parametrize(("mu", "eta"), [(0.3, 1.5), (0.9, 1 / 1.5), (0.5, 1.05)])
 def test_sphere_reference_of_a_near_smooth_interface_is_fresnel(model, mu, eta):
     # alpha = 1e-3: the interface is smooth but for a share of the light of order alpha.
     params = {**sc.DIEL, "eta": eta, "alpha": 1e-3}
-    f = _fresnel(mu, eta)
+    f = fresnel(mu, eta)
     r = sc.sphere_reference_albedo(model, mu, params, "reflection")
     t = sc.sphere_reference_albedo(model, mu, params, "transmission")
     assert r == pytest.approx(f, abs=2e-3)

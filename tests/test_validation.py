@@ -387,6 +387,17 @@ def _timed(call):
     return time.perf_counter() - start
 
 
+def _check_answers_ctrl_c(call, full, what):
+    """Interrupts ``call``, whose uninterrupted run took ``full`` seconds, after 0.05 s and
+    checks it stops within half its run. Skips where ``what`` took under 0.3 s (too short
+    to tell an answer from an ordinary return)."""
+    if full < 0.3:
+        pytest.skip(f"{what} took only {full:.3f} s here")
+    elapsed = _interrupted_after(call, 0.05)
+    assert elapsed is not None
+    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+
+
 def test_a_long_eval_answers_ctrl_c():
     # (k, 1) × (1, m) directions broadcast into a large batch with little input memory.
     rng = np.random.default_rng(1)
@@ -403,11 +414,7 @@ def test_a_long_eval_answers_ctrl_c():
         if full >= 0.3 or k >= wi.shape[0]:
             break
         k *= 2
-    if full < 0.3:
-        pytest.skip(f"an eval of {k * m} rows took only {full:.3f} s here")
-    elapsed = _interrupted_after(call, 0.05)
-    assert elapsed is not None
-    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+    _check_answers_ctrl_c(call, full, f"an eval of {k * m} rows")
     # Results are bitwise those of calls too small to be split.
     call()
     for i in range(0, k, 7):
@@ -420,15 +427,12 @@ def test_a_long_render_answers_ctrl_c():
     width, height = 2048, 2048
     while True:
         scene = scene.with_resolution(width, height)
-        full = min(_timed(functools.partial(brdf_rs.render, scene, tonemap="none")) for _ in "ab")
+        call = functools.partial(brdf_rs.render, scene, tonemap="none")
+        full = min(_timed(call) for _ in "ab")
         if full >= 0.3 or width >= 16384:
             break
         width *= 2
-    if full < 0.3:
-        pytest.skip(f"a {width}x{height} render took only {full:.3f} s here")
-    elapsed = _interrupted_after(functools.partial(brdf_rs.render, scene, tonemap="none"), 0.05)
-    assert elapsed is not None
-    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+    _check_answers_ctrl_c(call, full, f"a {width}x{height} render")
 
 
 @pytest.mark.parametrize("what", ["sample", "pdf"])
@@ -443,11 +447,7 @@ def test_long_sampling_answers_ctrl_c(what):
         if full >= 0.3 or rows >= 1 << 24:
             break
         rows *= 2
-    if full < 0.3:
-        pytest.skip(f"a {what} of {rows} rows took only {full:.3f} s here")
-    elapsed = _interrupted_after(call, 0.05)
-    assert elapsed is not None
-    assert elapsed < 0.05 + 0.5 * full, (elapsed, full)
+    _check_answers_ctrl_c(call, full, f"a {what} of {rows} rows")
 
 
 @pytest.mark.parametrize("what", ["sample", "pdf", "albedo", "eval"])
