@@ -20,7 +20,7 @@ use crate::error::{BrdfError, format_shape};
 use crate::math::geometry::tangent_parallel;
 use crate::math::{Real, Vector3};
 use crate::models::{ModelKind, ModelSpec, TangentUse};
-use params::{BatchParam, GivenParam, VaryingParam};
+use params::{GivenParam, VaryingParam};
 use rows::{Rows, broadcast_shapes, own_index};
 
 /// The arrays of one evaluation: directions of shape `(..., 3)` and parameters by name.
@@ -141,33 +141,12 @@ pub fn plan<'a, F: Real>(
     let spec: &'static ModelSpec = kind.spec();
     let given = given_params(spec, inputs.params)?;
     let originals = [Some(inputs.wi), Some(inputs.wo), inputs.n, inputs.tangent];
-    let mut named_shapes = checked_vectors(spec, &originals)?;
-    let resolved = params::resolve(spec, given, options.check_params)?;
-    for p in &resolved.batch {
-        named_shapes.push((p.spec.name, p.own_batch.clone()));
-    }
-    let batch = broadcast_shapes(&named_shapes)?;
-
-    let mut uniform = resolved.uniform;
-    let mut varying = Vec::new();
-    for BatchParam {
-        spec: p,
-        view,
-        has_component_axis,
-        ..
-    } in resolved.batch
-    {
-        let comps = p.kind.slots();
-        let rows_of = Rows::new(view, has_component_axis, comps, &batch);
-        match rows_of.constant() {
-            Some(row) => uniform[p.slot..p.slot + comps].copy_from_slice(&row[..comps]),
-            None => varying.push(VaryingParam {
-                slot: p.slot,
-                comps,
-                rows: rows_of,
-            }),
-        }
-    }
+    let named_shapes = checked_vectors(spec, &originals)?;
+    let params::Broadcast {
+        batch,
+        uniform,
+        varying,
+    } = params::resolve(spec, given, options.check_params)?.broadcast(named_shapes)?;
     Ok(Plan::with_vectors(
         kind, batch, originals, uniform, varying, options,
     ))

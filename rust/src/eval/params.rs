@@ -37,6 +37,53 @@ pub struct Resolved<'a, F> {
     pub batch: Vec<BatchParam<'a, F>>,
 }
 
+/// Resolved parameters broadcast against the batch: its shape, the uniform slots (with
+/// every parameter whose rows are all one value written in) and the parameters that vary.
+pub struct Broadcast<'a, F> {
+    pub batch: Vec<usize>,
+    pub uniform: Vec<F>,
+    pub varying: Vec<VaryingParam<'a, F>>,
+}
+
+impl<'a, F: Real> Resolved<'a, F> {
+    /// Broadcasts the batch parameters together with `others` (the named batch shapes of
+    /// the other inputs) and splits them into uniform and varying ones.
+    pub fn broadcast(
+        self,
+        mut others: Vec<(&'static str, Vec<usize>)>,
+    ) -> Result<Broadcast<'a, F>, BrdfError> {
+        for p in &self.batch {
+            others.push((p.spec.name, p.own_batch.clone()));
+        }
+        let batch = super::rows::broadcast_shapes(&others)?;
+        let mut uniform = self.uniform;
+        let mut varying = Vec::new();
+        for BatchParam {
+            spec: p,
+            view,
+            has_component_axis,
+            ..
+        } in self.batch
+        {
+            let comps = p.kind.slots();
+            let rows = Rows::new(view, has_component_axis, comps, &batch);
+            match rows.constant() {
+                Some(row) => uniform[p.slot..p.slot + comps].copy_from_slice(&row[..comps]),
+                None => varying.push(VaryingParam {
+                    slot: p.slot,
+                    comps,
+                    rows,
+                }),
+            }
+        }
+        Ok(Broadcast {
+            batch,
+            uniform,
+            varying,
+        })
+    }
+}
+
 /// Refuses the first of `names` that is not one of the model's parameters (with the
 /// closest known name, if one is close).
 pub fn check_known<'n>(
@@ -248,7 +295,7 @@ pub fn resolve<'a, F: Real>(
 pub struct ParamRows<'a, F> {
     pub batch: Vec<usize>,
     uniform: Vec<F>,
-    varying: Vec<(usize, usize, Rows<'a, F>)>,
+    varying: Vec<VaryingParam<'a, F>>,
 }
 
 impl<'a, F: Real> ParamRows<'a, F> {
@@ -257,7 +304,7 @@ impl<'a, F: Real> ParamRows<'a, F> {
     pub fn new(
         spec: &'static ModelSpec,
         given: Vec<(&'a str, ArrayViewD<'a, F>)>,
-        others: &[(&str, Vec<usize>)],
+        others: &[(&'static str, Vec<usize>)],
     ) -> Result<ParamRows<'a, F>, BrdfError> {
         let matched = match_names(spec, given.iter().map(|(name, _)| *name))?;
         let given: Vec<GivenParam<'a, F>> = matched
@@ -265,28 +312,11 @@ impl<'a, F: Real> ParamRows<'a, F> {
             .zip(given)
             .map(|(spec, (_, view))| GivenParam { spec, view })
             .collect();
-        let resolved = resolve(spec, given, true)?;
-        let mut named: Vec<(&str, Vec<usize>)> = others.to_vec();
-        for p in &resolved.batch {
-            named.push((p.spec.name, p.own_batch.clone()));
-        }
-        let batch = super::rows::broadcast_shapes(&named)?;
-        let mut uniform = resolved.uniform;
-        let mut varying = Vec::new();
-        for BatchParam {
-            spec: p,
-            view,
-            has_component_axis,
-            ..
-        } in resolved.batch
-        {
-            let comps = p.kind.slots();
-            let rows = Rows::new(view, has_component_axis, comps, &batch);
-            match rows.constant() {
-                Some(row) => uniform[p.slot..p.slot + comps].copy_from_slice(&row[..comps]),
-                None => varying.push((p.slot, comps, rows)),
-            }
-        }
+        let Broadcast {
+            batch,
+            uniform,
+            varying,
+        } = resolve(spec, given, true)?.broadcast(others.to_vec())?;
         Ok(ParamRows {
             batch,
             uniform,
@@ -304,7 +334,7 @@ impl<'a, F: Real> ParamRows<'a, F> {
         slots.clear();
         slots.extend_from_slice(&self.uniform);
         let mut row = [F::ZERO; 3];
-        for (slot, comps, rows) in &self.varying {
+        for VaryingParam { slot, comps, rows } in &self.varying {
             super::engine::read_row(rows, *comps, &self.batch, i, &mut row);
             slots[*slot..*slot + *comps].copy_from_slice(&row[..*comps]);
         }
