@@ -650,18 +650,10 @@ mod tests {
             let mu: f64 = 0.8;
             let wi = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
             let (mut r, mut t) = (0.0, 0.0);
-            for i in 0..nt {
-                let th = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
-                for j in 0..np {
-                    let ph = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
-                    let wo = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
-                    let dw = th.sin()
-                        * (std::f64::consts::PI / nt as f64)
-                        * (2.0 * std::f64::consts::PI / np as f64);
-                    let f = eval::<GgxDielectric>(&s, wi, wo, DVec3::Z)[0] * th.cos().abs() * dw;
-                    if wo.z > 0.0 { r += f } else { t += f }
-                }
-            }
+            crate::sampling::sphere_midpoints(nt, np, |wo, dw| {
+                let f = eval::<GgxDielectric>(&s, wi, wo, DVec3::Z)[0] * wo.z.abs() * dw;
+                if wo.z > 0.0 { r += f } else { t += f }
+            });
             // Inside the denser medium near the critical angle much of the light is
             // reflected twice or more, which single scattering leaves out.
             let least = if eta > 1.0 { 0.95 } else { 0.8 };

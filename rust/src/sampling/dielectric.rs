@@ -195,17 +195,9 @@ mod tests {
             let wi = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
             let (nt, np) = (800, 400);
             let mut integral = 0.0;
-            for i in 0..nt {
-                let th = std::f64::consts::PI * (i as f64 + 0.5) / nt as f64;
-                for j in 0..np {
-                    let ph = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / np as f64;
-                    let wo = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
-                    let dw = th.sin()
-                        * (std::f64::consts::PI / nt as f64)
-                        * (2.0 * std::f64::consts::PI / np as f64);
-                    integral += sampler.pdf(wi, wo, &frame) * dw;
-                }
-            }
+            crate::sampling::sphere_midpoints(nt, np, |wo, dw| {
+                integral += sampler.pdf(wi, wo, &frame) * dw;
+            });
             let count = 40_000;
             let mut valid = 0;
             for k in 0..count {

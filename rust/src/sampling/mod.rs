@@ -469,6 +469,22 @@ pub fn reflected_pdf(half_pdf: f64, wo_dot_h: f64) -> f64 {
     }
 }
 
+/// Calls `f(w, dω)` at the midpoints of an `nt` × `np` grid of the whole sphere (θ in
+/// [0, π], φ in [0, 2π]) with each cell's solid angle `dω`: the midpoint rule the tests
+/// integrate densities and lobes over the sphere with.
+#[cfg(test)]
+pub(crate) fn sphere_midpoints(nt: usize, np: usize, mut f: impl FnMut(DVec3, f64)) {
+    use std::f64::consts::PI;
+    for i in 0..nt {
+        let th = PI * (i as f64 + 0.5) / nt as f64;
+        for j in 0..np {
+            let ph = 2.0 * PI * (j as f64 + 0.5) / np as f64;
+            let w = DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+            f(w, th.sin() * (PI / nt as f64) * (2.0 * PI / np as f64));
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
