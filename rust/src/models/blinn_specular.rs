@@ -6,13 +6,13 @@
 use super::lobes::half_cosine_pow_over;
 // The specular terms' layout (`ks`, `p`).
 pub use super::phong_specular::SLOTS;
-use super::phong_specular::{KS, P, SPECULAR_TERM_SPEC};
+use super::phong_specular::{SPECULAR_TERM_SPEC, SpecularLobe, SpecularTerm};
 use super::spec::ModelSpec;
-use super::{Directions, Kernel, ParamSource};
+use super::Directions;
 use crate::math::{PowUnit, Real, Vector3};
 
 /// The Blinn specular kernel.
-pub struct BlinnSpecular;
+pub type BlinnSpecular = SpecularTerm<HalfVectorLobe>;
 
 pub static SPEC: ModelSpec = ModelSpec {
     name: "blinn_specular",
@@ -22,20 +22,13 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..SPECULAR_TERM_SPEC
 };
 
-impl Kernel for BlinnSpecular {
-    type Prepared<F: Real> = ([F; 3], F);
-    const POWERS: bool = true;
+/// The Blinn lobe: `clamp(n·h, 0, 1)^p`, lit where `n·l > 0` and `h` is defined.
+pub struct HalfVectorLobe;
 
+impl SpecularLobe for HalfVectorLobe {
     #[inline(always)]
-    fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> ([F; 3], F) {
-        (KS.read(p), P.read(p))
-    }
-
-    #[inline(always)]
-    fn eval_with<F: Real, P: PowUnit>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
-        let (ks, p) = *pp;
+    fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, p: F) -> (F, bool) {
         let (lobe, defined) = half_cosine_pow_over::<F, P>(d, p, F::ONE);
-        let lit = d.n.dot(d.wi) > F::ZERO && defined;
-        ks.map(|c| if lit { c * lobe } else { F::ZERO })
+        (lobe, d.n.dot(d.wi) > F::ZERO && defined)
     }
 }

@@ -17,12 +17,29 @@ use super::spec::{
     self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange,
 };
 use super::tables::{EnergyTable, GGX};
-use super::{Directions, Kernel, ParamSource};
+use super::{Directions, Kernel, ParamSource, Registered};
+use std::marker::PhantomData;
 use crate::math::geometry::above_both;
 use crate::math::{PowUnit, Real, Vector3};
 
+/// The multiple-scattering lobe on the energy table `T` reads (`ggx_ms`,
+/// [`super::beckmann_ms`]): one kernel, the table the only difference.
+pub struct MultipleScattering<T>(PhantomData<T>);
+
+/// The energy table of a [`MultipleScattering`] lobe.
+pub trait LossTable: 'static {
+    const TABLE: &'static EnergyTable;
+}
+
+/// GGX's energy table.
+pub struct GgxLoss;
+
+impl LossTable for GgxLoss {
+    const TABLE: &'static EnergyTable = &GGX;
+}
+
 /// The GGX multiple-scattering kernel.
-pub struct GgxMs;
+pub type GgxMs = MultipleScattering<GgxLoss>;
 
 /// The table roughness range.
 pub const TABLE_ALPHA: ValidRange = ValidRange {
@@ -40,23 +57,36 @@ crate::param_slots! {
 pub static SPEC: ModelSpec = ModelSpec {
     name: "ggx_ms",
     summary: "Kulla-Conty multiple-scattering lobe restoring the energy ggx loses",
+    params: &params("roughness α of the ggx lobe it completes (table range [1e-3, 1])"),
+    ..MULTIPLE_SCATTERING_SPEC
+};
+
+/// The spec fields both multiple-scattering lobes share: the formula, the source and no
+/// diffuse term. A model's spec names its own fields (its parameters from [`params`])
+/// and takes these with `..MULTIPLE_SCATTERING_SPEC`.
+pub const MULTIPLE_SCATTERING_SPEC: ModelSpec = ModelSpec {
     formula: "f = (1−E(mu_i))(1−E(mu_o))/(π(1−E_avg))·F_avg²E_avg/(1−F_avg(1−E_avg)), \
               F_avg = ks + (1−ks)/21",
     source: "Kulla & Conty 2017 (Revisiting Physically Based Shading at Imageworks)",
-    params: &[
+    scene: SceneUse::Brdf(DiffuseTerm::Absent),
+    ..ModelSpec::PLAIN
+};
+
+/// The parameters of a multiple-scattering lobe: `ks` as F0 (default 1) and `alpha` in
+/// the table's range, with its doc line.
+pub const fn params(alpha_doc: &'static str) -> [ParamSpec; 2] {
+    [
         spec::f0(1.0, KS),
         ParamSpec {
             name: "alpha",
             kind: ParamKind::Scalar,
             default: Some(0.5),
             range: TABLE_ALPHA,
-            doc: "roughness α of the ggx lobe it completes (table range [1e-3, 1])",
+            doc: alpha_doc,
             slot: ALPHA.first(),
         },
-    ],
-    scene: SceneUse::Brdf(DiffuseTerm::Absent),
-    ..ModelSpec::PLAIN
-};
+    ]
+}
 
 /// Prepared constants of a multiple-scattering lobe on a table.
 #[derive(Clone, Copy)]
@@ -103,20 +133,23 @@ pub fn albedo_ms(table: &EnergyTable, slots: &[f64], mu: f64) -> Vec<Term> {
     }]
 }
 
-impl Kernel for GgxMs {
+impl<T: LossTable> Kernel for MultipleScattering<T>
+where
+    Self: Registered,
+{
     type Prepared<F: Real> = Prepared<F>;
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        prepare_ms(&GGX, p)
+        prepare_ms(T::TABLE, p)
     }
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        eval_ms(&GGX, pp, d)
+        eval_ms(T::TABLE, pp, d)
     }
 
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(albedo_ms(&GGX, slots, mu))
+        Some(albedo_ms(T::TABLE, slots, mu))
     }
 }

@@ -6,11 +6,34 @@
 use super::lobes::mirror_cosine;
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, Family, ModelSpec, SceneUse};
-use super::{Directions, Kernel, ParamSource};
+use super::{Directions, Kernel, ParamSource, Registered};
+use std::marker::PhantomData;
 use crate::math::{PowUnit, Real, Vector3};
 
+/// A specular shading term `ks·lobe` where `n·l > 0` (`phong_specular`,
+/// [`super::blinn_specular`]): one kernel, the lobe `L` the only difference.
+pub struct SpecularTerm<L>(PhantomData<L>);
+
+/// The lobe of a [`SpecularTerm`].
+pub trait SpecularLobe: 'static {
+    /// The lobe's value for the exponent `p` and whether the term is lit there.
+    fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, p: F) -> (F, bool);
+}
+
+/// The Phong lobe: `clamp(v·r, 0, 1)^p`, lit where `n·l > 0`.
+pub struct MirrorLobe;
+
+impl SpecularLobe for MirrorLobe {
+    #[inline(always)]
+    fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, p: F) -> (F, bool) {
+        let mu_i = d.n.dot(d.wi);
+        let cos_ar = mirror_cosine(d, mu_i);
+        (cos_ar.powf::<P>(p), mu_i > F::ZERO)
+    }
+}
+
 /// The Phong specular kernel.
-pub struct PhongSpecular;
+pub type PhongSpecular = SpecularTerm<MirrorLobe>;
 
 crate::param_slots! {
     KS: ColourSlot,
@@ -38,7 +61,10 @@ pub static SPEC: ModelSpec = ModelSpec {
     ..SPECULAR_TERM_SPEC
 };
 
-impl Kernel for PhongSpecular {
+impl<L: SpecularLobe> Kernel for SpecularTerm<L>
+where
+    Self: Registered,
+{
     type Prepared<F: Real> = ([F; 3], F);
     const POWERS: bool = true;
 
@@ -50,10 +76,7 @@ impl Kernel for PhongSpecular {
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &([F; 3], F), d: &Directions<F>) -> [F; 3] {
         let (ks, p) = *pp;
-        let mu_i = d.n.dot(d.wi);
-        let cos_ar = mirror_cosine(d, mu_i);
-        let lobe = cos_ar.powf::<P>(p);
-        let lit = mu_i > F::ZERO;
+        let (lobe, lit) = L::lobe::<F, P>(d, p);
         ks.map(|c| if lit { c * lobe } else { F::ZERO })
     }
 }
