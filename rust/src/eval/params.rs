@@ -395,50 +395,30 @@ mod tests {
     #[test]
     fn toon_lists_fill_slots_and_are_checked() {
         let spec = ModelKind::ToonDiffuse.spec();
-        let t = ArrayD::from_shape_vec(IxDyn(&[2]), vec![0.2, 0.6]).unwrap();
         let c = ArrayD::from_shape_vec(IxDyn(&[3]), vec![0.1, 0.5, 0.9]).unwrap();
-        let given = vec![
-            GivenParam {
-                spec: spec.param("colors").unwrap(),
-                view: c.view(),
-            },
-            GivenParam {
-                spec: spec.param("thresholds").unwrap(),
-                view: t.view(),
-            },
-        ];
-        let r = resolve::<f64>(spec, given, true).ok().unwrap();
-        assert_eq!(&r.uniform[..3], &[0.2, 0.6, f64::INFINITY]);
-        assert_eq!(&r.uniform[7..13], &[0.1, 0.1, 0.1, 0.5, 0.5, 0.5]);
-
-        let t = ArrayD::from_shape_vec(IxDyn(&[2]), vec![0.6, 0.2]).unwrap();
-        let given = vec![
-            GivenParam {
-                spec: spec.param("colors").unwrap(),
-                view: c.view(),
-            },
-            GivenParam {
-                spec: spec.param("thresholds").unwrap(),
-                view: t.view(),
-            },
-        ];
-        let err = resolve::<f64>(spec, given, true).err().unwrap();
+        let resolve_with = |thresholds: Vec<f64>| {
+            let t = ArrayD::from_shape_vec(IxDyn(&[thresholds.len()]), thresholds).unwrap();
+            let given = vec![
+                GivenParam {
+                    spec: spec.param("colors").unwrap(),
+                    view: c.view(),
+                },
+                GivenParam {
+                    spec: spec.param("thresholds").unwrap(),
+                    view: t.view(),
+                },
+            ];
+            resolve::<f64>(spec, given, true).map(|r| r.uniform)
+        };
+        let uniform = resolve_with(vec![0.2, 0.6]).ok().unwrap();
+        assert_eq!(&uniform[..3], &[0.2, 0.6, f64::INFINITY]);
+        assert_eq!(&uniform[7..13], &[0.1, 0.1, 0.1, 0.5, 0.5, 0.5]);
+        let err = resolve_with(vec![0.6, 0.2]).err().unwrap();
         assert_eq!(
             err.to_string(),
             "thresholds must be ascending: thresholds[1] = 0.2 is below thresholds[0] = 0.6"
         );
-        let t = ArrayD::from_shape_vec(IxDyn(&[1]), vec![0.5]).unwrap();
-        let given = vec![
-            GivenParam {
-                spec: spec.param("colors").unwrap(),
-                view: c.view(),
-            },
-            GivenParam {
-                spec: spec.param("thresholds").unwrap(),
-                view: t.view(),
-            },
-        ];
-        let err = resolve::<f64>(spec, given, true).err().unwrap();
+        let err = resolve_with(vec![0.5]).err().unwrap();
         assert_eq!(
             err.to_string(),
             "colors: needs len(thresholds) + 1 = 2 colours; got 3"
