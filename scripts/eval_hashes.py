@@ -1,6 +1,6 @@
 """Prints a hash of ``brdf_rs.eval``'s bits per model, dtype and precision tier, of
-``brdf_rs.sample`` and ``brdf_rs.pdf`` per model, and of a few tables, to compare two
-builds.
+``brdf_rs.sample`` and ``brdf_rs.pdf`` per model, of each model's spec as
+``brdf_rs.models()`` gives it, and of a few tables, to compare two builds.
 
 The inputs are fixed (seeded): random directions above and below the surface, near
 the horizon, tilted normals and tangents, and each model's parameters drawn inside their
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import itertools
+import json
 
 import brdf_rs
 import numpy as np
@@ -78,6 +79,8 @@ def main() -> None:
             label = np.dtype(dtype).name + ("" if precision == "accurate" else f" {precision}")
             print(f"{name:24s} {label:13s} {digest}")
         print(f"{name:24s} sample   {sampling(name, spec, wi, wo, n, t, params, rng)}")
+        spec_text = json.dumps(spec, sort_keys=True, default=repr).encode()
+        print(f"{name:24s} spec     {hashlib.sha256(spec_text).hexdigest()[:16]}")
     tables()
 
 
