@@ -142,7 +142,7 @@ pub fn plan<'a, F: Real>(
     let given = given_params(spec, inputs.params)?;
     let originals = [Some(inputs.wi), Some(inputs.wo), inputs.n, inputs.tangent];
     let named_shapes = checked_vectors(spec, &originals)?;
-    let params::Broadcast {
+    let params::ParamRows {
         batch,
         uniform,
         varying,

@@ -37,21 +37,13 @@ pub struct Resolved<'a, F> {
     pub batch: Vec<BatchParam<'a, F>>,
 }
 
-/// Resolved parameters broadcast against the batch: its shape, the uniform slots (with
-/// every parameter whose rows are all one value written in) and the parameters that vary.
-pub struct Broadcast<'a, F> {
-    pub batch: Vec<usize>,
-    pub uniform: Vec<F>,
-    pub varying: Vec<VaryingParam<'a, F>>,
-}
-
 impl<'a, F: Real> Resolved<'a, F> {
     /// Broadcasts the batch parameters together with `others` (the named batch shapes of
     /// the other inputs) and splits them into uniform and varying ones.
     pub fn broadcast(
         self,
         mut others: Vec<(&'static str, Vec<usize>)>,
-    ) -> Result<Broadcast<'a, F>, BrdfError> {
+    ) -> Result<ParamRows<'a, F>, BrdfError> {
         for p in &self.batch {
             others.push((p.spec.name, p.own_batch.clone()));
         }
@@ -76,7 +68,7 @@ impl<'a, F: Real> Resolved<'a, F> {
                 }),
             }
         }
-        Ok(Broadcast {
+        Ok(ParamRows {
             batch,
             uniform,
             varying,
@@ -289,13 +281,14 @@ pub fn resolve<'a, F: Real>(
     Ok(Resolved { uniform, batch })
 }
 
-/// Parameters resolved against a batch: the uniform slots plus the rows of every
-/// parameter that varies, read per element (used by the integrator and the samplers,
-/// which work element by element rather than in SIMD blocks).
+/// Parameters resolved against a batch: its shape, the uniform slots (every parameter
+/// whose rows are all one value written in) and the rows of every parameter that varies.
+/// The eval plan reads the varying rows block by block; [`ParamRows::slots`] reads them
+/// per element (the integrator, the samplers and scenes).
 pub struct ParamRows<'a, F> {
     pub batch: Vec<usize>,
-    uniform: Vec<F>,
-    varying: Vec<VaryingParam<'a, F>>,
+    pub(super) uniform: Vec<F>,
+    pub(super) varying: Vec<VaryingParam<'a, F>>,
 }
 
 impl<'a, F: Real> ParamRows<'a, F> {
@@ -312,16 +305,7 @@ impl<'a, F: Real> ParamRows<'a, F> {
             .zip(given)
             .map(|(spec, (_, view))| GivenParam { spec, view })
             .collect();
-        let Broadcast {
-            batch,
-            uniform,
-            varying,
-        } = resolve(spec, given, true)?.broadcast(others.to_vec())?;
-        Ok(ParamRows {
-            batch,
-            uniform,
-            varying,
-        })
+        resolve(spec, given, true)?.broadcast(others.to_vec())
     }
 
     /// Returns the number of elements of the batch.

@@ -361,7 +361,6 @@ where
 pub const DIELECTRIC_SPEC: ModelSpec = ModelSpec {
     source: "Walter, Marschner, Li & Torrance 2007 (rough dielectrics); \
               Pharr, Jakob & Humphreys, pbrt-v4 (DielectricBxDF)",
-    params: &[],
     reciprocal: false,
     weights: Some(&["ks", "kt"]),
     scene: SceneUse::Brdf(DiffuseTerm::Absent),

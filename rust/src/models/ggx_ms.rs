@@ -96,60 +96,45 @@ pub struct Prepared<F> {
     scale: [F; 3],
 }
 
-/// Prepares a multiple-scattering lobe: the alpha node and the channel scale.
-#[inline(always)]
-pub fn prepare_ms<F: Real, P: ParamSource<F> + ?Sized>(table: &EnergyTable, p: &P) -> Prepared<F> {
-    let f0 = KS.read(p);
-    let alpha = table.alpha_node(ALPHA.read(p));
-    let avg_loss = table.avg_loss(alpha);
-    let e_avg = F::ONE - avg_loss;
-    let norm = F::FRAC_1_PI / avg_loss;
-    let scale = f0.map(|f| {
-        let f_avg = f + (F::ONE - f) * F::from_f64(1.0 / 21.0);
-        f_avg * f_avg * e_avg / (F::ONE - f_avg * avg_loss) * norm
-    });
-    Prepared { alpha, scale }
-}
-
-/// Evaluates a multiple-scattering lobe on a table.
-#[inline(always)]
-pub fn eval_ms<F: Real>(table: &EnergyTable, pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-    let mu_i = d.n.dot(d.wi);
-    let mu_o = d.n.dot(d.wo);
-    let loss = table.loss(mu_i, pp.alpha) * table.loss(mu_o, pp.alpha);
-    above_both(mu_i, mu_o, pp.scale.map(|s| s * loss))
-}
-
-/// The albedo of a multiple-scattering lobe, `(1 − E(mu))·F_ms`, exactly.
-pub fn albedo_ms(table: &EnergyTable, slots: &[f64], mu: f64) -> Vec<Term> {
-    let pp = prepare_ms::<f64, [f64]>(table, slots);
-    let avg_loss = table.avg_loss(pp.alpha);
-    let loss = table.loss(mu, pp.alpha);
-    // scale·π(1 − E_avg) is F_ms; the lobe's albedo is (1 − E(mu))·F_ms.
-    let f_ms = pp.scale.map(|s| s * std::f64::consts::PI * avg_loss);
-    vec![Term {
-        colour: f_ms,
-        integral: Integral::Exact(loss),
-    }]
-}
-
 impl<T: LossTable> Kernel for MultipleScattering<T>
 where
     Self: Registered,
 {
     type Prepared<F: Real> = Prepared<F>;
 
+    /// The alpha node on the table and the channel scale.
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        prepare_ms(T::TABLE, p)
+        let f0 = KS.read(p);
+        let alpha = T::TABLE.alpha_node(ALPHA.read(p));
+        let avg_loss = T::TABLE.avg_loss(alpha);
+        let e_avg = F::ONE - avg_loss;
+        let norm = F::FRAC_1_PI / avg_loss;
+        let scale = f0.map(|f| {
+            let f_avg = f + (F::ONE - f) * F::from_f64(1.0 / 21.0);
+            f_avg * f_avg * e_avg / (F::ONE - f_avg * avg_loss) * norm
+        });
+        Prepared { alpha, scale }
     }
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        eval_ms(T::TABLE, pp, d)
+        let mu_i = d.n.dot(d.wi);
+        let mu_o = d.n.dot(d.wo);
+        let loss = T::TABLE.loss(mu_i, pp.alpha) * T::TABLE.loss(mu_o, pp.alpha);
+        above_both(mu_i, mu_o, pp.scale.map(|s| s * loss))
     }
 
+    /// `(1 − E(mu))·F_ms`, exactly.
     fn albedo_terms(slots: &[f64], mu: f64) -> Option<Vec<Term>> {
-        Some(albedo_ms(T::TABLE, slots, mu))
+        let pp = Self::prepare::<f64, [f64]>(slots);
+        let avg_loss = T::TABLE.avg_loss(pp.alpha);
+        let loss = T::TABLE.loss(mu, pp.alpha);
+        // scale·π(1 − E_avg) is F_ms; the lobe's albedo is (1 − E(mu))·F_ms.
+        let f_ms = pp.scale.map(|s| s * std::f64::consts::PI * avg_loss);
+        Some(vec![Term {
+            colour: f_ms,
+            integral: Integral::Exact(loss),
+        }])
     }
 }

@@ -211,7 +211,6 @@ where
 /// split-sum or energy tables (both assume Schlick's `F`), no exact normalization. A
 /// model's spec names its own fields and takes these with `..VARIANT_SPEC`.
 pub const VARIANT_SPEC: ModelSpec = ModelSpec {
-    params: &[],
     scene: SceneUse::Brdf(DiffuseTerm::Lambert(1.0)),
     ..ModelSpec::PLAIN
 };

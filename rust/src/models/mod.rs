@@ -291,7 +291,7 @@ macro_rules! declare_models {
 
             /// Returns the model's spec.
             pub fn spec(self) -> &'static ModelSpec {
-                match self { $(ModelKind::$variant => &$module::SPEC),* }
+                match self { $(ModelKind::$variant => <$module::$ty as Registered>::SPEC),* }
             }
 
             /// Returns the model's slot layout as its file declares it.
