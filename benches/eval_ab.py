@@ -34,10 +34,16 @@ def extra_args(model: str) -> dict:
 
 
 def worker(
-    model: str, dtype: str, n: int, threads: int, seconds: float, precision: str = "accurate"
+    model: str,
+    dtype: str,
+    n: int,
+    threads: int,
+    seconds: float,
+    precision: str = "accurate",
+    p: float | None = None,
 ) -> None:
     """Times eval here (the build this Python imports); JSON on stdout. Models that need
-    a tangent get eval_throughput.py's (1, 0, 0)."""
+    a tangent get eval_throughput.py's (1, 0, 0); `p`, where given, is the exponent."""
     import brdf_rs
 
     brdf_rs.set_num_threads(threads)
@@ -55,6 +61,8 @@ def worker(
         extra["tangent"] = np.array([1.0, 0.0, 0.0], dtype=dtype)
     if precision != "accurate":
         extra["precision"] = precision
+    if p is not None:
+        extra["p"] = p
     brdf_rs.eval(model, wi, wo, out=out, **extra)  # warm-up
     best = float("inf")
     start = time.perf_counter()
@@ -75,6 +83,9 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=2.0, help="per build and round")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument(
+        "--p", type=float, help="the exponent, for models that take one (default: the table's)"
+    )
+    parser.add_argument(
         "--precision",
         action="append",
         default=[],
@@ -85,7 +96,7 @@ def main() -> None:
     args = parser.parse_args()
     if args.worker:
         tier = args.precision[0] if args.precision else "accurate"
-        worker(args.model, args.dtype, args.n, args.threads, args.seconds, tier)
+        worker(args.model, args.dtype, args.n, args.threads, args.seconds, tier, args.p)
         return
     builds = parse_builds(parser, args.build, 1)
     tiers = dict(t.split("=", 1) for t in args.precision)
@@ -96,12 +107,14 @@ def main() -> None:
             cmd += ["--n", str(args.n), "--threads", str(args.threads)]
             cmd += ["--seconds", str(args.seconds)]
             cmd += ["--precision", tiers.get(label, "accurate")]
+            cmd += [] if args.p is None else ["--p", repr(args.p)]
             rounds[label].append(run_worker(python, __file__, cmd)["mevals"])
             print(f"round {r + 1}, {label}: {rounds[label][-1]:.1f} M evals/s", flush=True)
     base = max(rounds[next(iter(builds))])
     print(
         f"\n{args.model} {args.dtype}, N = {args.n:,}, {args.threads} thread(s), "
-        f"best of {args.rounds} interleaved rounds of {args.seconds} s"
+        + ("" if args.p is None else f"p = {args.p:g}, ")
+        + f"best of {args.rounds} interleaved rounds of {args.seconds} s"
     )
     print("| build | M evals/s (best) | rounds | vs first |")
     print("|---|---:|---|---:|")

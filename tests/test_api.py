@@ -335,6 +335,41 @@ def test_results_are_bitwise_identical_for_any_thread_count(rng):
         brdf_rs.set_num_threads(0)
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+@pytest.mark.parametrize("precision", ["accurate", "fast"])
+def test_every_models_bits_do_not_depend_on_the_thread_count(rng, dtype, precision):
+    # Directions well above the horizon give ordinary powers (a normal base and result),
+    # which the engine computes the short way block by block; a row with a huge exponent
+    # every few thousand rows underflows its power, and the block holding it, and the
+    # later ones of its task, take the full power. Tasks, and with them which blocks go
+    # which way and which task is short, depend on the thread count: no row's bits may.
+    # 25,093 rows: with three threads the last task holds 5 rows (no per-task caches).
+    rows = 25_093
+    wi, wo = (random_directions(rng, rows, unnormalized=False) for _ in range(2))
+    for v in (wi, wo):
+        v[:, 2] = np.abs(v[:, 2]) + 0.5
+    p = np.full(rows, 50.0)
+    p[rng.integers(0, rows, size=rows // 3001)] = 1e5
+    args = [a.astype(dtype) for a in (wi, wo)]
+    before = brdf_rs.num_threads()
+    try:
+        for name, spec in brdf_rs.models().items():
+            # The defaults (uniform parameters, with the per-task caches) and random
+            # parameters per row; the exponent as above.
+            for params in (required_extras(name), random_params(rng, name, size=rows)):
+                params = {**required_extras(name), **params, "precision": precision}
+                if any(q["name"] == "p" for q in spec["params"]):
+                    params["p"] = p
+                results = []
+                for threads in (1, 2, 3):
+                    brdf_rs.set_num_threads(threads)
+                    results.append(brdf_rs.eval(name, *args, **params))
+                for later in results[1:]:
+                    np.testing.assert_array_equal(later, results[0], err_msg=name)
+    finally:
+        brdf_rs.set_num_threads(before)
+
+
 def test_large_outputs_written_past_the_caches_are_the_same_bits(rng):
     # Outputs of 32 MiB and more are written with non-temporal stores (16-byte aligned
     # blocks) and ordinary ones elsewhere: the same bits as calls on slices below that

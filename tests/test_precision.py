@@ -41,6 +41,10 @@ ATOL64 = FAST_RTOL64 * np.finfo(np.float64).tiny
 # float32 lobes below 2^-100 are flushed to 0 in both tiers: ATOL32 (test_reference.py).
 #: The models the fast tier changes (powers, or microfacet length corrections).
 FAST_MODELS = [m for m in MODEL_NAMES if SPECS[m]["fast_tier"]]
+# Fast-tier models that keep the accurate tier's bits in float64: charlie_sheen's three
+# powers per row with the fast power's table lookups kept the engine's loop scalar, so
+# its fast tier takes the accurate series power there (docs/numerics.md).
+ACCURATE_IN_FLOAT64 = {"charlie_sheen"}
 
 
 def f32(v):
@@ -104,6 +108,7 @@ def test_fast_tier_changes_exactly_the_models_it_names(rng, dtype):
         a = brdf_rs.eval(model, wi, wo, **extra)
         b = brdf_rs.eval(model, wi, wo, precision="fast", **extra)
         changed = model in FAST_MODELS and (dtype == np.float64 or SPECS[model]["powers"])
+        changed &= not (dtype == np.float64 and model in ACCURATE_IN_FLOAT64)
         assert (a.tobytes() != b.tobytes()) == changed, model
 
 
@@ -130,7 +135,10 @@ def test_fast_tier_is_within_its_bound_of_accurate_on_large_batches(rng, model):
     both_inf = np.isinf(acc) & (acc == fast)
     rel = np.abs(fast - acc) / np.maximum(np.abs(acc), np.finfo(np.float64).tiny)
     assert np.all(both_inf | (rel <= 6e-13)), float(np.max(np.where(both_inf, 0.0, rel)))
-    assert np.any(rel > 0), "the fast tier was not used"
+    if model in ACCURATE_IN_FLOAT64:
+        assert acc.tobytes() == fast.tobytes()
+    else:
+        assert np.any(rel > 0), "the fast tier was not used"
     p32 = {k: np.asarray(v, np.float32) for k, v in params.items()}
     a32 = [f32(a) for a in (wi, wo, n)]
     t32 = f32(tangent)

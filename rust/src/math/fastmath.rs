@@ -12,12 +12,15 @@
 //! * `log_f64` / `log_f32`: ln x for x >= 0, subnormals included.
 //!
 //! Every public function is `#[inline(always)]`, branch-free (only selects
-//! that LLVM lowers to blends/masks), table-free (but the `_table_` ones) and free
-//! of libm calls, so a loop that calls it per element auto-vectorizes for whatever
-//! the enclosing function is compiled for (SSE2, AVX2, AVX-512: 8 f64 / 16 f32 lanes).
-//! No FMA is required: exact products come from splitting operands with bit
-//! masks (the fdlibm `e_pow.c` technique), so the functions give
-//! bit-identical results on every ISA.
+//! that LLVM lowers to blends/masks), table-free (but the `_table_` ones and the fast
+//! tier's plain `f64` power) and free of libm calls, so a loop that calls it per element
+//! auto-vectorizes for whatever the enclosing function is compiled for (SSE2, AVX2,
+//! AVX-512: 8 f64 / 16 f32 lanes). No FMA is required: exact products come from
+//! splitting operands with bit masks (the fdlibm `e_pow.c` technique), so the functions
+//! give bit-identical results on every ISA. The exception is the fast tier's plain `f64`
+//! power (`pow_unit_fast_f64`), written with fused multiply-adds (correctly rounded, so
+//! the same bits wherever they run: one instruction where the caller is compiled with
+//! FMA, as the eval engine's fast-tier loops are, a libm call elsewhere).
 //!
 //! Algorithm of `pow_unit_*` (x^p):
 //! 1. Reduction: x = 2^k m, m in [1, 2); if m > sqrt(3) use m/2 (k+1);
@@ -991,18 +994,117 @@ fn pow_fast_scaled_f64(x: f64, one_minus_x: f64, p: f64, e: f64, kx: f64, m: f64
 
 /// The fast tier's x^p (`brdf_rs.eval(..., precision="fast")`): the contract of
 /// [`pow_unit_f64`] (domain, the complement, special cases, no NaN, underflow through
-/// the subnormals) with the logarithm and the product p·ln x in plain `f64` instead of
-/// double-double. Branch-free and table-free, so it vectorizes without gathers.
+/// the subnormals) in plain `f64` with fused multiply-adds: the table-driven power's
+/// scheme with four lookups instead of five and no double-double. `r = z/c − 1` in one
+/// rounding (from the complement where `x > √3/2`: `z = 1 − omc` exactly,
+/// `r = (invc − 1) − omc·invc`), `ln x = (k·ln2_hi + log c) + (r + (k·ln2_lo + tail +
+/// log1p(r) − r))` (the first sum exact), `y = p·ln x` rounded once, and `e^y` from
+/// `2^(i/128)` rounded (without its tail).
 ///
-/// Error: ln x is within about 1 ulp and the product rounds once more, so y = p·ln x is
-/// off by at most about 1.5·|y|·2^-52 absolute, which e^y turns into the same relative
-/// error, plus about 1.5 ulp of its own: relative error <= (3 + 3|y|)·2^-53. A normal
-/// result has |y| < 745, so at most 2.5e-13 (measured by `fast_pow_is_within_its_bound`
-/// against [`pow_unit_f64`], itself within 0.64 ulp of the exact power); the subnormal
-/// results are within that relative error plus one unit of 2^-1074.
+/// Error: ln x is within about 1.5 ulps and the product rounds once more, so the result
+/// is within `(3 + 3|y|)·2^-53` relative. A normal result has |y| < 745, so at most
+/// 2.5e-13 (measured by `fast_pow_is_within_its_bound` against [`pow_unit_f64`], itself
+/// within 0.64 ulp of the exact power); the subnormal results are within that relative
+/// error plus one unit of 2^-1074.
+///
+/// Fused multiply-adds are single instructions only where the caller is compiled with
+/// FMA: the eval engine compiles the fast tier's loops for AVX2 and AVX-512 only.
 #[inline(always)]
 pub fn pow_unit_fast_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
-    pow_fast_scaled_f64(x, one_minus_x, p, 0.0, 0.0, 1.0)
+    pow_fast_fma_in_f64::<false>(x, one_minus_x, p).0
+}
+
+/// [`pow_unit_fast_f64`] for a lane expected to be ordinary, and whether it was (the
+/// conditions of [`pow_unit_table_ordinary_f64`]): for such a lane the same bits,
+/// computed without the selects of the special cases and clamps; for any other lane
+/// garbage, and the flag false.
+#[inline(always)]
+pub fn pow_unit_fast_ordinary_f64(x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
+    let (value, y) = pow_fast_fma_in_f64::<true>(x, one_minus_x, p);
+    let (lo, hi) = ORDINARY_POW_Y;
+    let ordinary = (x >= f64::MIN_POSITIVE)
+        & (one_minus_x >= TWO_M330_F64)
+        & (p >= TWO_M300_F64)
+        & (y > lo)
+        & (y <= hi);
+    (value, ordinary)
+}
+
+/// [`pow_unit_fast_f64`], and with `ORDINARY` its arithmetic for an ordinary lane only
+/// (see [`pow_unit_fast_ordinary_f64`]): every select such a lane leaves idle is left
+/// out, so its bits are the same. Also returns `y = p·ln x`.
+#[inline(always)]
+fn pow_fast_fma_in_f64<const ORDINARY: bool>(x: f64, one_minus_x: f64, p: f64) -> (f64, f64) {
+    let near = x > SQRT3_HALF_F64;
+    let xr = if near { 1.0 - one_minus_x } else { x };
+    // A zero base takes any finite logarithm (its value is selected below); a subnormal
+    // one is scaled into the normal range.
+    let xr = if !ORDINARY && x == 0.0 { 1.0 } else { xr };
+    let sub = !ORDINARY && xr < f64::MIN_POSITIVE;
+    let xr = if sub { xr * TWO52_F64 } else { xr };
+    let ix = xr.to_bits();
+    // x = 2^k z, z in [OFF, 2 OFF): as in `log_dd_in_f64` (k = 0 where `near`).
+    let tmp = ix.wrapping_sub(LOG_OFF_BITS);
+    let i = ((tmp >> 45) & 127) as usize;
+    let kb = (tmp ^ (1 << 63)) >> 52; // k + 2048
+    let k = f64::from_bits(kb | TWO52_BITS_F64) - (TWO52_F64 + 2048.0);
+    let k = if sub { k - 52.0 } else { k };
+    let z = f64::from_bits(ix.wrapping_sub(tmp & (0xfff << 52)));
+    let invc = LOG_INVC[i];
+    // invc − 1 is exact (invc in [0.7, 1.42], Sterbenz).
+    let r = if near {
+        (-one_minus_x).mul_add(invc, invc - 1.0)
+    } else {
+        z.mul_add(invc, -1.0)
+    };
+    // log1p(r) − r = ar2 + ar3·Q(r), ar2 = −r²/2, ar3 = −r³/2 (the accurate table's Q).
+    let ar2 = -0.5 * r * r;
+    let ar3 = r * ar2;
+    let q_hi = LOG_A[5].mul_add(r, LOG_A[4]);
+    let q_mid = LOG_A[3].mul_add(r, LOG_A[2]);
+    let q_lo = LOG_A[1].mul_add(r, LOG_A[0]);
+    let q = ar2.mul_add(ar2.mul_add(q_hi, q_mid), q_lo);
+    // k·ln2_hi + log c is exact (multiples of 2^-42 below 2^11), as in `log_dd_in_f64`.
+    let t = k.mul_add(LN2_HI, LOG_LOGC[i]);
+    let lo = ar3.mul_add(q, ar2) + k.mul_add(LN2_LO, LOG_LOGCTAIL[i]);
+    let ln = t + (r + lo);
+    let y = p * ln;
+    // A complement below 2^-330: ln x = −omc to 2^-330 relative (finite: omc ≤ 2^-330).
+    let tiny = !ORDINARY && near & (one_minus_x < TWO_M330_F64);
+    let y = if tiny { -(p * one_minus_x) } else { y };
+    // |y| < 2^-200 gives 1 (and keeps r⁴ normal); below 2^-1090, 0 through the
+    // subnormals (y ≤ 0: x ≤ 1).
+    let ye = if !ORDINARY && y.abs() < TWO_M200_F64 {
+        0.0
+    } else {
+        y
+    };
+    let ye = if !ORDINARY && ye < -1090.0 * LN2_F64 {
+        -1100.0 * LN2_F64
+    } else {
+        ye
+    };
+    // e^y: y = n ln2/128 + r2 (both reductions exact with FMA), 2^(n/128) = 2^(n >> 7)
+    // · s, s = 2^((n & 127)/128) rounded, e^r2 by the accurate table's polynomial.
+    let kd = ye.mul_add(INV_LN2_N, SHIFT_F64);
+    let ki = kd.to_bits();
+    let kf = kd - SHIFT_F64;
+    let r = kf.mul_add(-LN2_N_LO, kf.mul_add(-LN2_N_HI, ye));
+    let s = EXP_S[(ki & 127) as usize];
+    let r2 = r * r;
+    let tail = r2.mul_add(
+        r2.mul_add(EXP_C[3].mul_add(r, EXP_C[2]), EXP_C[1].mul_add(r, EXP_C[0])),
+        r,
+    );
+    let m = s.mul_add(tail, s);
+    let nb = (ki >> 7).wrapping_add(SHIFT_BITS_F64 - (SHIFT_BITS_F64 >> 7));
+    let value = scale_in_f64::<ORDINARY>(m, f64::from_bits(nb));
+    if ORDINARY {
+        return (value, y);
+    }
+    let value = if one_minus_x == 0.0 { 1.0 } else { value };
+    let value = if x == 0.0 { 0.0 } else { value };
+    (if p == 0.0 { 1.0 } else { value }, y)
 }
 
 // fdlibm's `e_logf.c` minimax coefficients of the same scheme in `f32` (|(ln(1 + s) −
@@ -1102,15 +1204,14 @@ pub fn pow_unit_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> f64
 }
 
 /// [`pow_unit_tier_f64`] for a lane expected to be ordinary, and whether it was: the
-/// table-driven power's [`pow_unit_table_ordinary_f64`] (in the fast tier too, whose
-/// lanes that are not ordinary then take [`pow_unit_fast_f64`]); the series power's one
-/// value and true.
+/// table-driven power's [`pow_unit_table_ordinary_f64`], the fast tier's
+/// [`pow_unit_fast_ordinary_f64`] (whose lanes that are not ordinary then take
+/// [`pow_unit_fast_f64`]); the series power's one value and true.
 #[inline(always)]
 pub fn pow_unit_ordinary_tier_f64(tier: PowTier, x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
     match tier {
-        // The fast tier too: on ordinary lanes the table-driven power without its
-        // special cases is faster than the fast one with them (and more accurate).
-        PowTier::Table | PowTier::Fast => pow_unit_table_ordinary_f64(x, one_minus_x, p),
+        PowTier::Table => pow_unit_table_ordinary_f64(x, one_minus_x, p),
+        PowTier::Fast => pow_unit_fast_ordinary_f64(x, one_minus_x, p),
         PowTier::Series => (pow_unit_tier_f64(tier, x, one_minus_x, p), true),
     }
 }
@@ -1509,6 +1610,55 @@ pub(crate) mod tests {
         assert!(worst_plain <= 2.6e-13, "plain: {worst_plain:e}");
         assert!(worst_over <= 5e-13, "over: {worst_over:e}");
         eprintln!("fast pow: plain {worst_plain:e}, over {worst_over:e}");
+    }
+
+    /// The fast tier's ordinary power: its flag set where the table-driven power's is (the
+    /// same conditions, but for `y` within the two logarithms' rounding of a bound), and on
+    /// those lanes the full fast power's bits, within the bound `(3 + 3|y|)·2^-53` of the
+    /// accurate power; bases near 1 given by their complement and subnormal bases
+    /// included, and every table entry reached.
+    #[test]
+    fn fast_ordinary_pow_is_the_fast_pows_bits() {
+        let u = f64::EPSILON / 2.0;
+        let mut s = 31;
+        let (mut worst, mut ordinary_lanes) = (0f64, 0usize);
+        for _ in 0..300_000 {
+            let x = match (uniform(&mut s) * 6.0) as u32 {
+                0 => uniform(&mut s),
+                1 => 10f64.powf(-300.0 * uniform(&mut s)),
+                2 => 0.7 + 0.3 * uniform(&mut s),
+                3 => f64::MIN_POSITIVE * 10f64.powf(-16.0 * uniform(&mut s)),
+                _ => 1.0 - 10f64.powf(-16.0 * uniform(&mut s)),
+            };
+            let omc = 1.0 - x; // exact where it matters (x >= 1/2, Sterbenz)
+            let p = 10f64.powf(uniform(&mut s) * 12.0 - 4.0);
+            let (short, ordinary) = pow_unit_fast_ordinary_f64(x, omc, p);
+            let (_, table_ordinary) = pow_unit_table_ordinary_f64(x, omc, p);
+            let full = pow_unit_fast_f64(x, omc, p);
+            assert!(!full.is_nan(), "{x} {omc} {p}");
+            let y = (p * x.ln()).abs();
+            if ordinary {
+                ordinary_lanes += 1;
+                assert_eq!(short.to_bits(), full.to_bits(), "{x}^{p}");
+                let want = pow_unit_f64(x, omc, p);
+                let rel = (full - want).abs() / want;
+                assert!(
+                    rel <= (3.0 + 3.0 * y) * u,
+                    "{x}^{p}: {full} vs {want} ({rel:e})"
+                );
+                worst = worst.max(rel / ((3.0 + 3.0 * y) * u));
+            }
+            if ordinary != table_ordinary {
+                let (lo, hi) = ORDINARY_POW_Y;
+                let edge = |b: f64| (y + b).abs() <= 1e-12 * b.abs().max(y);
+                assert!(
+                    edge(lo) || edge(hi),
+                    "{x}^{p}: flags {ordinary} {table_ordinary}"
+                );
+            }
+        }
+        assert!(ordinary_lanes > 100_000, "{ordinary_lanes}");
+        eprintln!("fast ordinary pow: at most {worst:.3} of its bound");
     }
 
     #[test]

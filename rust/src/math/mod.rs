@@ -195,9 +195,9 @@ pub trait Real:
     fn pow_unit_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> Self;
     /// [`Real::pow_unit`] computed by `tier` for a lane expected to be ordinary, with
     /// whether it was; where it was, the value is [`Real::pow_unit_in`]'s bit for bit, else
-    /// garbage. Only the `f64` table-driven power has such a path
-    /// ([`fastmath::pow_unit_table_ordinary_f64`]); the others return their one value and
-    /// true.
+    /// garbage. Only the `f64` table-driven and fast powers have such a path
+    /// ([`fastmath::pow_unit_table_ordinary_f64`], [`fastmath::pow_unit_fast_ordinary_f64`]);
+    /// the others return their one value and true.
     fn pow_unit_ordinary_in(tier: PowTier, x: Self, one_minus_x: Self, p: Self) -> (Self, bool);
     /// [`Real::pow_unit_over_scaled`] computed by `tier` (`f32`: the series power, `kx`
     /// ignored); `kx = 0` is [`Real::pow_unit_over`] bit for bit.
@@ -311,8 +311,9 @@ impl PowUnit for TablePow {
 }
 
 /// The fast tier's power (`precision="fast"`): `exp(p·ln x)` in plain floating point,
-/// table-free and vectorizable, within a stated relative error instead of an ulp: in
-/// `f64` at most 2.5e-13 for a normal result ([`fastmath::pow_unit_fast_f64`]); in `f32`
+/// vectorizable, within a stated relative error instead of an ulp: in `f64` (the
+/// table-driven scheme with fused multiply-adds) at most 2.5e-13 for a normal result
+/// ([`fastmath::pow_unit_fast_f64`]); in `f32`
 /// `(4 + 3|y|)·2^-25` with `y = p·ln x`, the power's own condition number with respect to
 /// `p` ([`fastmath::pow_unit_fast_f32`]).
 pub struct FastPow;
