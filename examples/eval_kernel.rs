@@ -1,6 +1,8 @@
 //! Times the batch engine alone (no Python) on N random direction pairs:
 //! `cargo run --release --example eval_kernel -- [model] [n] [reps] [f32|f64]`
-//! (`PRECISION=fast` for the fast tier, `P=` for the exponent of models that take `p`).
+//! (`PRECISION=fast` for the fast tier, `P=` for the exponent of models that take `p`,
+//! `BRDF_RS_NUM_THREADS=` for the thread count: the engine's own pool, which does not read
+//! rayon's `RAYON_NUM_THREADS`).
 
 use brdf_rs::ModelKind;
 use brdf_rs::eval::{EvalInputs, EvalOptions, plan};
