@@ -387,11 +387,7 @@ macro_rules! impl_real {
             const FRAC_1_PI: Self = std::$f::consts::FRAC_1_PI;
             const NAN: Self = $f::NAN;
             const INFINITY: Self = $f::INFINITY;
-            const DTYPE: &'static str = if $f::MANTISSA_DIGITS == 53 {
-                "float64"
-            } else {
-                "float32"
-            };
+            const DTYPE: &'static str = stringify!($f);
             const EXACT_LENGTHS: bool = $exact_lengths;
             const EXTENDED_COSINES: bool = $exact_lengths;
             const ORDINARY_LENGTH_SQUARED: (Self, Self) = $ordinary;

@@ -458,36 +458,3 @@ pub fn neubelt_wide(d: (f64, i64), w: &WideRow) -> f64 {
     let sum = w.mu_i + rest;
     scaled(d.0 / (4.0 * sum.m), d.1 - i64::from(sum.k))
 }
-
-#[cfg(test)]
-mod tests {
-    use super::Dd;
-    use crate::math::Real;
-
-    /// `two_prod` is exact in both widths: its low part is the product's rounding error,
-    /// which a fused multiply-add gives exactly. (A split constant for the wrong width
-    /// leaves halves whose products round, and the low part off.)
-    #[test]
-    fn two_prod_is_exact_in_both_widths() {
-        fn check<F: Real>(a: F, b: F, fma: impl Fn(F, F, F) -> F) {
-            let d = Dd::two_prod(a, b);
-            assert_eq!(d.hi, a * b, "{} {:?}", F::DTYPE, (a.to_f64(), b.to_f64()));
-            let err = fma(a, b, -(a * b));
-            assert_eq!(d.lo, err, "{} {:?}", F::DTYPE, (a.to_f64(), b.to_f64()));
-        }
-        let mut s = 7u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
-        assert_eq!(<f64 as Real>::DTYPE, "float64");
-        assert_eq!(<f32 as Real>::DTYPE, "float32");
-        for _ in 0..10_000 {
-            let (a, b) = (next() * 4.0 - 2.0, next() * 100.0);
-            check::<f64>(a, b, f64::mul_add);
-            check::<f32>(a as f32, b as f32, f32::mul_add);
-        }
-    }
-}
