@@ -505,6 +505,25 @@ pub fn log_dd_f64(x: f64) -> (f64, f64) {
 /// log(x 2^-kx) as hi + lo (|lo| <~ 2^-52 |hi|), relative error about 2^-68, for
 /// 0 < xr < inf (subnormal fine). With `near`, the reduced argument is taken as
 /// 1 - `omc` exactly (xr must then be 1 - omc rounded, in [0.705, 1], and kx = 0).
+/// The table-driven logarithm's reduction of x >= 0: x = 2^k z with z in [OFF, 2 OFF),
+/// returned as the table entry `i` of z, k (as an `f64`) and z. A subnormal x is scaled by
+/// 2^52 first (k counts it); with `NORMAL`, for an x known to be normal, without that
+/// scaling (the same bits there).
+#[inline(always)]
+fn log_reduce_f64<const NORMAL: bool>(x: f64) -> (usize, f64, f64) {
+    let sub = !NORMAL && x < f64::MIN_POSITIVE;
+    let xs = if sub { x * TWO52_F64 } else { x };
+    let ix = xs.to_bits();
+    // entry i from the top mantissa bits of ix - OFF
+    let tmp = ix.wrapping_sub(LOG_OFF_BITS);
+    let i = ((tmp >> 45) & 127) as usize;
+    // k = tmp >> 52 (arithmetic), as an f64 without a 64-bit int -> float conversion
+    let kb = (tmp ^ (1 << 63)) >> 52; // k + 2048
+    let k = f64::from_bits(kb | TWO52_BITS_F64) - (TWO52_F64 + 2048.0);
+    let k = k - if sub { 52.0 } else { 0.0 };
+    (i, k, f64::from_bits(ix.wrapping_sub(tmp & (0xfff << 52))))
+}
+
 /// ARM optimized-routines' `log_inline` of `pow` (no-FMA variant), with a split of
 /// r = z/c - 1 into rhi + rlo that stays exact for z = 1 - omc.
 ///
@@ -512,18 +531,9 @@ pub fn log_dd_f64(x: f64) -> (f64, f64) {
 /// scaling (the same bits there).
 #[inline(always)]
 fn log_dd_in_f64<const NORMAL: bool>(xr: f64, omc: f64, near: bool, kx: f64) -> (f64, f64) {
-    let sub = !NORMAL && xr < f64::MIN_POSITIVE;
-    let xs = if sub { xr * TWO52_F64 } else { xr };
-    let ix = xs.to_bits();
-    // x = 2^k z, z in [OFF, 2 OFF); entry i from the top mantissa bits of ix - OFF
-    let tmp = ix.wrapping_sub(LOG_OFF_BITS);
-    let i = ((tmp >> 45) & 127) as usize;
-    // k = tmp >> 52 (arithmetic), as an f64 without a 64-bit int -> float conversion
-    let kb = (tmp ^ (1 << 63)) >> 52; // k + 2048
-    let k = f64::from_bits(kb | TWO52_BITS_F64) - (TWO52_F64 + 2048.0);
-    let k = k - if sub { 52.0 } else { 0.0 } - kx;
-    let iz = ix.wrapping_sub(tmp & (0xfff << 52));
-    let z = f64::from_bits(iz);
+    let (i, k, z) = log_reduce_f64::<NORMAL>(xr);
+    let k = k - kx;
+    let iz = z.to_bits();
     let invc = LOG_INVC[i];
     let logc = LOG_LOGC[i];
     let logctail = LOG_LOGCTAIL[i];
@@ -1040,16 +1050,8 @@ fn pow_fast_fma_in_f64<const ORDINARY: bool>(x: f64, one_minus_x: f64, p: f64) -
     // A zero base takes any finite logarithm (its value is selected below); a subnormal
     // one is scaled into the normal range.
     let xr = if !ORDINARY && x == 0.0 { 1.0 } else { xr };
-    let sub = !ORDINARY && xr < f64::MIN_POSITIVE;
-    let xr = if sub { xr * TWO52_F64 } else { xr };
-    let ix = xr.to_bits();
-    // x = 2^k z, z in [OFF, 2 OFF): as in `log_dd_in_f64` (k = 0 where `near`).
-    let tmp = ix.wrapping_sub(LOG_OFF_BITS);
-    let i = ((tmp >> 45) & 127) as usize;
-    let kb = (tmp ^ (1 << 63)) >> 52; // k + 2048
-    let k = f64::from_bits(kb | TWO52_BITS_F64) - (TWO52_F64 + 2048.0);
-    let k = if sub { k - 52.0 } else { k };
-    let z = f64::from_bits(ix.wrapping_sub(tmp & (0xfff << 52)));
+    // x = 2^k z (k = 0 where `near`).
+    let (i, k, z) = log_reduce_f64::<ORDINARY>(xr);
     let invc = LOG_INVC[i];
     // invc − 1 is exact (invc in [0.7, 1.42], Sterbenz).
     let r = if near {
