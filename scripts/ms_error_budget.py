@@ -11,7 +11,14 @@ and the relative errors of the implied factors: ``F = ggx_dielectric / ggx`` and
 about an ulp). It shows how the ms term's error adds up: a few ulps of the lobe, one
 of ``F``, one or two of ``E``, and the division.
 
-    python scripts/ms_error_budget.py [--min-ulps 3]
+``--steps`` also replays the GGX lobe's float64 arithmetic step by step, in the order
+``rust/src/models/ggx.rs`` computes it (``lobe`` and ``smith_lobe``, before the
+length-error factor), and prints each step's rounding error in units of ``u = 2^-53``
+against the same formula in exact arithmetic on the same rounded unit vectors: where
+the lobe's error comes from. It is a replay, not the kernel: keep it in step with that
+file.
+
+    python scripts/ms_error_budget.py [--min-ulps 3] [--steps]
 
 Needs mpmath (``pip install 'brdf-rs[stress]'``).
 """
@@ -19,6 +26,9 @@ Needs mpmath (``pip install 'brdf-rs[stress]'``).
 from __future__ import annotations
 
 import argparse
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import brdf_rs
 import mpmath
@@ -45,10 +55,98 @@ def _relative_quotient(got: list[float], ref: list, num: int, den: int) -> str:
     return f"{float((mpmath.mpf(got[num]) / got[den] - want) / want):+9.2e}"
 
 
+def _unit(v: Sequence[float]) -> list[float]:
+    """``v/|v|`` rounded as the kernels round it: scaled by a power of two (exact), then
+    times the rounded reciprocal of the rounded length."""
+    e = math.frexp(max(abs(x) for x in v))[1]
+    s = [math.ldexp(x, -e) for x in v]
+    r = 1.0 / math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+    return [x * r for x in s]
+
+
+def _length_error(v: Sequence[float]) -> float:
+    """``|v|² − 1`` as ``Real::length_error`` computes it (to well under an ulp)."""
+    c = 201326592.0  # 1.5·2^27: (x + c) − c keeps the high half of |x| <= 1
+
+    def hi(x: float) -> float:
+        return (x + c) - c
+
+    h = [hi(x) for x in v]
+    exact = ((h[0] * h[0] + h[1] * h[1]) - 1.0) + h[2] * h[2]
+    rest = sum((x - xh) * (x + xh) for x, xh in zip(v, h, strict=True))
+    return exact + rest
+
+
+def _lobe_steps(
+    wi: Sequence[Any], wo: Sequence[Any], n: Sequence[Any], alpha: Any, exact: bool
+) -> dict[str, Any]:
+    """The GGX lobe's intermediate values, in floats (``exact=False``, the kernel's order
+    of operations) or in mpmath (the same formula, exact to 50 digits)."""
+    sqrt: Callable[[Any], Any] = mpmath.sqrt if exact else math.sqrt
+
+    def dot(a: Sequence[Any], b: Sequence[Any]) -> Any:
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    def cross(a: Sequence[Any], b: Sequence[Any]) -> list[Any]:
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    alpha2 = alpha * alpha
+    d_scale = alpha2 * (1 / mpmath.pi if exact else 1 / math.pi)
+    mu_i, mu_o = dot(n, wi), dot(n, wo)
+    e_i = dot(wi, wi) - 1 if exact else _length_error(wi)
+    e_o = dot(wo, wo) - 1 if exact else _length_error(wo)
+    # The half vector of the exact unit vectors: the sum less half the length errors.
+    s = [(a + b) - (a * e_i + b * e_o) * 0.5 for a, b in zip(wi, wo, strict=True)]
+    h = [x / sqrt(dot(s, s)) for x in s] if exact else _unit(s)
+    cos_th = dot(n, h)
+    minus = [a - b for a, b in zip(n, h, strict=True)]
+    plus = [a + b for a, b in zip(n, h, strict=True)]
+    sin2 = dot(minus, minus) * (dot(plus, plus) * 0.25)
+    den = sin2 + alpha2 * cos_th * cos_th
+    ndf = d_scale / (den * den)
+    a_i = alpha2 * dot(cross(n, wi), cross(n, wi))
+    a_o = alpha2 * dot(cross(n, wo), cross(n, wo))
+    p_i = 2 * (sqrt(mu_i * mu_i + a_i) + mu_i)
+    p_o = 2 * (sqrt(mu_o * mu_o + a_o) + mu_o)
+    m, least = max(mu_i, mu_o), min(mu_i, mu_o)
+    ratio = least / m
+    r_i, r_o = (ratio, 1) if mu_i < mu_o else (1, ratio)
+    pp = p_i * p_o
+    q = least * pp + r_o * a_i * p_o + r_i * a_o * p_i
+    return {
+        "cos_th": cos_th,
+        "sin2": sin2,
+        "den": den,
+        "D": ndf,
+        "a_i": a_i,
+        "a_o": a_o,
+        "P_i": p_i,
+        "P_o": p_o,
+        "q": q,
+        "G2/4mm": pp / (4 * q) / m,
+        "lobe": ndf * pp / (4 * q) / m,
+    }
+
+
+def _steps_line(case: _stress._Case) -> str:
+    """Each lobe step's rounding error, in u = 2^-53."""
+    wi, wo, n = (_unit(v) for v in (case.wi, case.wo, case.n))
+    alpha = case.params["alpha"]
+    got = _lobe_steps(wi, wo, n, alpha, exact=False)
+    with mpmath.workdps(50):
+        mp = [[mpmath.mpf(x) for x in v] for v in (wi, wo, n)]
+        want = _lobe_steps(*mp, mpmath.mpf(alpha), exact=True)
+        u = mpmath.mpf(2) ** -53
+        return "  ".join(f"{k} {float((got[k] - want[k]) / want[k] / u):+.2f}" for k in want)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--min-ulps", type=float, default=3.0)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--steps", action="store_true", help="replay the GGX lobe's steps (errors in u = 2^-53)"
+    )
     args = parser.parse_args()
     fmt = _stress._FORMATS["float64"]
     print(
@@ -74,6 +172,8 @@ def main() -> None:
             f"{'':6s}{ulps[0]:4.0f} {ulps[1]:4.0f} {ulps[2]:4.0f} | {'':12s}"
             f"{_relative_quotient(got, ref, 1, 0)} {_relative_quotient(got, ref, 1, 2)}"
         )
+        if args.steps:
+            print(f"{'':5s}lobe steps (u): {_steps_line(case)}")
 
 
 if __name__ == "__main__":
