@@ -47,12 +47,16 @@ def _exact(model: str, case: _stress._Case, params: dict) -> mpmath.mpf:
     return _mpref.eval_mp(model, case.wi, case.wo, case.n, case.tangent, **params)[0]
 
 
-def _relative_quotient(got: list[float], ref: list, num: int, den: int) -> str:
+def _relative_quotient(got: list[float], ref: list, num: int, den: int) -> float | None:
     """The relative error of ``got[num]/got[den]`` against ``ref[num]/ref[den]``."""
     if ref[num] == 0 or ref[den] == 0 or got[den] == 0:
-        return f"{'-':>9s}"  # a transmission: no ggx lobe to compare with
+        return None  # a transmission: no ggx lobe to compare with
     want = ref[num] / ref[den]
-    return f"{float((mpmath.mpf(got[num]) / got[den] - want) / want):+9.2e}"
+    return float((mpmath.mpf(got[num]) / got[den] - want) / want)
+
+
+def _show(x: float | None) -> str:
+    return f"{'-':>9s}" if x is None else f"{x:+9.2e}"
 
 
 def _unit(v: Sequence[float]) -> list[float]:
@@ -153,6 +157,7 @@ def main() -> None:
         f"{'case':>4s} {'label':28s} {'eta':>8s} {'kappa':>5s} | ulps: {'ggx':>4s} "
         f"{'diel':>4s} {'ms':>4s} | rel. error: {'F':>9s} {'E':>9s}"
     )
+    e_errors: list[float] = []
     for i, case in enumerate(_stress._cases(MODEL, fmt, False, args.seed)):
         result = _stress._measure(MODEL, case, fmt, _mpref)
         if result.kappa is None or result.kappa > _stress.WELL_CONDITIONED:
@@ -167,13 +172,22 @@ def main() -> None:
         got = [_rust(model, case, params) for model, params in runs]
         ref = [_exact(model, case, params) for model, params in runs]
         ulps = [fmt.ulps(g, fmt.nearest(r)) for g, r in zip(got, ref, strict=True)]
+        f_err = _relative_quotient(got, ref, 1, 0)
+        e_err = _relative_quotient(got, ref, 1, 2)
+        if e_err is not None:
+            e_errors.append(abs(e_err))
         print(
             f"{i:4d} {case.label[:28]:28s} {case.params['eta']:8.3g} {result.kappa:5.2f} | "
             f"{'':6s}{ulps[0]:4.0f} {ulps[1]:4.0f} {ulps[2]:4.0f} | {'':12s}"
-            f"{_relative_quotient(got, ref, 1, 0)} {_relative_quotient(got, ref, 1, 2)}"
+            f"{_show(f_err)} {_show(e_err)}"
         )
         if args.steps:
             print(f"{'':5s}lobe steps (u): {_steps_line(case)}")
+    if e_errors:
+        print(
+            f"E over the {len(e_errors)} cases shown: largest |relative error| "
+            f"{max(e_errors):.3g}, mean {sum(e_errors) / len(e_errors):.3g}"
+        )
 
 
 if __name__ == "__main__":
