@@ -232,10 +232,10 @@ type V64 = <f64 as Real>::V3;
 /// The sampler's density forms the same vector.
 ///
 /// Where the two terms nearly cancel (`eta` near 1, `wo` near `−wi`) `s` is short and its
-/// direction is all that matters: the products are formed exactly (Dekker's
-/// [`Dd::two_prod`]; `f32` inputs are exact in `f64` anyway), summed with their errors and
-/// the length corrections, and rounded once, so `s` keeps its relative precision however
-/// short it is.
+/// direction is all that matters: the products are formed in double width (Dekker's
+/// [`Dd::two_prod`]: exact for `f32` inputs, to about a rounding of their low parts for
+/// `f64` ones, see its doc), summed with their errors and the length corrections, and
+/// rounded once, so `s` keeps most of its relative precision however short it is.
 #[inline(always)]
 pub fn refraction_half_vector(wi: [f64; 3], wo: [f64; 3], n: [f64; 3], k: [f64; 4]) -> (V64, f64) {
     let [eta_i, eta_o, e_i, e_o] = k;

@@ -195,7 +195,9 @@ impl<F: Real> Charlie<F> {
 
 /// A double-width number `hi + lo` (`|lo|` at most half an ulp of `hi`), with the
 /// error-free sums and products of Dekker and Knuth (no fused multiply-add, so every
-/// instruction set gives the same bits).
+/// instruction set gives the same bits). The products are error-free in `f32` only: in
+/// `f64`, [`Dd::two_prod`] takes `f32`'s split constant and its low part is good to about
+/// one rounding (docs/numerics.md, "Double-width products in float64").
 #[derive(Clone, Copy, Debug)]
 pub struct Dd<F> {
     hi: F,
@@ -215,8 +217,11 @@ impl<F: Real> Dd<F> {
         Dd::new(s, (a - (s - bb)) + (b - bb))
     }
 
-    /// `a·b` exactly, as a [`Dd`] (Veltkamp's split; the factors here are far from
-    /// overflow).
+    /// `a·b` as a [`Dd`] (Veltkamp's split; the factors here are far from overflow):
+    /// exact in `f32`; in `f64` the width test below never holds (`Real::DTYPE` reads
+    /// `"f64"`), so the split is `f32`'s and the low part is off by about a rounding. The
+    /// exact split waits for a more accurate `f64` GGX lobe (docs/numerics.md, "Double-width
+    /// products in float64").
     #[inline(always)]
     pub fn two_prod(a: F, b: F) -> Self {
         let split = F::from_f64(if F::DTYPE == "float64" {
