@@ -3,6 +3,12 @@
 //! (`PRECISION=fast` for the fast tier, `P=` for the exponent of models that take `p`,
 //! `BRDF_RS_NUM_THREADS=` for the thread count: the engine's own pool, which does not read
 //! rayon's `RAYON_NUM_THREADS`).
+//!
+//! By default the inputs are unit vectors passed with `normalized=True` and `n` is left out
+//! (`+z` for every row): the kernel alone. `NORMALIZED=0` has the engine normalize them, as
+//! `brdf_rs.eval` does by default: the work of `benches/eval_throughput.py`'s default
+//! columns, which leave `n` out too. `NORMALS=rows` passes `n` as an array of rows, a
+//! random unit vector each, which adds its loads and normalization.
 
 use brdf_rs::ModelKind;
 use brdf_rs::eval::{EvalInputs, EvalOptions, plan};
@@ -32,6 +38,12 @@ fn run<F: brdf_rs::math::Real>(model: ModelKind, n: usize, reps: usize) {
     let wo: Vec<F> = directions(n, 2).into_iter().map(F::from_f64).collect();
     let wi = ArrayD::from_shape_vec(IxDyn(&[n, 3]), wi).unwrap();
     let wo = ArrayD::from_shape_vec(IxDyn(&[n, 3]), wo).unwrap();
+    let normals = std::env::var("NORMALS")
+        .is_ok_and(|s| s == "rows")
+        .then(|| {
+            let v: Vec<F> = directions(n, 3).into_iter().map(F::from_f64).collect();
+            ArrayD::from_shape_vec(IxDyn(&[n, 3]), v).unwrap()
+        });
     let p = ArrayD::from_elem(
         IxDyn(&[]),
         F::from_f64(
@@ -44,7 +56,7 @@ fn run<F: brdf_rs::math::Real>(model: ModelKind, n: usize, reps: usize) {
     let takes_p = model.spec().param("p").is_some();
     let mut out = vec![F::ZERO; 3 * n];
     let options = EvalOptions {
-        normalized: true,
+        normalized: std::env::var("NORMALIZED").map_or(true, |s| s != "0"),
         precision: brdf_rs::eval::Precision::from_name(
             &std::env::var("PRECISION").unwrap_or_else(|_| "accurate".into()),
         )
@@ -56,7 +68,7 @@ fn run<F: brdf_rs::math::Real>(model: ModelKind, n: usize, reps: usize) {
         let inputs = EvalInputs {
             wi: wi.view(),
             wo: wo.view(),
-            n: None,
+            n: normals.as_ref().map(|a| a.view()),
             tangent: None,
             params: if takes_p {
                 vec![("p", p.view())]
