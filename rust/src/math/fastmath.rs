@@ -631,6 +631,21 @@ fn pow_scaled_f64<const OVER: bool>(
 /// least 2^-200.
 const ORDINARY_POW_Y: (f64, f64) = (-1000.0 * LN2_F64, -TWO_M200_F64);
 
+/// Whether a power's lane is ordinary, given its logarithm product `y = p ln x` (the
+/// table-driven power's high half, or the fast power's rounded `y`): `x` in the normal
+/// range, `1 − x` at least 2^-330, `p` at least 2^-300 and `y` in [`ORDINARY_POW_Y`].
+/// The test of both powers' short ways ([`pow_unit_table_ordinary_f64`],
+/// [`pow_unit_fast_ordinary_f64`]).
+#[inline(always)]
+fn ordinary_lane_f64(x: f64, one_minus_x: f64, p: f64, y: f64) -> bool {
+    let (lo, hi) = ORDINARY_POW_Y;
+    (x >= f64::MIN_POSITIVE)
+        & (one_minus_x >= TWO_M330_F64)
+        & (p >= TWO_M300_F64)
+        & (y > lo)
+        & (y <= hi)
+}
+
 /// [`pow_scaled_f64`], and with `ORDINARY` its arithmetic for an ordinary lane only (see
 /// [`pow_unit_table_ordinary_f64`]): every select that such a lane leaves idle is left
 /// out, so its bits are the same. Also returns `ehi`.
@@ -691,13 +706,7 @@ fn pow_scaled_in_f64<const OVER: bool, const ORDINARY: bool>(
 #[inline(always)]
 pub fn pow_unit_table_ordinary_f64(x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
     let (r, ehi) = pow_scaled_in_f64::<false, true>(x, one_minus_x, p, 0.0, 0.0, 1.0);
-    let (lo, hi) = ORDINARY_POW_Y;
-    let ordinary = (x >= f64::MIN_POSITIVE)
-        & (one_minus_x >= TWO_M330_F64)
-        & (p >= TWO_M300_F64)
-        & (ehi > lo)
-        & (ehi <= hi);
-    (r, ordinary)
+    (r, ordinary_lane_f64(x, one_minus_x, p, ehi))
 }
 
 /// [`pow_unit_f64`] from tables: the same contract, table-driven (ARM
@@ -1031,13 +1040,7 @@ pub fn pow_unit_fast_f64(x: f64, one_minus_x: f64, p: f64) -> f64 {
 #[inline(always)]
 pub fn pow_unit_fast_ordinary_f64(x: f64, one_minus_x: f64, p: f64) -> (f64, bool) {
     let (value, y) = pow_fast_fma_in_f64::<true>(x, one_minus_x, p);
-    let (lo, hi) = ORDINARY_POW_Y;
-    let ordinary = (x >= f64::MIN_POSITIVE)
-        & (one_minus_x >= TWO_M330_F64)
-        & (p >= TWO_M300_F64)
-        & (y > lo)
-        & (y <= hi);
-    (value, ordinary)
+    (value, ordinary_lane_f64(x, one_minus_x, p, y))
 }
 
 /// [`pow_unit_fast_f64`], and with `ORDINARY` its arithmetic for an ordinary lane only
