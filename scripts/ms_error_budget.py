@@ -97,6 +97,7 @@ def _lobe_steps(
     alpha2 = alpha * alpha
     d_scale = alpha2 * (1 / mpmath.pi if exact else 1 / math.pi)
     mu_i, mu_o = dot(n, wi), dot(n, wo)
+    e_n = dot(n, n) - 1 if exact else _length_error(n)
     e_i = dot(wi, wi) - 1 if exact else _length_error(wi)
     e_o = dot(wo, wo) - 1 if exact else _length_error(wo)
     # The half vector of the exact unit vectors: the sum less half the length errors.
@@ -106,7 +107,14 @@ def _lobe_steps(
     minus = [a - b for a, b in zip(n, h, strict=True)]
     plus = [a + b for a, b in zip(n, h, strict=True)]
     sin2 = dot(minus, minus) * (dot(plus, plus) * 0.25)
-    den = sin2 + alpha2 * cos_th * cos_th
+    # |n|²|h|² = 1 + e_n + e_h (the exact h has e_h = 0); the denominator's two forms.
+    nh2 = 1 + (e_n + (0 if exact else _length_error(h)))
+    one_minus = (1 - alpha) * (1 + alpha)
+    c2 = cos_th * cos_th
+    if alpha <= 1:
+        den = alpha2 * nh2 + one_minus * (sin2 if c2 > 0.5 else nh2 - c2)
+    else:
+        den = nh2 + (-one_minus) * c2
     ndf = d_scale / (den * den)
     a_i = alpha2 * dot(cross(n, wi), cross(n, wi))
     a_o = alpha2 * dot(cross(n, wo), cross(n, wo))

@@ -56,16 +56,18 @@ pub trait Microfacets: 'static {
     type Prepared<F: Real>: Copy + Send + Sync;
     /// Returns the constants for roughness `alpha`.
     fn prepare<F: Real>(alpha: F) -> Self::Prepared<F>;
-    /// Returns `D(h)` given `cos θh ≥ 0` and `sin²θh`.
-    fn ndf<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F) -> F;
+    /// Returns `D(h)` given `cos θh ≥ 0`, `sin²θh` and `nh2 = |n|²|h|²` (to first order
+    /// in the length errors; 1 where they are left out).
+    fn ndf<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F, nh2: F) -> F;
     /// Returns `μ·Λ(μ)` for `μ ≥ 0` given `sin²θ = |n × w|²`.
     fn mu_lambda<F: Real>(p: &Self::Prepared<F>, mu: F, sin2: F) -> F;
     /// The warp that draws its visible normals at roughness `alpha`.
     fn visible_normals(alpha: f64) -> Warp;
 
     /// Returns `w·D(h)·G2/(4 mu_i mu_o)` given a weight `w >= 0` (the Fresnel part),
-    /// `cos θh ≥ 0`, `sin²θh`, the cosines `mu = [mu_i, mu_o]` (positive) and their
-    /// `sin²θ = |n × w|²`: [`smith_quotient`] of the weighted NDF and the `μ·Λ(μ)`s (the
+    /// `cos θh ≥ 0`, `sin²θh`, `nh2 = |n|²|h|²`, the cosines `mu = [mu_i, mu_o]`
+    /// (positive) and their `sin²θ = |n × w|²`: [`smith_quotient`] of the weighted NDF
+    /// and the `μ·Λ(μ)`s (the
     /// NDF flushed as [`Real::flush_subnormal`] does). The weight joins the numerator
     /// before the last division by the larger cosine: at grazing incidence the lobe alone
     /// can exceed the float range where a tiny Fresnel part (`eta` near 1) keeps the value
@@ -76,38 +78,38 @@ pub trait Microfacets: 'static {
         w: F,
         cos_th: F,
         sin2_th: F,
+        nh2: F,
         mu: [F; 2],
         sin2: [F; 2],
     ) -> F {
-        let ndf = F::flush_subnormal(Self::ndf(p, cos_th, sin2_th));
+        let ndf = F::flush_subnormal(Self::ndf(p, cos_th, sin2_th, nh2));
         let l_i = Self::mu_lambda(p, mu[0], sin2[0]);
         let l_o = Self::mu_lambda(p, mu[1], sin2[1]);
         smith_quotient(weighted(w, ndf), mu[0], mu[1], l_i, l_o)
     }
 }
 
-/// GGX: `D = α²/(π(sin²θh + α²cos²θh)²)` and `ggx`'s Smith function.
+/// GGX: `D = α²/(π(sin²θh + α²cos²θh)²)` ([`super::ggx::Ndf`]) and `ggx`'s Smith
+/// function.
 pub struct Ggx;
 
 impl Microfacets for Ggx {
-    /// `α²` and `α²/π`.
-    type Prepared<F: Real> = (F, F);
+    /// The NDF's constants, as `ggx` prepares them.
+    type Prepared<F: Real> = super::ggx::Ndf<F>;
 
     #[inline(always)]
-    fn prepare<F: Real>(alpha: F) -> (F, F) {
-        let alpha2 = alpha * alpha;
-        (alpha2, alpha2 * F::FRAC_1_PI)
+    fn prepare<F: Real>(alpha: F) -> Self::Prepared<F> {
+        super::ggx::Ndf::new(alpha)
     }
 
     #[inline(always)]
-    fn ndf<F: Real>(p: &(F, F), cos_th: F, sin2_th: F) -> F {
-        let denom = sin2_th + p.0 * cos_th * cos_th;
-        p.1 / (denom * denom)
+    fn ndf<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F, nh2: F) -> F {
+        p.eval(cos_th, sin2_th, nh2)
     }
 
     #[inline(always)]
-    fn mu_lambda<F: Real>(p: &(F, F), mu: F, sin2: F) -> F {
-        ggx_mu_lambda(mu, sin2, p.0)
+    fn mu_lambda<F: Real>(p: &Self::Prepared<F>, mu: F, sin2: F) -> F {
+        ggx_mu_lambda(mu, sin2, p.alpha2)
     }
 
     fn visible_normals(alpha: f64) -> Warp {
@@ -118,10 +120,17 @@ impl Microfacets for Ggx {
     /// the same Smith quotient ([`super::ggx::smith_lobe`]), fewer roundings than the
     /// `μ·Λ(μ)` quotient.
     #[inline(always)]
-    fn lobe<F: Real>(p: &(F, F), w: F, cos_th: F, sin2_th: F, mu: [F; 2], sin2: [F; 2]) -> F {
-        let (alpha2, d_scale) = *p;
-        let denom = sin2_th + alpha2 * cos_th * cos_th;
-        let ndf = weighted(w, d_scale / (denom * denom));
+    fn lobe<F: Real>(
+        p: &Self::Prepared<F>,
+        w: F,
+        cos_th: F,
+        sin2_th: F,
+        nh2: F,
+        mu: [F; 2],
+        sin2: [F; 2],
+    ) -> F {
+        let ndf = weighted(w, p.eval(cos_th, sin2_th, nh2));
+        let alpha2 = p.alpha2;
         super::ggx::smith_lobe(ndf, mu[0], mu[1], alpha2 * sin2[0], alpha2 * sin2[1])
     }
 }
@@ -139,7 +148,7 @@ impl Microfacets for Beckmann {
     }
 
     #[inline(always)]
-    fn ndf<F: Real>(p: &(F, F), cos_th: F, sin2_th: F) -> F {
+    fn ndf<F: Real>(p: &(F, F), cos_th: F, sin2_th: F, _nh2: F) -> F {
         let c2 = cos_th * cos_th;
         let t = sin2_th / (p.1 * c2);
         let ndf = (-t).exp() / (F::PI * p.1 * c2 * c2);
@@ -329,7 +338,8 @@ where
         let fr = reflectance(&channel, hv.cos_b, r2, e);
         // The Fresnel part times D·G2/(4|mu_i||mu_o|), of the exact unit vectors.
         let part = if reflect { fr } else { refracted };
-        let lobe = M::lobe(&pp.lobe, part, max(cos_th, F::ZERO), sin2_th, mu, sin2);
+        let nh2 = F::ONE + (e_n + F::length_error(h));
+        let lobe = M::lobe(&pp.lobe, part, max(cos_th, F::ZERO), sin2_th, nh2, mu, sin2);
         let lobe = microfacet_length_correction(lobe, e_n, e_i, e_o, h);
         // eta = 1: no interface, the transmission is the delta wo = −wi (0 as a function
         // value, also where rounding leaves wi + wo a little off 0). h in the tangent

@@ -6,7 +6,8 @@
 //! `F = F0 + (1−F0)(1−cos_b)^5`, `F0 = ks` (RGB). `ks = 1` gives F = 1.
 //!
 //! Evaluated without cancellation or overflow: the NDF's denominator is
-//! `sin²θh + α²cos²θh` (with `sin²θh = (1 − cos)(1 + cos)` from `|n ∓ h|²`), and
+//! `α² + (1 − α²)sin²θh` (`α ≤ 1`; [`Ndf`]), with `sin²θh = (1 − cos)(1 + cos)` from
+//! `|n ∓ h|²`, and
 //! `G2/(4 mu_i mu_o) = 1/(4(mu_i mu_o + mu_o·L_i + mu_i·L_o))` with `L = μ·Λ(μ)` in the
 //! bounded form of [`ggx_mu_lambda`](crate::math::geometry::ggx_mu_lambda) (finite at
 //! grazing angles, where `Λ` overflows), as one quotient: see [`lobe`].
@@ -73,9 +74,65 @@ pub const ALPHA_DOC: &str = "roughness α: the NDF's width (α = r² for a perce
 pub struct Prepared<F> {
     kd_over_pi: [F; 3],
     f0: [F; 3],
-    alpha2: F,
+    ndf: Ndf<F>,
+}
+
+/// GGX's NDF `D = α²/(π(sin²θh + α²cos²θh)²)` at roughness `α`, with its denominator
+/// written so that the term carrying the rounding of the cosines vanishes at the peak:
+///
+/// - `α ≤ 1`: `α²·|n|²|h|² + (1 − α²)·|n × h|²`,
+/// - `α > 1`: `|n|²|h|² + (α² − 1)·(n·h)²`,
+///
+/// both `|n|²|h|²·(sin²θh + α²cos²θh)`, with `1 ∓ α²` formed as `(1 − α)(1 + α)` (no
+/// cancellation of `α²`'s rounding near `α = 1`). The plain `sin²θh + α²(n·h)²` is
+/// dominated at the peak by `α²(n·h)²`, and `D ∝ 1/(n·h)⁴` there turns the dot product's
+/// rounding into four times as much error in `D` (up to 4 ulps in `f64`); here the
+/// dominant term is the constant `α²` (or 1), and the dot product's part shrinks with
+/// the distance from the peak. `|n|²|h|²` is `1 + e_n + e_h` of the length errors
+/// ([`Real::length_error`]; 1 where they are left out), so the denominator stays
+/// homogeneous of degree 2 in `|n|` and `|h|` as the lobes' length corrections take it.
+#[derive(Clone, Copy)]
+pub struct Ndf<F> {
+    /// `α²`.
+    pub alpha2: F,
     /// `α²/π`.
     d_scale: F,
+    /// The coefficient of `|n|²|h|²`: `α²` (`α ≤ 1`) or 1.
+    peak: F,
+    /// `|1 − α²|`, the coefficient of `|n × h|²` (`α ≤ 1`) or `(n·h)²`.
+    slope: F,
+    /// `α ≤ 1`.
+    narrow: bool,
+}
+
+impl<F: Real> Ndf<F> {
+    /// The constants for roughness `alpha`.
+    #[inline(always)]
+    pub fn new(alpha: F) -> Self {
+        let alpha2 = alpha * alpha;
+        let narrow = alpha <= F::ONE;
+        let one_minus = (F::ONE - alpha) * (F::ONE + alpha);
+        Ndf {
+            alpha2,
+            d_scale: alpha2 * F::FRAC_1_PI,
+            peak: if narrow { alpha2 } else { F::ONE },
+            slope: if narrow { one_minus } else { -one_minus },
+            narrow,
+        }
+    }
+
+    /// `D` given `cos θh = n·h`, `sin²θh = |n × h|²` (from `|n ∓ h|²`) and
+    /// `nh2 = |n|²|h|²`. Below `cos²θh = 1/2` the sine is taken as `nh2 − cos²θh`
+    /// instead: within about an ulp towards the horizon, where the product of `|n ∓ h|²`
+    /// (two sums near 2) carries three or four.
+    #[inline(always)]
+    pub fn eval(&self, cos_th: F, sin2_th: F, nh2: F) -> F {
+        let c2 = cos_th * cos_th;
+        let sin2 = if c2 > F::HALF { sin2_th } else { nh2 - c2 };
+        let t = if self.narrow { sin2 } else { c2 };
+        let denom = self.peak * nh2 + self.slope * t;
+        self.d_scale / (denom * denom)
+    }
 }
 
 /// Returns the scalar GGX lobe `D·G2/(4 mu_i mu_o)` (F = 1), the cosine `cos_b = wi·h`
@@ -98,11 +155,7 @@ pub struct Prepared<F> {
 /// The fast tier (`P` is [`crate::math::FastPow`]) leaves the length errors out
 /// ([`length_errors`]).
 #[inline(always)]
-pub fn lobe<F: Real, P: PowUnit>(
-    d: &Directions<F>,
-    alpha2: F,
-    d_scale: F,
-) -> (F, Cosine<F>, bool) {
+pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, ndf: &Ndf<F>) -> (F, Cosine<F>, bool) {
     let errors = length_errors::<F, P>(d);
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
@@ -111,11 +164,11 @@ pub fn lobe<F: Real, P: PowUnit>(
     // sin²θh = (1 − cos)(1 + cos); with both cosines positive n·h > 0.
     let sin2_th =
         (d.n - hv.h).length_squared() * ((d.n + hv.h).length_squared() * F::from_f64(0.25));
-    let denom = sin2_th + alpha2 * cos_th * cos_th;
-    let ndf = d_scale / (denom * denom);
+    let ndf_value = ndf.eval(cos_th, sin2_th, lengths_squared(errors, hv.h));
+    let alpha2 = ndf.alpha2;
     let a_i = alpha2 * d.n.cross(d.wi).length_squared();
     let a_o = alpha2 * d.n.cross(d.wo).length_squared();
-    let spec = smith_lobe(ndf, mu_i, mu_o, a_i, a_o);
+    let spec = smith_lobe(ndf_value, mu_i, mu_o, a_i, a_o);
     (corrected(spec, errors, hv.h), hv.cos_b, hv.defined)
 }
 
@@ -162,6 +215,16 @@ pub fn lobe_half_vector<F: Real>(d: &Directions<F>, errors: Option<[F; 3]>) -> H
     }
 }
 
+/// `|n|²|h|²` to first order in the length errors, `1 + e_n + e_h`, or 1 where they were
+/// left out (the fast tier, and `f32`'s are 0).
+#[inline(always)]
+pub fn lengths_squared<F: Real>(errors: Option<[F; 3]>, h: F::V3) -> F {
+    match errors {
+        Some([e_n, _, _]) => F::ONE + (e_n + F::length_error(h)),
+        None => F::ONE,
+    }
+}
+
 /// A microfacet lobe multiplied by its length-error factor
 /// ([`microfacet_length_correction`]), unless the errors were left out.
 #[inline(always)]
@@ -178,19 +241,16 @@ impl Kernel for Ggx {
 
     #[inline(always)]
     fn prepare<F: Real, P: ParamSource<F> + ?Sized>(p: &P) -> Prepared<F> {
-        let alpha = ALPHA.read(p);
-        let alpha2 = alpha * alpha;
         Prepared {
             kd_over_pi: KD.read(p).map(|c| c * F::FRAC_1_PI),
             f0: KS.read(p),
-            alpha2,
-            d_scale: alpha2 * F::FRAC_1_PI,
+            ndf: Ndf::new(ALPHA.read(p)),
         }
     }
 
     #[inline(always)]
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
-        let lobe = lobe::<F, P>(d, pp.alpha2, pp.d_scale);
+        let lobe = lobe::<F, P>(d, &pp.ndf);
         schlick_microfacet_value(lobe, pp.f0, pp.kd_over_pi, d)
     }
 

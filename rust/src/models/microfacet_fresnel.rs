@@ -46,18 +46,17 @@ pub trait MicrofacetLobe: 'static {
 pub struct Ggx;
 
 impl MicrofacetLobe for Ggx {
-    /// `α²` and `α²/π`, as `ggx` prepares them.
-    type Prepared<F: Real> = (F, F);
+    /// The NDF's constants, as `ggx` prepares them.
+    type Prepared<F: Real> = ggx::Ndf<F>;
 
     #[inline(always)]
-    fn prepare<F: Real>(alpha: F) -> (F, F) {
-        let alpha2 = alpha * alpha;
-        (alpha2, alpha2 * F::FRAC_1_PI)
+    fn prepare<F: Real>(alpha: F) -> ggx::Ndf<F> {
+        ggx::Ndf::new(alpha)
     }
 
     #[inline(always)]
-    fn eval<F: Real, P: PowUnit>(p: &(F, F), d: &Directions<F>) -> (F, Cosine<F>, bool) {
-        ggx::lobe::<F, P>(d, p.0, p.1)
+    fn eval<F: Real, P: PowUnit>(p: &ggx::Ndf<F>, d: &Directions<F>) -> (F, Cosine<F>, bool) {
+        ggx::lobe::<F, P>(d, p)
     }
 
     fn importance(alpha: f64) -> Importance {
