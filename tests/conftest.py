@@ -15,6 +15,7 @@ from __future__ import annotations
 import importlib.util
 import math
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -24,6 +25,13 @@ import numpy as np
 import pytest
 from brdf_rs import reference
 from hypothesis import settings
+
+# The interrupt tests send this process a Ctrl-C (``_thread.interrupt_main``), which does
+# nothing where SIGINT is ignored: a shell starts background jobs that way (``cmd &``,
+# ``nohup``), and Python then installs no handler. Install the terminal's
+# (KeyboardInterrupt), so those tests check the extension whatever started the run.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 # Property tests are derandomized by default so a run (CI's included) is reproducible:
 # the same examples every time. HYPOTHESIS_PROFILE=explore draws new random examples
