@@ -104,15 +104,16 @@ def _lobe_steps(
     s = [(a + b) - (a * e_i + b * e_o) * 0.5 for a, b in zip(wi, wo, strict=True)]
     h = [x / sqrt(dot(s, s)) for x in s] if exact else _unit(s)
     cos_th = dot(n, h)
-    minus = [a - b for a, b in zip(n, h, strict=True)]
-    plus = [a + b for a, b in zip(n, h, strict=True)]
-    sin2 = dot(minus, minus) * (dot(plus, plus) * 0.25)
-    # |n|²|h|² = 1 + e_n + e_h (the exact h has e_h = 0); the denominator's two forms.
+    # |n|²|h|² = 1 + e_n + e_h (the exact h has e_h = 0); |n + h|² = 2(1 + nh2) − |n − h|².
     nh2 = 1 + (e_n + (0 if exact else _length_error(h)))
-    one_minus = (1 - alpha) * (1 + alpha)
+    minus = [a - b for a, b in zip(n, h, strict=True)]
+    m2 = dot(minus, minus)
     c2 = cos_th * cos_th
+    sin2 = m2 * ((2 * (1 + nh2) - m2) * 0.25) if c2 > 0.5 else nh2 - c2
+    # The denominator's two forms.
+    one_minus = (1 - alpha) * (1 + alpha)
     if alpha <= 1:
-        den = alpha2 * nh2 + one_minus * (sin2 if c2 > 0.5 else nh2 - c2)
+        den = alpha2 * nh2 + one_minus * sin2
     else:
         den = nh2 + (-one_minus) * c2
     ndf = d_scale / (den * den)

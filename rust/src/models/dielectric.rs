@@ -31,6 +31,7 @@
 use std::marker::PhantomData;
 
 use super::fresnel::{self, INDEX_RANGE};
+use super::ggx::Facet;
 use super::sheen::Dd;
 use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DiffuseTerm, ModelSpec, ParamKind, ParamSpec, SceneUse, ValidRange};
@@ -56,33 +57,23 @@ pub trait Microfacets: 'static {
     type Prepared<F: Real>: Copy + Send + Sync;
     /// Returns the constants for roughness `alpha`.
     fn prepare<F: Real>(alpha: F) -> Self::Prepared<F>;
-    /// Returns `D(h)` given `cos θh ≥ 0`, `sin²θh` and `nh2 = |n|²|h|²` (to first order
-    /// in the length errors; 1 where they are left out).
-    fn ndf<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F, nh2: F) -> F;
+    /// Returns `D(h)` at the facet `h` (`cos θh ≥ 0`).
+    fn ndf<F: Real>(p: &Self::Prepared<F>, facet: &Facet<F>) -> F;
     /// Returns `μ·Λ(μ)` for `μ ≥ 0` given `sin²θ = |n × w|²`.
     fn mu_lambda<F: Real>(p: &Self::Prepared<F>, mu: F, sin2: F) -> F;
     /// The warp that draws its visible normals at roughness `alpha`.
     fn visible_normals(alpha: f64) -> Warp;
 
     /// Returns `w·D(h)·G2/(4 mu_i mu_o)` given a weight `w >= 0` (the Fresnel part),
-    /// `cos θh ≥ 0`, `sin²θh`, `nh2 = |n|²|h|²`, the cosines `mu = [mu_i, mu_o]`
-    /// (positive) and their `sin²θ = |n × w|²`: [`smith_quotient`] of the weighted NDF
-    /// and the `μ·Λ(μ)`s (the
+    /// the facet `h` (`cos θh ≥ 0`), the cosines `mu = [mu_i, mu_o]` (positive) and their
+    /// `sin²θ = |n × w|²`: [`smith_quotient`] of the weighted NDF and the `μ·Λ(μ)`s (the
     /// NDF flushed as [`Real::flush_subnormal`] does). The weight joins the numerator
     /// before the last division by the larger cosine: at grazing incidence the lobe alone
     /// can exceed the float range where a tiny Fresnel part (`eta` near 1) keeps the value
     /// finite. `w = 0` gives 0.
     #[inline(always)]
-    fn lobe<F: Real>(
-        p: &Self::Prepared<F>,
-        w: F,
-        cos_th: F,
-        sin2_th: F,
-        nh2: F,
-        mu: [F; 2],
-        sin2: [F; 2],
-    ) -> F {
-        let ndf = F::flush_subnormal(Self::ndf(p, cos_th, sin2_th, nh2));
+    fn lobe<F: Real>(p: &Self::Prepared<F>, w: F, facet: &Facet<F>, mu: [F; 2], sin2: [F; 2]) -> F {
+        let ndf = F::flush_subnormal(Self::ndf(p, facet));
         let l_i = Self::mu_lambda(p, mu[0], sin2[0]);
         let l_o = Self::mu_lambda(p, mu[1], sin2[1]);
         smith_quotient(weighted(w, ndf), mu[0], mu[1], l_i, l_o)
@@ -103,8 +94,8 @@ impl Microfacets for Ggx {
     }
 
     #[inline(always)]
-    fn ndf<F: Real>(p: &Self::Prepared<F>, cos_th: F, sin2_th: F, nh2: F) -> F {
-        p.eval(cos_th, sin2_th, nh2)
+    fn ndf<F: Real>(p: &Self::Prepared<F>, facet: &Facet<F>) -> F {
+        p.eval(facet)
     }
 
     #[inline(always)]
@@ -120,16 +111,8 @@ impl Microfacets for Ggx {
     /// the same Smith quotient ([`super::ggx::smith_lobe`]), fewer roundings than the
     /// `μ·Λ(μ)` quotient.
     #[inline(always)]
-    fn lobe<F: Real>(
-        p: &Self::Prepared<F>,
-        w: F,
-        cos_th: F,
-        sin2_th: F,
-        nh2: F,
-        mu: [F; 2],
-        sin2: [F; 2],
-    ) -> F {
-        let ndf = weighted(w, p.eval(cos_th, sin2_th, nh2));
+    fn lobe<F: Real>(p: &Self::Prepared<F>, w: F, facet: &Facet<F>, mu: [F; 2], sin2: [F; 2]) -> F {
+        let ndf = weighted(w, p.eval(facet));
         let alpha2 = p.alpha2;
         super::ggx::smith_lobe(ndf, mu[0], mu[1], alpha2 * sin2[0], alpha2 * sin2[1])
     }
@@ -148,9 +131,9 @@ impl Microfacets for Beckmann {
     }
 
     #[inline(always)]
-    fn ndf<F: Real>(p: &(F, F), cos_th: F, sin2_th: F, _nh2: F) -> F {
-        let c2 = cos_th * cos_th;
-        let t = sin2_th / (p.1 * c2);
+    fn ndf<F: Real>(p: &(F, F), facet: &Facet<F>) -> F {
+        let c2 = facet.cos * facet.cos;
+        let t = facet.sin2_product() / (p.1 * c2);
         let ndf = (-t).exp() / (F::PI * p.1 * c2 * c2);
         // Far from the peak exp(−t) is 0 before cos⁴ underflows: 0/0 is 0 there.
         if ndf.is_nan() { F::ZERO } else { ndf }
@@ -328,8 +311,9 @@ where
         let h_t = F::V3::new(F::from_f64(h64.x), F::from_f64(h64.y), F::from_f64(h64.z));
         let h_r = flipped::<F>(hv.h, d.n.dot(hv.h) < F::ZERO);
         let h = if reflect { h_r } else { h_t };
-        let cos_th = d.n.dot(h);
-        let sin2_th = (d.n - h).length_squared() * ((d.n + h).length_squared() * F::from_f64(0.25));
+        let mut facet = Facet::new(d.n, h, F::ONE + (e_n + F::length_error(h)));
+        let cos_th = facet.cos;
+        facet.cos = max(cos_th, F::ZERO);
         let sin2 = [d.wi, d.wo].map(|w| d.n.cross(w).length_squared());
         let mu = [mu_i.abs(), mu_o.abs()];
         // F at |wi·h| from wi's side.
@@ -338,8 +322,7 @@ where
         let fr = reflectance(&channel, hv.cos_b, r2, e);
         // The Fresnel part times D·G2/(4|mu_i||mu_o|), of the exact unit vectors.
         let part = if reflect { fr } else { refracted };
-        let nh2 = F::ONE + (e_n + F::length_error(h));
-        let lobe = M::lobe(&pp.lobe, part, max(cos_th, F::ZERO), sin2_th, nh2, mu, sin2);
+        let lobe = M::lobe(&pp.lobe, part, &facet, mu, sin2);
         let lobe = microfacet_length_correction(lobe, e_n, e_i, e_o, h);
         // eta = 1: no interface, the transmission is the delta wo = −wi (0 as a function
         // value, also where rounding leaves wi + wo a little off 0). h in the tangent

@@ -91,6 +91,7 @@ pub struct Prepared<F> {
 /// the distance from the peak. `|n|²|h|²` is `1 + e_n + e_h` of the length errors
 /// ([`Real::length_error`]; 1 where they are left out), so the denominator stays
 /// homogeneous of degree 2 in `|n|` and `|h|` as the lobes' length corrections take it.
+/// The sine is [`Facet::sin2`]'s.
 #[derive(Clone, Copy)]
 pub struct Ndf<F> {
     /// `α²`.
@@ -121,17 +122,55 @@ impl<F: Real> Ndf<F> {
         }
     }
 
-    /// `D` given `cos θh = n·h`, `sin²θh = |n × h|²` (from `|n ∓ h|²`) and
-    /// `nh2 = |n|²|h|²`. Below `cos²θh = 1/2` the sine is taken as `nh2 − cos²θh`
-    /// instead: within about an ulp towards the horizon, where the product of `|n ∓ h|²`
-    /// (two sums near 2) carries three or four.
+    /// `D` at the facet `h` ([`Facet`]).
     #[inline(always)]
-    pub fn eval(&self, cos_th: F, sin2_th: F, nh2: F) -> F {
-        let c2 = cos_th * cos_th;
-        let sin2 = if c2 > F::HALF { sin2_th } else { nh2 - c2 };
+    pub fn eval(&self, facet: &Facet<F>) -> F {
+        let c2 = facet.cos * facet.cos;
+        let sin2 = facet.sin2();
         let t = if self.narrow { sin2 } else { c2 };
-        let denom = self.peak * nh2 + self.slope * t;
+        let denom = self.peak * facet.nh2 + self.slope * t;
         self.d_scale / (denom * denom)
+    }
+}
+
+/// Where a facet normal `h` stands from `n`: `cos θh = n·h`, `|n ∓ h|²` and
+/// `nh2 = |n|²|h|²` ([`lengths_squared`]: to first order in the length errors, 1 where
+/// they are left out).
+#[derive(Clone, Copy)]
+pub struct Facet<F> {
+    pub cos: F,
+    pub minus2: F,
+    pub plus2: F,
+    pub nh2: F,
+}
+
+impl<F: Real> Facet<F> {
+    #[inline(always)]
+    pub fn new(n: F::V3, h: F::V3, nh2: F) -> Self {
+        Facet {
+            cos: n.dot(h),
+            minus2: (n - h).length_squared(),
+            plus2: (n + h).length_squared(),
+            nh2,
+        }
+    }
+
+    /// `sin²θh = |n × h|²` as `(1 − cos θh)(1 + cos θh) = |n − h|²·|n + h|²/4`.
+    #[inline(always)]
+    pub fn sin2_product(&self) -> F {
+        self.minus2 * (self.plus2 * F::from_f64(0.25))
+    }
+
+    /// `sin²θh` within about an ulp on either side of `cos²θh = 1/2`: above,
+    /// `|n − h|²·|n + h|²/4` with `|n + h|² = 2(|n|² + |h|²) − |n − h|² = 2(1 + nh2) −
+    /// |n − h|²` (one rounding where the sum of squares takes three; no cancellation for
+    /// `n·h ≥ 0`, `|n − h|² ≤ 2`); below, `nh2 − cos²θh`.
+    #[inline(always)]
+    pub fn sin2(&self) -> F {
+        let c2 = self.cos * self.cos;
+        let plus2 = F::TWO * (F::ONE + self.nh2) - self.minus2;
+        let product = self.minus2 * (plus2 * F::from_f64(0.25));
+        if c2 > F::HALF { product } else { self.nh2 - c2 }
     }
 }
 
@@ -160,11 +199,9 @@ pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, ndf: &Ndf<F>) -> (F, Cosine<
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
     let hv = lobe_half_vector(d, errors);
-    let cos_th = d.n.dot(hv.h);
-    // sin²θh = (1 − cos)(1 + cos); with both cosines positive n·h > 0.
-    let sin2_th =
-        (d.n - hv.h).length_squared() * ((d.n + hv.h).length_squared() * F::from_f64(0.25));
-    let ndf_value = ndf.eval(cos_th, sin2_th, lengths_squared(errors, hv.h));
+    // With both cosines positive n·h > 0.
+    let facet = Facet::new(d.n, hv.h, lengths_squared(errors, hv.h));
+    let ndf_value = ndf.eval(&facet);
     let alpha2 = ndf.alpha2;
     let a_i = alpha2 * d.n.cross(d.wi).length_squared();
     let a_o = alpha2 * d.n.cross(d.wo).length_squared();
