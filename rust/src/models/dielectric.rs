@@ -311,7 +311,8 @@ where
         let h_t = F::V3::new(F::from_f64(h64.x), F::from_f64(h64.y), F::from_f64(h64.z));
         let h_r = flipped::<F>(hv.h, d.n.dot(hv.h) < F::ZERO);
         let h = if reflect { h_r } else { h_t };
-        let mut facet = Facet::new(d.n, h, F::ONE + (e_n + F::length_error(h)));
+        let nh2 = super::ggx::lengths_squared(Some([e_n, e_i, e_o]), h);
+        let mut facet = Facet::new(d.n, h, nh2);
         let cos_th = facet.cos;
         facet.cos = max(cos_th, F::ZERO);
         let sin2 = [d.wi, d.wo].map(|w| d.n.cross(w).length_squared());

@@ -6,8 +6,8 @@
 //! `F = F0 + (1−F0)(1−cos_b)^5`, `F0 = ks` (RGB). `ks = 1` gives F = 1.
 //!
 //! Evaluated without cancellation or overflow: the NDF's denominator is
-//! `α² + (1 − α²)sin²θh` (`α ≤ 1`; [`Ndf`]), with `sin²θh = (1 − cos)(1 + cos)` from
-//! `|n ∓ h|²`, and
+//! `α² + (1 − α²)sin²θh` (`α ≤ 1`; [`Ndf`]), with `sin²θh` from `|n − h|²` and the
+//! lengths ([`Facet::sin2`]), and
 //! `G2/(4 mu_i mu_o) = 1/(4(mu_i mu_o + mu_o·L_i + mu_i·L_o))` with `L = μ·Λ(μ)` in the
 //! bounded form of [`ggx_mu_lambda`](crate::math::geometry::ggx_mu_lambda) (finite at
 //! grazing angles, where `Λ` overflows), as one quotient: see [`lobe`].
