@@ -57,8 +57,9 @@ def eval(
             normal incidence, from a table the library computed). Details and
             accuracy: ``brdf_rs._normalization``.
         precision: ``"accurate"`` (the default: the goals of docs/numerics.md, within a
-            few ulps) or ``"fast"``: powers ``x^p`` in plain floating point and the
-            microfacet lobes without their length corrections, relative error at most
+            few ulps) or ``"fast"``: powers ``x^p`` in plain floating point, the
+            microfacet lobes without their length corrections and, in float64 on
+            AVX-512, normalizations without square roots or divisions; relative error at most
             1e-12 in float64 and 2e-6 in float32 on well-conditioned inputs
             (docs/numerics.md); the same results for bad inputs (NaN rows or errors).
             Models whose ``models()`` entry has ``fast_tier`` false give the same bits
@@ -296,7 +297,9 @@ def models() -> dict[str, _spec.ModelSpec]:
     the surface),
     ``sheen_layer`` (whether a scene material may stack it over a base as a sheen layer),
     ``powers`` (whether it raises something to a power), ``fast_tier`` (whether
-    ``precision="fast"`` changes it: powers, or microfacet length corrections in float64),
+    ``precision="fast"`` changes it: powers, or microfacet length corrections in float64;
+    in float64 on AVX-512 the fast tier also normalizes such a model's directions its own
+    way),
     ``exact`` (its ``normalization="exact"``: how the factor is
     computed, the parameters it takes and the colour it scales; None where it has none) and
     ``params``: a list of dicts with ``name``, ``kind`` (scalar, colour, scalar list,

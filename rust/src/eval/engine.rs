@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use super::rows::Rows;
 use super::{Plan, Precision};
 use crate::math::geometry::{Cosine, tangent_parallel, wide_cosine};
-use crate::math::{FastPow, PowUnit, Real, TablePow, Vector3};
+use crate::math::{FastPow, FastPowDivisionFree, PowUnit, Real, TablePow, Vector3};
 use crate::models::slots::MAX_VARYING_SLOTS;
 use crate::models::{
     Directions, Kernel, KernelVisitor, ParamSource, PowerStage, STAGE_KEEP, WideRow,
@@ -212,9 +212,11 @@ macro_rules! for_lanes {
 /// normalized without [`Real::normalize`]'s range selects, which scale no such row:
 /// [`Real::normalize_unscaled`], the same bits. Any other block (a NaN,
 /// infinite, zero, tiny or huge row among its first `len`) takes [`Real::normalize`]
-/// whole, so bad rows are flagged and extreme ones normalized.
+/// whole, so bad rows are flagged and extreme ones normalized. The AVX-512 fast tier (`P::DIVISION_FREE`)
+/// takes [`Real::normalize_unscaled_fast`] and [`Real::normalize_fast`] instead, which
+/// agree in the same way (in `f64` without square roots or divisions).
 #[inline(always)]
-fn normalize_block<F: Real>(
+fn normalize_block<F: Real, P: PowUnit>(
     v: &mut [[F; BLOCK]; 3],
     ok: &mut [bool; BLOCK],
     normalized: bool,
@@ -236,7 +238,12 @@ fn normalize_block<F: Real>(
     if all_ordinary {
         // Every row is usable: `ok` stays as it is.
         for_lanes!(lanes, |j| {
-            let u = F::normalize_unscaled(F::V3::new(x[j], y[j], z[j]));
+            let v = F::V3::new(x[j], y[j], z[j]);
+            let u = if P::DIVISION_FREE {
+                F::normalize_unscaled_fast(v)
+            } else {
+                F::normalize_unscaled(v)
+            };
             x[j] = u.x();
             y[j] = u.y();
             z[j] = u.z();
@@ -244,7 +251,12 @@ fn normalize_block<F: Real>(
         return;
     }
     for_lanes!(lanes, |j| {
-        let (u, usable) = F::normalize(F::V3::new(x[j], y[j], z[j]));
+        let v = F::V3::new(x[j], y[j], z[j]);
+        let (u, usable) = if P::DIVISION_FREE {
+            F::normalize_fast(v)
+        } else {
+            F::normalize(v)
+        };
         x[j] = u.x();
         y[j] = u.y();
         z[j] = u.z();
@@ -265,15 +277,23 @@ fn ordinary_length<F: Real>(raw: F::V3) -> bool {
 /// normalizes them in the same pass, as [`normalize_block`] does a block whose rows are all
 /// ordinary (the same bits): one pass over the rows instead of three (copy, range test,
 /// normalization). Returns whether every row was ordinary; if not, the scratch holds
-/// garbage and the caller loads and normalizes the block the general way.
+/// garbage and the caller loads and normalizes the block the general way. In `P`'s tier,
+/// as [`normalize_block`].
 #[inline(always)]
-fn load_normalize_ordinary<F: Real>(rows: &[F; 3 * BLOCK], dst: &mut [[F; BLOCK]; 3]) -> bool {
+fn load_normalize_ordinary<F: Real, P: PowUnit>(
+    rows: &[F; 3 * BLOCK],
+    dst: &mut [[F; BLOCK]; 3],
+) -> bool {
     let [x, y, z] = dst;
     let mut all_ordinary = true;
     for (j, row) in rows.chunks_exact(3).enumerate() {
         let raw = F::V3::new(row[0], row[1], row[2]);
         all_ordinary &= ordinary_length::<F>(raw);
-        let u = F::normalize_unscaled(raw);
+        let u = if P::DIVISION_FREE {
+            F::normalize_unscaled_fast(raw)
+        } else {
+            F::normalize_unscaled(raw)
+        };
         x[j] = u.x();
         y[j] = u.y();
         z[j] = u.z();
@@ -301,6 +321,8 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
             let v = F::V3::new(r[0], r[1], r[2]);
             let (u, ok) = if plan.options.normalized {
                 (v, F::usable(v))
+            } else if P::DIVISION_FREE {
+                F::normalize_fast(v)
             } else {
                 F::normalize(v)
             };
@@ -388,12 +410,12 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
                 && let Some(full) = s
                     .get(3 * row0..3 * (row0 + BLOCK))
                     .and_then(|s| <&[F; 3 * BLOCK]>::try_from(s).ok())
-                && load_normalize_ordinary::<F>(full, &mut scratch.vectors[i])
+                && load_normalize_ordinary::<F, P>(full, &mut scratch.vectors[i])
             {
                 continue;
             }
             load_vector(source, &plan.batch, row0, len, &mut scratch.vectors[i]);
-            normalize_block::<F>(
+            normalize_block::<F, P>(
                 &mut scratch.vectors[i],
                 &mut scratch.ok,
                 plan.options.normalized,
@@ -750,9 +772,9 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
         // instruction set (x86-64 CPUs without AVX2 are rare, and the accurate loops meet
         // the fast tier's bound).
         macro_rules! pick {
-            ($f:ident) => {
+            ($f:ident, $fast:ty) => {
                 if (K::POWERS || (K::LENGTH_CORRECTIONS && F::EXACT_LENGTHS)) && self.fast {
-                    pick_mode!($f, FastPow)
+                    pick_mode!($f, $fast)
                 } else {
                     pick_mode!($f, TablePow)
                 }
@@ -760,8 +782,8 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
         }
         #[cfg(target_arch = "x86_64")]
         match self.isa {
-            Isa::Avx512(_) => return pick!(range_avx512),
-            Isa::Avx2(_) => return pick!(range_avx2),
+            Isa::Avx512(_) => return pick!(range_avx512, FastPowDivisionFree),
+            Isa::Avx2(_) => return pick!(range_avx2, FastPow),
             Isa::Baseline => {}
         }
         pick_mode!(range_baseline, TablePow)

@@ -109,6 +109,17 @@ pub fn half_vector<F: Real>(wi: F::V3, wo: F::V3) -> HalfVector<F> {
     half_vector_of_sum(wi + wo, wi, wo)
 }
 
+/// [`half_vector`] in `P`'s tier: with `P::DIVISION_FREE` (the AVX-512 fast tier) normalized with
+/// [`Real::normalize_length_fast`] (no square root, no division).
+#[inline(always)]
+pub fn half_vector_in<F: Real, P: PowUnit>(wi: F::V3, wo: F::V3) -> HalfVector<F> {
+    if !P::DIVISION_FREE {
+        return half_vector(wi, wo);
+    }
+    let (h, len) = F::normalize_length_fast(wi + wo);
+    half_vector_from(h, len, wi, wo)
+}
+
 /// Returns [`half_vector`] of the exact unit vectors `wi·(1 − e_i/2)`, `wo·(1 − e_o/2)`
 /// (to first order) given the rounded ones and their length errors `e = |w|² − 1`
 /// ([`Real::length_error`]): the sum becomes `wi + wo − (wi·e_i + wo·e_o)/2`, whose
@@ -135,6 +146,12 @@ pub fn half_vector_exact<F: Real>(wi: F::V3, wo: F::V3, e_i: F, e_o: F) -> HalfV
 #[inline(always)]
 fn half_vector_of_sum<F: Real>(s: F::V3, wi: F::V3, wo: F::V3) -> HalfVector<F> {
     let (h, len) = F::normalize_length(s);
+    half_vector_from(h, len, wi, wo)
+}
+
+/// [`half_vector_of_sum`] given the sum's direction `h` and length `len`.
+#[inline(always)]
+fn half_vector_from<F: Real>(h: F::V3, len: F, wi: F::V3, wo: F::V3) -> HalfVector<F> {
     let defined = len > F::ZERO;
     // When undefined, use n-free finite values (the caller zeroes the lane).
     let h = F::V3::new(

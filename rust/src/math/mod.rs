@@ -167,12 +167,33 @@ pub trait Real:
     const ORDINARY_LENGTH_SQUARED: (Self, Self);
     /// [`Real::normalize`]'s unit vector for a `v` whose squared length lies in
     /// [`Real::ORDINARY_LENGTH_SQUARED`], bit for bit, without the range selects (which
-    /// scale no such vector): the normalization of an ordinary block, in either tier (a
-    /// `1/|v|` by Newton's iteration from the bit-pattern estimate, without the square
-    /// root and the division, measured slower on AMD Zen 3 and was dropped).
+    /// scale no such vector): the normalization of an ordinary block in the accurate tier
+    /// (the fast tier's: [`Real::normalize_unscaled_fast`]).
     fn normalize_unscaled(v: Self::V3) -> Self::V3;
-    /// Returns [`Real::normalize`]'s unit vector together with [`Real::length`]'s `|v|`,
-    /// sharing the scaling and the square root (bit for bit the values of the two).
+    /// `1/√x` for `x >= 0` without a square root or a division, for the fast tier: the
+    /// bit-pattern estimate (3.4% off), a third-order Newton step (`e = 1 − x·y²`,
+    /// `y ← y + y·e·(1/2 + 3e/8)`: to 10^-4) and a fourth-order one (`+ 5e³/16`: to about
+    /// 5·10^-16), with fused multiply-adds; a subnormal `x` is scaled into the normal range
+    /// first. Within 3 ulps in `f64` and 1 in `f32` (measured by
+    /// `rsqrt_fast_is_within_a_few_ulps_everywhere`); `x = 0` gives a large finite value.
+    fn rsqrt_fast(x: Self) -> Self;
+    /// [`Real::normalize_unscaled`] in the fast tier: in `f64`, `v·(1/|v|)` by
+    /// [`Real::rsqrt_fast`], which keeps the divider free on CPUs where it is the loop's
+    /// busiest unit (docs/numerics.md, "The fast tier"); `f32` keeps the square root and
+    /// the division (its loops measured no faster without them).
+    fn normalize_unscaled_fast(v: Self::V3) -> Self::V3;
+    /// `√x` (`x >= 0`) in the fast tier: `x·(1/√x)` by [`Real::rsqrt_fast`] in `f64`
+    /// (within 4 ulps), the square root in `f32`.
+    fn sqrt_fast(x: Self) -> Self;
+    /// [`Real::normalize`] in the fast tier: [`Real::normalize_length_fast`]'s unit vector
+    /// (for an ordinary `v`, [`Real::normalize_unscaled_fast`]'s bits).
+    fn normalize_fast(v: Self::V3) -> (Self::V3, bool);
+    /// [`Real::normalize_length`] in the fast tier: the same scaling, and in `f64` the
+    /// reciprocal length by [`Real::rsqrt_fast`], the length as `|v|²·(1/|v|)`.
+    fn normalize_length_fast(v: Self::V3) -> (Self::V3, Self);
+    /// [`Real::normalize_length`] with `recip(|v|²) = (1/|v|, |v|)` of the scaled vector.
+    fn normalize_length_with(v: Self::V3, recip: impl Fn(Self) -> (Self, Self))
+    -> (Self::V3, Self);
     fn normalize_length(v: Self::V3) -> (Self::V3, Self);
     /// Returns `|v|`, scaled by a power of two before squaring so that it neither
     /// overflows nor underflows (exact to a few ulps, subnormal lengths included).
@@ -267,6 +288,12 @@ pub trait PowUnit: 'static {
     /// tier's handling around the kernels in the eval engine. Follows from
     /// [`PowUnit::TIER`]; not set by the implementations.
     const FAST: bool = matches!(Self::TIER, PowTier::Fast);
+    /// Whether the fast tier's `f64` normalizations and square roots go without the
+    /// divider ([`Real::rsqrt_fast`]): only in the AVX-512 loops
+    /// ([`FastPowDivisionFree`]), where the divider is the busiest unit; in the AVX2 loops
+    /// the Newton steps cost more than the division they save (`benches/eval_ab.py` with
+    /// `BRDF_RS_ISA=avx2`).
+    const DIVISION_FREE: bool = false;
 
     /// Returns `x^p`, as [`Real::pow_unit`].
     #[inline(always)]
@@ -320,6 +347,15 @@ pub struct FastPow;
 
 impl PowUnit for FastPow {
     const TIER: PowTier = PowTier::Fast;
+}
+
+/// [`FastPow`] with the `f64` normalizations and square roots done without the divider
+/// ([`PowUnit::DIVISION_FREE`]): the fast tier of the AVX-512 loops.
+pub struct FastPowDivisionFree;
+
+impl PowUnit for FastPowDivisionFree {
+    const TIER: PowTier = PowTier::Fast;
+    const DIVISION_FREE: bool = true;
 }
 
 /// Returns the larger of `a` and `b` (the second if they compare unordered).
@@ -376,7 +412,8 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
 macro_rules! impl_real {
     ($f:ident, $v:ty, $pow:ident, $pow_ord:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
      exact_lengths = $exact_lengths:expr, small = $small:expr, big = $big:expr, up = $up:expr,
-     down = $down:expr, ordinary = $ordinary:expr) => {
+     down = $down:expr, ordinary = $ordinary:expr, magic = $magic:expr,
+     rsqrt_tiny = $rsqrt_tiny:expr, fast_norm = $fast_norm:expr) => {
         impl Real for $f {
             type V3 = $v;
             const ZERO: Self = 0.0;
@@ -487,12 +524,68 @@ macro_rules! impl_real {
                 (u, finite_nonzero::<$f>(v))
             }
             #[inline(always)]
+            fn rsqrt_fast(x: Self) -> Self {
+                // Subnormal x: scaled by an even power of two into the normal range.
+                let (tiny, scale, back) = $rsqrt_tiny;
+                let small = x < tiny;
+                let x = if small { x * scale } else { x };
+                let y = $f::from_bits($magic.wrapping_sub(x.to_bits() >> 1));
+                // A third-order step (y·(1 + e/2 + 3e²/8), e = 1 − x·y²: 3.4% → 10^-4), then a
+                // fourth-order one (+ 5e³/16: 10^-4 → 35e⁴/128, about 5·10^-16).
+                let e = (-(x * y)).mul_add(y, 1.0);
+                let y = (y * e).mul_add((0.375 as $f).mul_add(e, 0.5), y);
+                let e = (-(x * y)).mul_add(y, 1.0);
+                let p = (0.3125 as $f).mul_add(e, 0.375).mul_add(e, 0.5);
+                let y = (y * e).mul_add(p, y);
+                if small { y * back } else { y }
+            }
+            #[inline(always)]
+            fn sqrt_fast(x: Self) -> Self {
+                if $fast_norm {
+                    x * Self::rsqrt_fast(x)
+                } else {
+                    x.sqrt()
+                }
+            }
+            #[inline(always)]
+            fn normalize_unscaled_fast(v: Self::V3) -> Self::V3 {
+                if !$fast_norm {
+                    return Self::normalize_unscaled(v);
+                }
+                keep_signs!($f, $v, v * Self::rsqrt_fast(v.length_squared()), v)
+            }
+            #[inline(always)]
+            fn normalize_fast(v: Self::V3) -> (Self::V3, bool) {
+                let (u, _) = Self::normalize_length_fast(v);
+                (u, finite_nonzero::<$f>(v))
+            }
+            #[inline(always)]
+            fn normalize_length_fast(v: Self::V3) -> (Self::V3, Self) {
+                if !$fast_norm {
+                    return Self::normalize_length(v);
+                }
+                Self::normalize_length_with(v, |l2| {
+                    let y = Self::rsqrt_fast(l2);
+                    (y, l2 * y)
+                })
+            }
+            #[inline(always)]
             fn normalize_unscaled(v: Self::V3) -> Self::V3 {
                 // `normalize_length`'s arithmetic without its selects: bit for bit.
                 keep_signs!($f, $v, v * (1.0 / v.length_squared().sqrt()), v)
             }
             #[inline(always)]
             fn normalize_length(v: Self::V3) -> (Self::V3, Self) {
+                Self::normalize_length_with(v, |l2| {
+                    let len = l2.sqrt();
+                    (1.0 / len, len)
+                })
+            }
+            #[inline(always)]
+            fn normalize_length_with(
+                v: Self::V3,
+                recip: impl Fn(Self) -> (Self, Self),
+            ) -> (Self::V3, Self) {
                 // Scale by an exact power of two so that squaring neither overflows nor
                 // underflows, then divide by the length. Both selects are exact.
                 let s = max_abs::<$f>(v);
@@ -508,8 +601,8 @@ macro_rules! impl_real {
                 } else {
                     1.0
                 };
-                let len = v.length_squared().sqrt();
-                let u = keep_signs!($f, $v, v * (1.0 / len), raw);
+                let (inv, len) = recip(v.length_squared());
+                let u = keep_signs!($f, $v, v * inv, raw);
                 let back = if small {
                     $down
                 } else if big {
@@ -553,7 +646,14 @@ impl_real!(
     ordinary = (
         f64::from_bits((1023 - 998) << 52), // 2^-998
         f64::from_bits((1023 + 999) << 52)  // 2^999
-    )
+    ),
+    magic = 0x5FE6EB50C7B537A9u64,
+    rsqrt_tiny = (
+        f64::from_bits((1023 - 1000) << 52), // 2^-1000
+        f64::from_bits((1023 + 200) << 52),  // 2^200
+        f64::from_bits((1023 + 100) << 52)   // 2^100
+    ),
+    fast_norm = true
 );
 // f32: |v| in [2^-40, 2^40] squares safely; outside, rescale by 2^(+-100).
 impl_real!(
@@ -574,7 +674,14 @@ impl_real!(
     ordinary = (
         f32::from_bits((127 - 78) << 23), // 2^-78
         f32::from_bits((127 + 79) << 23)  // 2^79
-    )
+    ),
+    magic = 0x5F375A86u32,
+    rsqrt_tiny = (
+        f32::from_bits((127 - 120) << 23), // 2^-120
+        f32::from_bits((127 + 40) << 23),  // 2^40
+        f32::from_bits((127 + 20) << 23)   // 2^20
+    ),
+    fast_norm = false
 );
 
 #[cfg(test)]
@@ -685,6 +792,57 @@ mod tests {
         let scales = [1e-12, 1e-5, 1.0, 1e5, 1e12];
         let ends = [2f64.powi(-39), 2f64.powi(39), 1.0];
         assert!(check_normalize_unscaled::<f32>(&scales, &ends) > 500);
+    }
+
+    /// The fast tier's reciprocal square root, over every binade (subnormals included) and
+    /// within each: at most 3 ulps from `1/√x` in `f64` (`f32`: 1), against the value
+    /// rounded from double width (`f32`: from `f64`). 0 gives a finite value, which a zero
+    /// vector's components (all 0) turn into 0.
+    #[test]
+    fn rsqrt_fast_is_within_a_few_ulps_everywhere() {
+        let mut s = 11u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut worst = 0.0f64;
+        for e in -1074..1024 {
+            for _ in 0..64 {
+                let x = 2f64.powi(e) * (1.0 + next());
+                if !(x.is_finite() && x > 0.0) {
+                    continue;
+                }
+                let y = f64::rsqrt_fast(x);
+                // 1/√x to about 2^-100: r = 1/√x rounded, then one Newton correction in
+                // double width (fused multiply-adds give x·r² − 1 exactly enough).
+                let r = 1.0 / x.sqrt();
+                let rr = r * r;
+                let rr_lo = r.mul_add(r, -rr);
+                let e1 = x.mul_add(rr, -1.0) + x * rr_lo;
+                let exact_lo = -0.5 * r * e1;
+                let ulps = ((y - r) - exact_lo).abs() / (f64::EPSILON * r);
+                worst = worst.max(ulps);
+            }
+        }
+        assert!(worst <= 3.0, "f64 rsqrt_fast: {worst} ulps");
+        let mut worst32 = 0.0f64;
+        for e in -149..128 {
+            for _ in 0..64 {
+                let x = (2f64.powi(e) * (1.0 + next())) as f32;
+                if !(x.is_finite() && x > 0.0) {
+                    continue;
+                }
+                let want = 1.0 / f64::from(x).sqrt();
+                let ulps =
+                    (f64::from(f32::rsqrt_fast(x)) - want).abs() / (f64::from(f32::EPSILON) * want);
+                worst32 = worst32.max(ulps);
+            }
+        }
+        assert!(worst32 <= 1.0, "f32 rsqrt_fast: {worst32} ulps");
+        assert!(f64::rsqrt_fast(0.0).is_finite() && f32::rsqrt_fast(0.0).is_finite());
+        eprintln!("rsqrt_fast worst: f64 {worst} ulps, f32 {worst32} ulps");
     }
 
     #[test]

@@ -115,7 +115,7 @@ pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, alpha: F, alpha2: F) -> (F, 
     let errors = ggx::length_errors::<F, P>(d);
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
-    let hv = ggx::lobe_half_vector(d, errors);
+    let hv = ggx::lobe_half_vector::<F, P>(d, errors);
     let (c2, sin2_th) = if F::EXACT_LENGTHS {
         // Below the horizon of n (only by rounding, with both cosines positive) D is 0.
         let cos_th = max(d.n.dot(hv.h), F::ZERO);

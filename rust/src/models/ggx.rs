@@ -17,7 +17,7 @@ use super::slots::{ColourSlot, ScalarSlot};
 use super::spec::{self, DfgAxis, DiffuseTerm, ModelSpec, ParamSpec, SceneUse};
 use super::{Directions, Kernel, ParamSource};
 use crate::math::geometry::{
-    Cosine, HalfVector, above_both, half_vector, half_vector_exact, microfacet_length_correction,
+    Cosine, HalfVector, above_both, half_vector_exact, half_vector_in, microfacet_length_correction,
     schlick_rgb, schlick_weight, weighted,
 };
 use crate::math::{PowUnit, Real, Vector3, max, min};
@@ -198,14 +198,15 @@ pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, ndf: &Ndf<F>) -> (F, Cosine<
     let errors = length_errors::<F, P>(d);
     let mu_i = d.n.dot(d.wi);
     let mu_o = d.n.dot(d.wo);
-    let hv = lobe_half_vector(d, errors);
+    let hv = lobe_half_vector::<F, P>(d, errors);
     // With both cosines positive n·h > 0.
     let facet = Facet::new(d.n, hv.h, lengths_squared(errors, hv.h));
     let ndf_value = ndf.eval(&facet);
     let alpha2 = ndf.alpha2;
     let a_i = alpha2 * d.n.cross(d.wi).length_squared();
     let a_o = alpha2 * d.n.cross(d.wo).length_squared();
-    let spec = smith_lobe(ndf_value, mu_i, mu_o, a_i, a_o);
+    let sqrt = |x: F| if P::DIVISION_FREE { F::sqrt_fast(x) } else { x.sqrt() };
+    let spec = smith_lobe_with(ndf_value, mu_i, mu_o, a_i, a_o, sqrt);
     (corrected(spec, errors, hv.h), hv.cos_b, hv.defined)
 }
 
@@ -216,8 +217,15 @@ pub fn lobe<F: Real, P: PowUnit>(d: &Directions<F>, ndf: &Ndf<F>) -> (F, Cosine<
 /// refraction lobes use it too.
 #[inline(always)]
 pub fn smith_lobe<F: Real>(ndf: F, mu_i: F, mu_o: F, a_i: F, a_o: F) -> F {
-    let p_i = F::TWO * ((mu_i * mu_i + a_i).sqrt() + mu_i);
-    let p_o = F::TWO * ((mu_o * mu_o + a_o).sqrt() + mu_o);
+    smith_lobe_with(ndf, mu_i, mu_o, a_i, a_o, F::sqrt)
+}
+
+/// [`smith_lobe`] with the square roots taken by `sqrt` (the fast tier's
+/// [`Real::sqrt_fast`]).
+#[inline(always)]
+fn smith_lobe_with<F: Real>(ndf: F, mu_i: F, mu_o: F, a_i: F, a_o: F, sqrt: impl Fn(F) -> F) -> F {
+    let p_i = F::TWO * (sqrt(mu_i * mu_i + a_i) + mu_i);
+    let p_o = F::TWO * (sqrt(mu_o * mu_o + a_o) + mu_o);
     let m = max(mu_i, mu_o);
     let least = min(mu_i, mu_o);
     let ratio = least / m;
@@ -245,10 +253,13 @@ pub fn length_errors<F: Real, P: PowUnit>(d: &Directions<F>) -> Option<[F; 3]> {
 /// The half vector of a microfacet lobe: of the exact unit vectors
 /// ([`half_vector_exact`]) given their length errors, else of the rounded ones.
 #[inline(always)]
-pub fn lobe_half_vector<F: Real>(d: &Directions<F>, errors: Option<[F; 3]>) -> HalfVector<F> {
+pub fn lobe_half_vector<F: Real, P: PowUnit>(
+    d: &Directions<F>,
+    errors: Option<[F; 3]>,
+) -> HalfVector<F> {
     match errors {
         Some([_, e_i, e_o]) => half_vector_exact::<F>(d.wi, d.wo, e_i, e_o),
-        None => half_vector::<F>(d.wi, d.wo),
+        None => half_vector_in::<F, P>(d.wi, d.wo),
     }
 }
 
