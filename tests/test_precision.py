@@ -273,3 +273,24 @@ def test_model_takes_precision_and_keeps_it():
     assert again.precision == "fast" and again.eval(wi, wo).tobytes() == want.tobytes()
     assert brdf_rs.Model("torrance_sparrow", p=300.0).precision == "accurate"
     assert "precision" not in repr(brdf_rs.Model("phong"))
+
+
+@pytest.mark.parametrize("precision", ["accurate", "fast"])
+def test_a_direction_along_n_does_not_depend_on_its_length(rng, precision):
+    """``wi = c·n`` is the direction ``n`` whatever ``c > 0``: every model gives the value
+    of ``wi = n`` to within rounding (1e-13 relative) for lengths from 1e-5 to 1e5, in
+    both tiers. The normalized ``c·n`` may be an ulp off unit length; a kernel that read
+    that as an angle (``charlie_sheen``'s Λ took ``1 − mu`` from the cosine) was 1e-9
+    off there."""
+    count = 256
+    n = np.tile([0.0, 0.0, 1.0], (count, 1))
+    wi = n * 10.0 ** rng.uniform(-5, 5, size=(count, 1))
+    wo = np.tile(random_directions(rng, 1) * [1, 1, 0] + [0, 0, 1.5], (count, 1))
+    for model in MODEL_NAMES:
+        kw = {**random_params(rng, model), **required_extras(model)}
+        if takes_tangent(model):
+            kw["tangent"] = np.tile([1.0, 0.0, 0.0], (count, 1))
+        got = brdf_rs.eval(model, wi, wo, n, precision=precision, **kw)
+        want = brdf_rs.eval(model, n, wo, n, precision=precision, **kw)
+        rel = np.abs(got - want) / np.maximum(np.abs(want), np.finfo(np.float64).tiny)
+        assert rel.max() <= 1e-13, (model, float(rel.max()))

@@ -40,8 +40,10 @@ pub struct Prepared<F> {
 #[inline(always)]
 fn eval_in<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
     let a = sheen::angles(d);
-    let lambda_i = pp.fit.lambda::<P>(a.mu_i);
-    let lambda_o = pp.fit.lambda::<P>(a.mu_o);
+    let c_i = sheen::cosine_complement::<F>(d.n, d.wi, a.mu_i);
+    let c_o = sheen::cosine_complement::<F>(d.n, d.wo, a.mu_o);
+    let lambda_i = pp.fit.lambda_with::<P>(a.mu_i, c_i);
+    let lambda_o = pp.fit.lambda_with::<P>(a.mu_o, c_o);
     let lobe = sheen::charlie_smith::<F, P>(&pp.charlie, &a, lambda_i, lambda_o);
     pp.colours.rgb(lobe, &a)
 }

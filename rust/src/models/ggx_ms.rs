@@ -121,7 +121,12 @@ where
     fn eval_with<F: Real, P: PowUnit>(pp: &Prepared<F>, d: &Directions<F>) -> [F; 3] {
         let mu_i = d.n.dot(d.wi);
         let mu_o = d.n.dot(d.wo);
-        let loss = T::TABLE.loss(mu_i, pp.alpha) * T::TABLE.loss(mu_o, pp.alpha);
+        // sinθ from the cross product: exactly 0 for a direction along n, whatever its
+        // rounding to unit length (see `loss_sine`).
+        let sin_i = d.n.cross(d.wi).length_squared().sqrt();
+        let sin_o = d.n.cross(d.wo).length_squared().sqrt();
+        let loss = T::TABLE.loss_sine(mu_i, sin_i, pp.alpha)
+            * T::TABLE.loss_sine(mu_o, sin_o, pp.alpha);
         above_both(mu_i, mu_o, pp.scale.map(|s| s * loss))
     }
 

@@ -153,6 +153,20 @@ pub fn angles<F: Real>(d: &Directions<F>) -> Angles<F> {
     }
 }
 
+/// `1 − cos θ` of the angle between `n` and `w` given `mu = n·w`: `sin²θ/(1 + mu)` with
+/// `sin²θ = |n × w|²/(|n|²|w|²)`, so the lengths' rounding does not enter and a `w`
+/// along `n` gives exactly 0 (`1 − mu` would give the rounding of `|w|`), for `mu >=
+/// 1/2` (below, `1 − mu` itself).
+#[inline(always)]
+pub fn cosine_complement<F: Real>(n: F::V3, w: F::V3, mu: F) -> F {
+    let sin2 = n.cross(w).length_squared() / (n.length_squared() * w.length_squared());
+    if mu < F::HALF {
+        F::ONE - mu
+    } else {
+        sin2 / (F::ONE + mu)
+    }
+}
+
 /// Estevez and Kulla's distribution `D = (2 + 1/α)·sin(θh)^(1/α)/(2π)`.
 #[derive(Clone, Copy)]
 pub struct Charlie<F> {
@@ -391,10 +405,19 @@ impl<F: Real> LambdaFit<F> {
     /// surface the value is not used).
     #[inline(always)]
     pub fn lambda<P: PowUnit>(&self, mu: F) -> F {
+        self.lambda_with::<P>(mu, F::ONE - mu)
+    }
+
+    /// [`LambdaFit::lambda`] given also `1 − μ` ([`cosine_complement`]), which it takes
+    /// from `μ = 1/2` on: the fit's powers of `1 − μ` there turn a length error of the
+    /// rounded unit vectors (`μ = 1 − ε` for a direction exactly along `n`) into 10^-9
+    /// of `Λ`, where the complement from the cross product is exactly 0.
+    #[inline(always)]
+    pub fn lambda_with<P: PowUnit>(&self, mu: F, one_minus_mu: F) -> F {
         let mu = max(F::ZERO, min(mu, F::ONE));
+        let one_minus_mu = max(F::ZERO, min(one_minus_mu, F::ONE));
         let low = mu < F::HALF;
-        // 1 − μ is exact for μ in [1/2, 1].
-        let x = if low { mu } else { F::ONE - mu };
+        let x = if low { mu } else { one_minus_mu };
         let one_minus_x = if low { F::ONE - mu } else { mu };
         let l = self.l::<P>(x, one_minus_x);
         let l = if low {
