@@ -113,6 +113,8 @@ def test_fast_tier_changes_exactly_the_models_it_names(rng, dtype):
         a = brdf_rs.eval(model, wi, wo, **extra)
         b = brdf_rs.eval(model, wi, wo, precision="fast", **extra)
         changed = model in FAST_MODELS and (dtype == np.float64 or SPECS[model]["powers"])
+        # The baseline loops are the accurate ones (no fused multiply-add to build on).
+        changed &= brdf_rs.isa() != "baseline"
         # Only the AVX-512 loops normalize differently in the fast tier.
         changed &= not (
             dtype == np.float64 and model in ACCURATE_IN_FLOAT64 and brdf_rs.isa() != "avx512"
@@ -273,6 +275,63 @@ def test_model_takes_precision_and_keeps_it():
     assert again.precision == "fast" and again.eval(wi, wo).tobytes() == want.tobytes()
     assert brdf_rs.Model("torrance_sparrow", p=300.0).precision == "accurate"
     assert "precision" not in repr(brdf_rs.Model("phong"))
+
+
+@pytest.mark.parametrize("model", FAST_MODELS)
+def test_fast_tier_keeps_axis_directions_exact(rng, model):
+    """Directions along an axis, of any length and as given (not ``normalized=True``),
+    normalize to exactly ±1 in both tiers: with ``wi`` (and ``wo`` in half the rows)
+    along the normal, the fast value is within the tier's bound of the accurate one.
+    A fast normalization a few ulps off unit length made ``charlie_sheen`` at ``wi == n``
+    1e-9 off: the direction is exact, so the result must be too."""
+    count = 512
+    lengths = 10.0 ** rng.uniform(-200, 200, size=(count, 1))
+    axes = np.eye(3)[rng.integers(0, 3, size=count)] * np.where(rng.random((count, 1)) < 0.5, -1, 1)
+    n = axes * lengths
+    wi = axes * 10.0 ** rng.uniform(-200, 200, size=(count, 1))
+    wo = random_directions(rng, count) + 2.0 * axes
+    wo[::2] = axes[::2] * 3.0
+    extra = required_extras(model)
+    params = random_params(rng, model)
+    tangent = random_directions(rng, count) if takes_tangent(model) else None
+    kw = {**params, **extra}
+    if tangent is not None:
+        kw["tangent"] = tangent
+    acc = brdf_rs.eval(model, wi, wo, n, **kw)
+    fast = brdf_rs.eval(model, wi, wo, n, precision="fast", **kw)
+    assert np.isnan(fast).sum() == np.isnan(acc).sum()
+    ok = ~np.isnan(acc)
+    rel = np.abs(fast[ok] - acc[ok]) / np.maximum(np.abs(acc[ok]), np.finfo(np.float64).tiny)
+    assert rel.max(initial=0.0) <= FAST_RTOL64, float(rel.max())
+
+
+@pytest.mark.parametrize("precision", ["accurate", "fast"])
+def test_tangents_at_the_parallel_threshold_give_a_clear_answer(rng, precision):
+    """A tangent whose angle to the normal is near the refusal threshold (64 epsilons) is
+    either used or refused with the parallel-tangent message, in both tiers: the check
+    that names the bad row normalizes as the loop did (the fast tier's AVX-512 loops
+    normalize their own way), so it never reports a bad row it cannot find again."""
+    count = 4000
+    n = random_directions(rng, count) * 10.0 ** rng.uniform(-1, 1, size=(count, 1))
+    side = np.cross(n, random_directions(rng, count))
+    side /= np.linalg.norm(side, axis=1, keepdims=True)
+    unit_n = n / np.linalg.norm(n, axis=1, keepdims=True)
+    angle = 64 * np.finfo(np.float64).eps * rng.uniform(0.9, 1.1, size=(count, 1))
+    tangent = (unit_n + angle * side) * 10.0 ** rng.uniform(-1, 1, size=(count, 1))
+    wi = unit_n + 0.5 * side
+    wo = unit_n - 0.3 * side
+    refused = 0
+    for model in ("ashikhmin_shirley", "ward"):
+        for k in range(count):
+            rows = slice(k, k + 1)
+            try:
+                brdf_rs.eval(
+                    model, wi[rows], wo[rows], n[rows], tangent=tangent[rows], precision=precision
+                )
+            except ValueError as e:
+                assert "parallel to the normal" in str(e), str(e)
+                refused += 1
+    assert 0 < refused < 2 * count
 
 
 @pytest.mark.parametrize("precision", ["accurate", "fast"])

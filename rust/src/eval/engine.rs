@@ -743,6 +743,29 @@ fn range_avx512<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
     run_range::<F, K, P, MODE>(plan, first_row, out)
 }
 
+/// Whether the fast tier has loops of its own for kernel `K` in width `F`: where it has
+/// powers ([`Kernel::POWERS`]) or length-error corrections in this width
+/// ([`Kernel::LENGTH_CORRECTIONS`]; `f32` carries none). The others run the accurate loops.
+fn has_fast_loop<F: Real, K: Kernel>() -> bool {
+    K::POWERS || (K::LENGTH_CORRECTIONS && F::EXACT_LENGTHS)
+}
+
+/// Whether `plan`'s loop normalizes its directions the fast tier's division-free way
+/// ([`FastPowDivisionFree`]: the fast tier's AVX-512 loops), so that a row found bad by
+/// the loop (a tangent parallel to the normal) is looked for again the same way.
+pub fn normalizes_division_free<F: Real>(plan: &Plan<'_, F>) -> bool {
+    struct FastLoop<F>(PhantomData<F>);
+    impl<F: Real> KernelVisitor for FastLoop<F> {
+        type Output = bool;
+        fn visit<K: Kernel>(self) -> bool {
+            has_fast_loop::<F, K>()
+        }
+    }
+    plan.options.precision == Precision::Fast
+        && matches!(isa(), Isa::Avx512(_))
+        && plan.kind.visit(FastLoop::<F>(PhantomData))
+}
+
 /// Picks the compiled loop for a model, an instruction set, a mode and a tier.
 struct SelectLoop<F> {
     isa: Isa,
@@ -773,7 +796,7 @@ impl<F: Real> KernelVisitor for SelectLoop<F> {
         // the fast tier's bound).
         macro_rules! pick {
             ($f:ident, $fast:ty) => {
-                if (K::POWERS || (K::LENGTH_CORRECTIONS && F::EXACT_LENGTHS)) && self.fast {
+                if has_fast_loop::<F, K>() && self.fast {
                     pick_mode!($f, $fast)
                 } else {
                     pick_mode!($f, TablePow)
