@@ -175,8 +175,8 @@ pub trait Real:
     /// `y ← y + y·e·(1/2 + 3e/8)`: to 10^-4, then 3·10^-12) and a second-order one whose
     /// `e` comes from the exact square `y²` (fused multiply-adds), which leaves 10^-23
     /// before the last rounding: correctly rounded (measured by
-    /// `rsqrt_fast_is_correctly_rounded_everywhere`), so an axis vector normalizes exactly
-    /// as the accurate tier's square root and division do. A tiny, subnormal or huge `x` is
+    /// `rsqrt_fast_is_correctly_rounded_everywhere`), so a unit vector such as `(0, 0, 1)`
+    /// stays exactly unit. A tiny, subnormal or huge `x` is
     /// scaled by an even power of two first; `x = 0` gives a large finite value.
     fn rsqrt_fast(x: Self) -> Self;
     /// [`Real::rsqrt_fast`] within 4 ulps, cheaper: a fourth-order step (to about
@@ -859,9 +859,9 @@ mod tests {
 
     /// The fast tier's reciprocal square root, over every binade (subnormals included) and
     /// within each: correctly rounded in `f64` (against `1/√x` to about 2^-100) and `f32`
-    /// (against `f64`'s), so an axis vector normalizes to the accurate tier's bits, exactly
-    /// ±1 (a model whose direction equals `n` sees `n` itself). 0 gives a finite value,
-    /// which a zero vector's components (all 0) turn into 0.
+    /// (against `f64`'s); axis vectors of these lengths normalize to the accurate tier's
+    /// bits, exactly ±1. 0 gives a finite value, which a zero vector's components (all 0)
+    /// turn into 0.
     #[test]
     fn rsqrt_fast_is_correctly_rounded_everywhere() {
         let mut s = 11u64;
