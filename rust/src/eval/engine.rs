@@ -212,9 +212,9 @@ macro_rules! for_lanes {
 /// normalized without [`Real::normalize`]'s range selects, which scale no such row:
 /// [`Real::normalize_unscaled`], the same bits. Any other block (a NaN,
 /// infinite, zero, tiny or huge row among its first `len`) takes [`Real::normalize`]
-/// whole, so bad rows are flagged and extreme ones normalized. The AVX-512 fast tier (`P::DIVISION_FREE`)
-/// takes [`Real::normalize_unscaled_fast`] and [`Real::normalize_fast`] instead, which
-/// agree in the same way (in `f64` without square roots or divisions).
+/// whole, so bad rows are flagged and extreme ones normalized; both in `P`'s tier
+/// ([`unit_ordinary`], [`unit`]: the AVX-512 fast tier's `f64` goes without square roots
+/// or divisions, and its two agree in the same way).
 #[inline(always)]
 fn normalize_block<F: Real, P: PowUnit>(
     v: &mut [[F; BLOCK]; 3],
@@ -238,12 +238,7 @@ fn normalize_block<F: Real, P: PowUnit>(
     if all_ordinary {
         // Every row is usable: `ok` stays as it is.
         for_lanes!(lanes, |j| {
-            let v = F::V3::new(x[j], y[j], z[j]);
-            let u = if P::DIVISION_FREE {
-                F::normalize_unscaled_fast(v)
-            } else {
-                F::normalize_unscaled(v)
-            };
+            let u = unit_ordinary::<F, P>(F::V3::new(x[j], y[j], z[j]));
             x[j] = u.x();
             y[j] = u.y();
             z[j] = u.z();
@@ -251,17 +246,36 @@ fn normalize_block<F: Real, P: PowUnit>(
         return;
     }
     for_lanes!(lanes, |j| {
-        let v = F::V3::new(x[j], y[j], z[j]);
-        let (u, usable) = if P::DIVISION_FREE {
-            F::normalize_fast(v)
-        } else {
-            F::normalize(v)
-        };
+        let (u, usable) = unit::<F>(F::V3::new(x[j], y[j], z[j]), P::DIVISION_FREE);
         x[j] = u.x();
         y[j] = u.y();
         z[j] = u.z();
         ok[j] &= usable;
     });
+}
+
+/// The unit vector of a row whose squared length is in [`Real::ORDINARY_LENGTH_SQUARED`],
+/// in `P`'s tier: [`Real::normalize_unscaled`], or [`Real::normalize_unscaled_fast`] where
+/// `P::DIVISION_FREE` (the same bits as [`unit`]'s there).
+#[inline(always)]
+fn unit_ordinary<F: Real, P: PowUnit>(v: F::V3) -> F::V3 {
+    if P::DIVISION_FREE {
+        F::normalize_unscaled_fast(v)
+    } else {
+        F::normalize_unscaled(v)
+    }
+}
+
+/// A row's unit vector and whether it is usable: [`Real::normalize`], or
+/// [`Real::normalize_fast`] where `division_free` (the loops of [`FastPowDivisionFree`];
+/// for a plan, [`normalizes_division_free`]).
+#[inline(always)]
+pub fn unit<F: Real>(v: F::V3, division_free: bool) -> (F::V3, bool) {
+    if division_free {
+        F::normalize_fast(v)
+    } else {
+        F::normalize(v)
+    }
 }
 
 /// Whether a row's squared length is in [`Real::ORDINARY_LENGTH_SQUARED`], where
@@ -289,11 +303,7 @@ fn load_normalize_ordinary<F: Real, P: PowUnit>(
     for (j, row) in rows.chunks_exact(3).enumerate() {
         let raw = F::V3::new(row[0], row[1], row[2]);
         all_ordinary &= ordinary_length::<F>(raw);
-        let u = if P::DIVISION_FREE {
-            F::normalize_unscaled_fast(raw)
-        } else {
-            F::normalize_unscaled(raw)
-        };
+        let u = unit_ordinary::<F, P>(raw);
         x[j] = u.x();
         y[j] = u.y();
         z[j] = u.z();
@@ -321,10 +331,8 @@ fn run_range<F: Real, K: Kernel, P: PowUnit, const MODE: u8>(
             let v = F::V3::new(r[0], r[1], r[2]);
             let (u, ok) = if plan.options.normalized {
                 (v, F::usable(v))
-            } else if P::DIVISION_FREE {
-                F::normalize_fast(v)
             } else {
-                F::normalize(v)
+                unit::<F>(v, P::DIVISION_FREE)
             };
             ([u.x(), u.y(), u.z()], ok)
         })

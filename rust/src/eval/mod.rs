@@ -321,13 +321,6 @@ impl<F: Real> Plan<'_, F> {
         let check_tangent = self.checks_tangent_direction();
         // Normalized as the loop did, which decided the row was bad.
         let division_free = engine::normalizes_division_free(self);
-        let normalize = |v| {
-            if division_free {
-                F::normalize_fast(v)
-            } else {
-                F::normalize(v)
-            }
-        };
         for row in 0..self.rows {
             for (i, original) in self.originals.iter().enumerate() {
                 let Some(view) = original else { continue };
@@ -337,8 +330,8 @@ impl<F: Real> Plan<'_, F> {
                     let mut n = [F::ZERO; 3];
                     engine::read_row(&self.vectors[2], 3, &self.batch, row, &mut n);
                     let n = F::V3::new(n[0], n[1], n[2]);
-                    let (unit_n, _) = normalize(n);
-                    let (unit_t, _) = normalize(v);
+                    let (unit_n, _) = engine::unit::<F>(n, division_free);
+                    let (unit_t, _) = engine::unit::<F>(v, division_free);
                     let (n, t) = if self.options.normalized {
                         (n, v)
                     } else {

@@ -418,6 +418,16 @@ fn finite_nonzero<F: Real>(v: F::V3) -> bool {
     finite && (x > F::ZERO || y > F::ZERO || z > F::ZERO)
 }
 
+/// [`Real::normalize_length_with`] with `1/|v|` from [`Real::rsqrt_fast_in`] and
+/// `|v| = |v|²·(1/|v|)`: the fast tier's normalizations.
+#[inline(always)]
+fn normalize_length_rsqrt<F: Real, const EXACT: bool>(v: F::V3) -> (F::V3, F) {
+    F::normalize_length_with(v, |l2| {
+        let y = F::rsqrt_fast_in::<EXACT>(l2);
+        (y, l2 * y)
+    })
+}
+
 macro_rules! impl_real {
     ($f:ident, $v:ty, $pow:ident, $pow_ord:ident, $pow_over:ident, $exp:ident, $log:ident, $erfc:path, flush = $flush:expr,
      exact_lengths = $exact_lengths:expr, small = $small:expr, big = $big:expr, up = $up:expr,
@@ -610,10 +620,7 @@ macro_rules! impl_real {
                 if !$fast_norm {
                     return Self::normalize(v);
                 }
-                let (u, _) = Self::normalize_length_with(v, |l2| {
-                    let y = Self::rsqrt_fast(l2);
-                    (y, l2 * y)
-                });
+                let (u, _) = normalize_length_rsqrt::<$f, true>(v);
                 (u, finite_nonzero::<$f>(v))
             }
             #[inline(always)]
@@ -621,10 +628,7 @@ macro_rules! impl_real {
                 if !$fast_norm {
                     return Self::normalize_length(v);
                 }
-                Self::normalize_length_with(v, |l2| {
-                    let y = Self::rsqrt_fast_approx(l2);
-                    (y, l2 * y)
-                })
+                normalize_length_rsqrt::<$f, false>(v)
             }
             #[inline(always)]
             fn normalize_unscaled(v: Self::V3) -> Self::V3 {
